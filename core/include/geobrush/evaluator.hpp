@@ -1,0 +1,78 @@
+// Pull-based, cached evaluation of a graph.
+#pragma once
+
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geobrush/graph.hpp"
+#include "geobrush/hash.hpp"
+#include "geobrush/value.hpp"
+
+namespace geobrush {
+
+class NodeRegistry;
+
+struct EvalOptions {
+  // Where OutputPath params resolve; empty: the graph file's folder.
+  std::filesystem::path outputDir;
+  // Nodes to evaluate, with everything upstream; empty: every node.
+  std::vector<std::string> targets;
+  // Called from the evaluating thread with the node name and its progress.
+  std::function<void(const std::string& node, double fraction)> progress;
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+struct NodeRun {
+  std::string node;
+  std::string type;
+  Hash key = 0;
+  double seconds = 0;
+  bool cacheHit = false;
+  bool failed = false;
+  std::vector<std::string> warnings;
+};
+
+struct EvalReport {
+  bool ok = true;
+  bool cancelled = false;
+  std::string error;  // one line naming the file, node and port
+  std::vector<NodeRun> runs;  // in evaluation order
+  std::vector<std::filesystem::path> filesWritten;
+
+  int computed() const;
+  int cacheHits() const;
+};
+
+class Evaluator {
+ public:
+  explicit Evaluator(const NodeRegistry& registry);
+  ~Evaluator();
+
+  // Evaluates a graph that went through prepareGraph. Never throws for a
+  // node's failure: it is reported, nothing is written, and the outputs of
+  // the nodes that succeeded stay cached.
+  EvalReport evaluate(const Graph& graph, const EvalOptions& options = {});
+
+  // An output of the last evaluate() call, or null.
+  ValuePtr output(const std::string& node, const std::string& port) const;
+
+  // The cache key of every node: a hash of its type id, type version,
+  // effective params (input files by size and time) and the keys of its inputs.
+  std::map<std::string, Hash> nodeKeys(const Graph& graph, const EvalOptions& options = {}) const;
+
+  // Number of node computations (cache misses) since construction.
+  std::uint64_t computeCount() const { return computeCount_; }
+  void clearCache();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::uint64_t computeCount_ = 0;
+};
+
+}  // namespace geobrush

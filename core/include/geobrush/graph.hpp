@@ -1,0 +1,93 @@
+// The graph model and its JSON file form (see DESIGN.md, "Graph files").
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "geobrush/param.hpp"
+
+namespace geobrush {
+
+class NodeRegistry;
+
+inline constexpr std::string_view kGraphFormat = "geobrush-graph";
+inline constexpr int kGraphFormatVersion = 1;
+
+struct GraphNode {
+  std::string type;
+  int typeVersion = 1;
+  ParamMap params;  // only the values that differ from the defaults
+};
+
+struct Endpoint {
+  std::string node;
+  std::string port;
+  bool operator==(const Endpoint&) const = default;
+};
+
+struct Connection {
+  Endpoint from;  // an output port
+  Endpoint to;    // an input port
+  bool operator==(const Connection&) const = default;
+};
+
+struct UiPosition {
+  double x = 0;
+  double y = 0;
+  bool operator==(const UiPosition&) const = default;
+};
+
+struct Graph {
+  std::map<std::string, GraphNode> nodes;  // keyed by stable name
+  std::vector<Connection> connections;
+  std::map<std::string, UiPosition> ui;
+  // The file it was read from; relative paths in params resolve against its folder.
+  std::filesystem::path file;
+
+  std::filesystem::path baseDir() const;
+  // The connection feeding an input port, if any.
+  const Connection* source(const std::string& node, const std::string& port) const;
+};
+
+// A problem with a graph file or its structure: exit status 2 in the CLI.
+// The message is one line naming the file, node and port where known.
+class GraphError : public std::runtime_error {
+ public:
+  GraphError(const std::filesystem::path& file, const std::string& node, const std::string& where,
+             const std::string& cause);
+  const std::string& cause() const { return cause_; }
+
+ private:
+  std::string cause_;
+};
+
+// Reads and parses a graph file (no registry needed). Throws GraphError.
+Graph readGraphFile(const std::filesystem::path& path);
+Graph parseGraph(const std::string& json, const std::filesystem::path& file);
+// Writes the graph as stable, sorted JSON. With a registry, params equal to
+// their defaults are left out.
+std::string serializeGraph(const Graph& graph, const NodeRegistry* registry = nullptr);
+// Atomic write of serializeGraph (temporary file, then rename).
+void writeGraphFile(const Graph& graph, const std::filesystem::path& path,
+                    const NodeRegistry* registry = nullptr);
+
+// Makes a parsed graph ready to evaluate against the loaded node types:
+// upgrades older typeVersions with the types' upgrade functions, converts
+// params to their declared kinds and checks them, and checks every
+// connection (nodes and ports exist, types match, one source per input,
+// required inputs connected, no cycles). Throws GraphError.
+void prepareGraph(Graph& graph, const NodeRegistry& registry);
+
+// Sets NODE.PARAM from its command-line text form ("--set NODE.PARAM=VALUE").
+// Throws GraphError.
+void setParamFromText(Graph& graph, const NodeRegistry& registry, const std::string& assignment);
+
+// Node names in a deterministic topological order (ties by name). Throws
+// GraphError on a cycle.
+std::vector<std::string> topologicalOrder(const Graph& graph);
+
+}  // namespace geobrush

@@ -1,0 +1,48 @@
+// The mesh value: a double-precision OpenMesh triangle mesh.
+#pragma once
+
+// OpenMesh wants its IO header before any mesh header.
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include <array>
+#include <vector>
+
+#include "geobrush/value.hpp"
+
+namespace geobrush {
+
+struct MeshTraits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+  VertexAttributes(OpenMesh::Attributes::Status);
+  EdgeAttributes(OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Status);
+};
+
+using TriMesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
+
+// Linear RGB in [0, 1].
+using Rgb = std::array<float, 3>;
+
+class Mesh final : public Value {
+ public:
+  static constexpr std::string_view kTypeId = "geobrush.Mesh";
+
+  Mesh() = default;
+  explicit Mesh(TriMesh surface, std::vector<Rgb> vertexColors = {})
+      : surface(std::move(surface)), vertexColors(std::move(vertexColors)) {}
+
+  std::string_view typeId() const override { return kTypeId; }
+  // Hashes points, faces (as vertex index triples) and colours; O(n) per call.
+  Hash contentHash() const override;
+  std::string summary() const override;
+
+  TriMesh surface;
+  // Either empty or one colour per vertex (used by the renderer).
+  std::vector<Rgb> vertexColors;
+};
+
+using MeshPtr = std::shared_ptr<const Mesh>;
+
+}  // namespace geobrush

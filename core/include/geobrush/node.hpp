@@ -1,0 +1,203 @@
+// The node API: declaring a node type and computing through a context.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "geobrush/param.hpp"
+#include "geobrush/value.hpp"
+
+namespace geobrush {
+
+// A failure inside a node. `where` names the port or parameter it concerns
+// ("input 'mesh'", "param 'path'"), or is empty; the evaluator adds the
+// graph file and the node name.
+class NodeError : public std::runtime_error {
+ public:
+  NodeError(std::string where, const std::string& message)
+      : std::runtime_error(message), where_(std::move(where)) {}
+  explicit NodeError(const std::string& message) : std::runtime_error(message) {}
+
+  static NodeError input(std::string_view port, const std::string& message) {
+    return NodeError("input '" + std::string(port) + "'", message);
+  }
+  static NodeError output(std::string_view port, const std::string& message) {
+    return NodeError("output '" + std::string(port) + "'", message);
+  }
+  static NodeError param(std::string_view name, const std::string& message) {
+    return NodeError("param '" + std::string(name) + "'", message);
+  }
+
+  const std::string& where() const { return where_; }
+
+ private:
+  std::string where_;
+};
+
+// Thrown by Context::throwIfCancelled when the host cancels an evaluation.
+class Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("cancelled") {}
+};
+
+// What a node sees while it computes.
+class Context {
+ public:
+  virtual ~Context() = default;
+
+  // The value on an input port; throws NodeError if it is missing (only
+  // possible for optional inputs) or of another type.
+  template <ValueType T>
+  std::shared_ptr<const T> in(std::string_view port) const {
+    auto value = std::dynamic_pointer_cast<const T>(inputValue(port));
+    if (!value) throw NodeError::input(port, "expected a " + std::string(T::kTypeId));
+    return value;
+  }
+  bool hasInput(std::string_view port) const { return inputValue(port) != nullptr; }
+
+  // A parameter's value, converted to T (bool, int, std::int64_t, double,
+  // std::string, Vec3, std::vector<double>).
+  template <typename T>
+  T param(std::string_view name) const;
+  // An InputPath or OutputPath parameter resolved to an absolute path.
+  virtual std::filesystem::path path(std::string_view name) const = 0;
+
+  virtual void out(std::string_view port, ValuePtr value) = 0;
+
+  // Progress of this node in [0, 1]; shown on a terminal and in the studio.
+  virtual void progress(double fraction) = 0;
+  virtual bool cancelled() const = 0;
+  void throwIfCancelled() const {
+    if (cancelled()) throw Cancelled();
+  }
+  // A problem that was handled (e.g. what a repair changed); shown to the user.
+  virtual void warn(const std::string& message) = 0;
+
+  // Writes an output file as part of the evaluation's transaction: `write`
+  // fills a temporary path in the same folder, and the file replaces `path`
+  // only when the whole evaluation succeeds. A failed run leaves no file.
+  virtual void writeFile(const std::filesystem::path& path,
+                         const std::function<void(const std::filesystem::path& tmp)>& write) = 0;
+
+ protected:
+  virtual ValuePtr inputValue(std::string_view port) const = 0;
+  virtual const ParamValue& paramValue(std::string_view name) const = 0;
+};
+
+template <typename T>
+T Context::param(std::string_view name) const {
+  const ParamValue& value = paramValue(name);
+  if constexpr (std::is_same_v<T, int>) {
+    return static_cast<int>(std::get<std::int64_t>(value));
+  } else {
+    return std::get<T>(value);
+  }
+}
+
+// One node instance in a graph; may keep state between evaluations (e.g. a
+// warm start), but its outputs must depend only on its inputs and params.
+class Node {
+ public:
+  virtual ~Node() = default;
+  virtual void compute(Context& ctx) = 0;
+};
+
+struct PortDecl {
+  std::string name;
+  std::string typeId;
+  std::string doc;
+  bool optional = false;
+};
+
+// Rewrites the params of a node saved at version k into version k + 1.
+using UpgradeFn = std::function<void(ParamMap& params)>;
+
+struct NodeType {
+  std::string id;  // stable, e.g. "geobrush.load_mesh"
+  int version = 1;
+  std::string label;
+  std::string category;
+  std::string doc;
+  std::vector<PortDecl> inputs;
+  std::vector<PortDecl> outputs;
+  std::vector<ParamDecl> params;
+  std::function<std::unique_ptr<Node>()> create;
+  std::map<int, UpgradeFn> upgrades;  // key: the version upgraded from
+  std::string library;                // filled by the plugin loader
+
+  const PortDecl* findInput(std::string_view name) const;
+  const PortDecl* findOutput(std::string_view name) const;
+  const ParamDecl* findParam(std::string_view name) const;
+  // Whether writing files is part of what it does (the output-path params).
+  bool writesFiles() const;
+};
+
+// Declares a node type in one chained expression, e.g.
+//   NodeTypeBuilder("geobrush.transform", 1)
+//       .doc("Moves, rotates and scales a mesh.")
+//       .input<Mesh>("mesh", "The mesh to transform.")
+//       .output<Mesh>("mesh", "The transformed mesh.")
+//       .paramDouble("scale", 1.0, "Uniform scale factor.").range(1e-9, 1e9)
+//       .node<TransformNode>()
+//       .build();
+class NodeTypeBuilder {
+ public:
+  NodeTypeBuilder(std::string id, int version);
+
+  NodeTypeBuilder& label(std::string text);
+  NodeTypeBuilder& category(std::string text);
+  NodeTypeBuilder& doc(std::string text);
+
+  template <ValueType T>
+  NodeTypeBuilder& input(std::string name, std::string doc) {
+    type_.inputs.push_back({std::move(name), std::string(T::kTypeId), std::move(doc), false});
+    return *this;
+  }
+  template <ValueType T>
+  NodeTypeBuilder& optionalInput(std::string name, std::string doc) {
+    type_.inputs.push_back({std::move(name), std::string(T::kTypeId), std::move(doc), true});
+    return *this;
+  }
+  template <ValueType T>
+  NodeTypeBuilder& output(std::string name, std::string doc) {
+    type_.outputs.push_back({std::move(name), std::string(T::kTypeId), std::move(doc), false});
+    return *this;
+  }
+
+  NodeTypeBuilder& paramBool(std::string name, bool value, std::string doc);
+  NodeTypeBuilder& paramInt(std::string name, std::int64_t value, std::string doc);
+  NodeTypeBuilder& paramDouble(std::string name, double value, std::string doc);
+  NodeTypeBuilder& paramString(std::string name, std::string value, std::string doc);
+  NodeTypeBuilder& paramEnum(std::string name, std::string value, std::vector<std::string> choices,
+                             std::string doc);
+  NodeTypeBuilder& paramInputPath(std::string name, std::string doc);
+  NodeTypeBuilder& paramOutputPath(std::string name, std::string value, std::string doc);
+  NodeTypeBuilder& paramVec3(std::string name, Vec3 value, std::string doc);
+  NodeTypeBuilder& paramList(std::string name, int rowSize, std::vector<double> value,
+                             std::string doc);
+  // Inclusive bounds for the last declared parameter.
+  NodeTypeBuilder& range(double min, double max);
+
+  template <typename N>
+  NodeTypeBuilder& node() {
+    type_.create = [] { return std::make_unique<N>(); };
+    return *this;
+  }
+  // A stateless node given as a function.
+  NodeTypeBuilder& compute(std::function<void(Context&)> fn);
+  NodeTypeBuilder& upgrade(int fromVersion, UpgradeFn fn);
+
+  NodeType build() const;
+
+ private:
+  NodeTypeBuilder& addParam(ParamDecl decl);
+  NodeType type_;
+};
+
+}  // namespace geobrush

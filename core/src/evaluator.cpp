@@ -1,0 +1,399 @@
+#include "geobrush/evaluator.hpp"
+
+#include <sys/stat.h>
+
+#include <chrono>
+#include <set>
+#include <unordered_map>
+
+#include "atomic_file.hpp"
+#include "geobrush/node.hpp"
+#include "geobrush/registry.hpp"
+
+namespace geobrush {
+namespace {
+
+using Outputs = std::map<std::string, ValuePtr>;
+
+std::filesystem::path resolvePath(const std::string& text, const std::filesystem::path& base) {
+  if (text.empty()) return {};
+  std::filesystem::path path(text);
+  return (path.is_absolute() ? path : base / path).lexically_normal();
+}
+
+const ParamValue& effectiveParam(const GraphNode& node, const ParamDecl& decl) {
+  auto it = node.params.find(decl.name);
+  return it == node.params.end() ? decl.defaultValue : it->second;
+}
+
+void hashParam(Hasher& hasher, const ParamValue& value) {
+  hasher.u64(value.index());
+  std::visit(
+      [&](const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, bool>) hasher.u64(v);
+        else if constexpr (std::is_same_v<T, std::int64_t>) hasher.u64(std::uint64_t(v));
+        else if constexpr (std::is_same_v<T, double>) hasher.f64(v);
+        else if constexpr (std::is_same_v<T, std::string>) hasher.str(v);
+        else {
+          hasher.u64(v.size());
+          for (double d : v) hasher.f64(d);
+        }
+      },
+      value);
+}
+
+// An input file enters the key by its size and modification time, so editing
+// the file invalidates what was computed from it.
+void hashFileState(Hasher& hasher, const std::filesystem::path& path) {
+  struct stat info {};
+  if (path.empty() || ::stat(path.c_str(), &info) != 0) {
+    hasher.u64(0);
+    return;
+  }
+  hasher.u64(1).u64(std::uint64_t(info.st_size)).u64(std::uint64_t(info.st_mtim.tv_sec));
+  hasher.u64(std::uint64_t(info.st_mtim.tv_nsec));
+}
+
+struct PendingFile {
+  std::filesystem::path target;
+  std::filesystem::path tmp;
+};
+
+class EvalContext final : public Context {
+ public:
+  EvalContext(const NodeType& type, const GraphNode& node, const std::string& name,
+              const Outputs& inputs, const std::filesystem::path& baseDir,
+              const std::filesystem::path& outputDir, const EvalOptions& options)
+      : type_(type),
+        node_(node),
+        name_(name),
+        inputs_(inputs),
+        baseDir_(baseDir),
+        outputDir_(outputDir),
+        options_(options) {}
+
+  std::filesystem::path path(std::string_view name) const override {
+    const ParamDecl* decl = type_.findParam(name);
+    if (!decl || (decl->kind != ParamKind::InputPath && decl->kind != ParamKind::OutputPath))
+      throw NodeError::param(name, "is not a path parameter of '" + type_.id + "'");
+    const auto& text = std::get<std::string>(effectiveParam(node_, *decl));
+    return resolvePath(text, decl->kind == ParamKind::InputPath ? baseDir_ : outputDir_);
+  }
+
+  void out(std::string_view port, ValuePtr value) override {
+    const PortDecl* decl = type_.findOutput(port);
+    if (!decl) throw NodeError::output(port, "'" + type_.id + "' declares no such output");
+    if (!value) throw NodeError::output(port, "was set to nothing");
+    if (value->typeId() != decl->typeId)
+      throw NodeError::output(port, "was set to a " + std::string(value->typeId()) +
+                                        " but is declared as " + decl->typeId);
+    outputs_[std::string(port)] = std::move(value);
+  }
+
+  void progress(double fraction) override {
+    if (options_.progress) options_.progress(name_, std::clamp(fraction, 0.0, 1.0));
+  }
+  bool cancelled() const override {
+    return options_.cancel && options_.cancel->load(std::memory_order_relaxed);
+  }
+  void warn(const std::string& message) override { warnings_.push_back(message); }
+
+  void writeFile(const std::filesystem::path& path,
+                 const std::function<void(const std::filesystem::path& tmp)>& write) override {
+    if (path.empty()) throw NodeError("no output file given");
+    std::error_code ec;
+    if (!std::filesystem::is_directory(path.parent_path(), ec))
+      throw NodeError("cannot write " + path.string() + ": folder " +
+                      path.parent_path().string() + " does not exist");
+    const auto tmp = temporaryPathFor(path);
+    pending_.push_back({path, tmp});
+    write(tmp);
+    if (!std::filesystem::exists(tmp, ec))
+      throw NodeError("writing " + path.string() + " produced no file");
+  }
+
+  Outputs& outputs() { return outputs_; }
+  std::vector<std::string>& warnings() { return warnings_; }
+  std::vector<PendingFile>& pending() { return pending_; }
+
+ protected:
+  ValuePtr inputValue(std::string_view port) const override {
+    if (!type_.findInput(port))
+      throw NodeError::input(port, "'" + type_.id + "' declares no such input");
+    auto it = inputs_.find(std::string(port));
+    return it == inputs_.end() ? nullptr : it->second;
+  }
+  const ParamValue& paramValue(std::string_view name) const override {
+    const ParamDecl* decl = type_.findParam(name);
+    if (!decl) throw NodeError::param(name, "'" + type_.id + "' declares no such parameter");
+    return effectiveParam(node_, *decl);
+  }
+
+ private:
+  const NodeType& type_;
+  const GraphNode& node_;
+  const std::string& name_;
+  const Outputs& inputs_;
+  std::filesystem::path baseDir_;
+  std::filesystem::path outputDir_;
+  const EvalOptions& options_;
+  Outputs outputs_;
+  std::vector<std::string> warnings_;
+  std::vector<PendingFile> pending_;
+};
+
+// A node's failure as remembered by the cache: the same key fails the same way.
+struct Failure {
+  std::string where;
+  std::string message;
+};
+
+std::string formatFailure(const Graph& graph, const std::string& node, const Failure& failure) {
+  return GraphError(graph.file, node, failure.where, failure.message).what();
+}
+
+}  // namespace
+
+int EvalReport::computed() const {
+  int count = 0;
+  for (const auto& run : runs) count += !run.cacheHit;
+  return count;
+}
+
+int EvalReport::cacheHits() const {
+  int count = 0;
+  for (const auto& run : runs) count += run.cacheHit;
+  return count;
+}
+
+struct Evaluator::Impl {
+  struct Entry {
+    Outputs outputs;
+    std::optional<Failure> failure;
+    std::vector<std::string> warnings;
+    std::uint64_t lastUsed = 0;
+  };
+  struct Instance {
+    const NodeType* type = nullptr;
+    std::unique_ptr<Node> node;
+  };
+
+  const NodeRegistry& registry;
+  std::unordered_map<Hash, Entry> cache;
+  std::map<std::string, Instance> instances;
+  std::map<std::string, Outputs> lastOutputs;
+  std::uint64_t generation = 0;
+
+  explicit Impl(const NodeRegistry& r) : registry(r) {}
+
+  std::filesystem::path outputDir(const Graph& graph, const EvalOptions& options) const {
+    return options.outputDir.empty() ? graph.baseDir()
+                                     : std::filesystem::absolute(options.outputDir);
+  }
+
+  Node& instance(const std::string& name, const NodeType& type) {
+    Instance& slot = instances[name];
+    if (slot.type != &type || !slot.node) {
+      slot.type = &type;
+      slot.node = type.create();
+    }
+    return *slot.node;
+  }
+};
+
+Evaluator::Evaluator(const NodeRegistry& registry) : impl_(std::make_unique<Impl>(registry)) {}
+Evaluator::~Evaluator() = default;
+
+void Evaluator::clearCache() {
+  impl_->cache.clear();
+  impl_->instances.clear();
+}
+
+ValuePtr Evaluator::output(const std::string& node, const std::string& port) const {
+  auto it = impl_->lastOutputs.find(node);
+  if (it == impl_->lastOutputs.end()) return nullptr;
+  auto value = it->second.find(port);
+  return value == it->second.end() ? nullptr : value->second;
+}
+
+std::map<std::string, Hash> Evaluator::nodeKeys(const Graph& graph,
+                                                const EvalOptions& options) const {
+  const auto baseDir = graph.baseDir();
+  const auto outputDir = impl_->outputDir(graph, options);
+  std::map<std::string, Hash> keys;
+  for (const auto& name : topologicalOrder(graph)) {
+    const GraphNode& node = graph.nodes.at(name);
+    const NodeType* type = impl_->registry.find(node.type);
+    if (!type) throw GraphError(graph.file, name, "", "unknown node type '" + node.type + "'");
+    Hasher hasher;
+    hasher.str(type->id).u64(std::uint64_t(type->version));
+    for (const auto& decl : type->params) {
+      const ParamValue& value = effectiveParam(node, decl);
+      hasher.str(decl.name);
+      hashParam(hasher, value);
+      if (decl.kind == ParamKind::InputPath) {
+        const auto path = resolvePath(std::get<std::string>(value), baseDir);
+        hasher.str(path.string());
+        hashFileState(hasher, path);
+      } else if (decl.kind == ParamKind::OutputPath) {
+        hasher.str(resolvePath(std::get<std::string>(value), outputDir).string());
+      }
+    }
+    for (const auto& port : type->inputs) {
+      hasher.str(port.name);
+      if (const Connection* c = graph.source(name, port.name))
+        hasher.u64(keys.at(c->from.node)).str(c->from.port);
+      else
+        hasher.u64(0);
+    }
+    keys[name] = hasher.digest();
+  }
+  return keys;
+}
+
+EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
+  EvalReport report;
+  Impl& impl = *impl_;
+  const std::uint64_t generation = ++impl.generation;
+
+  std::map<std::string, Hash> keys;
+  std::vector<std::string> order;
+  try {
+    order = topologicalOrder(graph);
+    keys = nodeKeys(graph, options);
+  } catch (const std::exception& e) {
+    report.ok = false;
+    report.error = e.what();
+    return report;
+  }
+
+  // Pull: only the targets and what they depend on.
+  std::set<std::string> needed;
+  if (options.targets.empty()) {
+    needed.insert(order.begin(), order.end());
+  } else {
+    std::vector<std::string> stack = options.targets;
+    while (!stack.empty()) {
+      std::string name = stack.back();
+      stack.pop_back();
+      if (!graph.nodes.count(name)) {
+        report.ok = false;
+        report.error = GraphError(graph.file, name, "", "no node of that name to evaluate").what();
+        return report;
+      }
+      if (!needed.insert(name).second) continue;
+      for (const auto& c : graph.connections)
+        if (c.to.node == name) stack.push_back(c.from.node);
+    }
+  }
+
+  const auto baseDir = graph.baseDir();
+  const auto outputDir = impl.outputDir(graph, options);
+  std::map<std::string, Outputs> results;
+  std::vector<PendingFile> pendingFiles;
+  std::vector<std::pair<Hash, Impl::Entry>> deferredEntries;  // file writers: cached after commit
+
+  for (const auto& name : order) {
+    if (!needed.count(name)) continue;
+    const GraphNode& node = graph.nodes.at(name);
+    const NodeType& type = *impl.registry.find(node.type);
+    const Hash key = keys.at(name);
+    NodeRun run;
+    run.node = name;
+    run.type = type.id;
+    run.key = key;
+
+    if (auto hit = impl.cache.find(key); hit != impl.cache.end()) {
+      hit->second.lastUsed = generation;
+      run.cacheHit = true;
+      run.warnings = hit->second.warnings;
+      if (hit->second.failure) {
+        run.failed = true;
+        report.ok = false;
+        report.error = formatFailure(graph, name, *hit->second.failure);
+        report.runs.push_back(std::move(run));
+        break;
+      }
+      results[name] = hit->second.outputs;
+      report.runs.push_back(std::move(run));
+      continue;
+    }
+
+    Outputs inputs;
+    for (const auto& port : type.inputs)
+      if (const Connection* c = graph.source(name, port.name))
+        inputs[port.name] = results[c->from.node].at(c->from.port);
+
+    EvalContext ctx(type, node, name, inputs, baseDir, outputDir, options);
+    std::optional<Failure> failure;
+    const auto start = std::chrono::steady_clock::now();
+    ++computeCount_;
+    try {
+      ctx.throwIfCancelled();
+      impl.instance(name, type).compute(ctx);
+      for (const auto& port : type.outputs)
+        if (!ctx.outputs().count(port.name))
+          throw NodeError::output(port.name, "was not set by '" + type.id + "'");
+    } catch (const Cancelled&) {
+      report.cancelled = true;
+      failure = Failure{"", "cancelled"};
+    } catch (const NodeError& e) {
+      failure = Failure{e.where(), e.what()};
+    } catch (const std::exception& e) {
+      failure = Failure{"", std::string("failed: ") + e.what()};
+    } catch (...) {
+      failure = Failure{"", "failed with an unknown exception"};
+    }
+    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    run.warnings = ctx.warnings();
+    for (auto& file : ctx.pending()) pendingFiles.push_back(file);
+
+    if (failure) {
+      run.failed = true;
+      report.ok = false;
+      report.error = formatFailure(graph, name, *failure);
+      // Deterministic failures are remembered; a cancelled run is not a result.
+      if (!report.cancelled && ctx.pending().empty())
+        impl.cache[key] = {{}, failure, run.warnings, generation};
+      report.runs.push_back(std::move(run));
+      break;
+    }
+    Impl::Entry entry{ctx.outputs(), std::nullopt, run.warnings, generation};
+    results[name] = ctx.outputs();
+    if (ctx.pending().empty())
+      impl.cache[key] = std::move(entry);
+    else
+      deferredEntries.emplace_back(key, std::move(entry));
+    report.runs.push_back(std::move(run));
+  }
+
+  // The files of the run appear all together, or none of them.
+  std::error_code ec;
+  if (report.ok) {
+    for (const auto& file : pendingFiles) {
+      std::filesystem::rename(file.tmp, file.target, ec);
+      if (ec) {
+        report.ok = false;
+        report.error = "cannot write " + file.target.string() + ": " + ec.message();
+        break;
+      }
+      report.filesWritten.push_back(file.target);
+    }
+  }
+  if (!report.ok) {
+    for (const auto& file : pendingFiles) std::filesystem::remove(file.tmp, ec);
+  } else {
+    for (auto& [key, entry] : deferredEntries) impl.cache[key] = std::move(entry);
+  }
+
+  // Keep what this run or the previous one used: toggling a param back and
+  // forth stays instant, and memory stays bounded by two graphs' worth.
+  std::erase_if(impl.cache, [&](const auto& item) { return item.second.lastUsed + 1 < generation; });
+  for (auto it = impl.instances.begin(); it != impl.instances.end();)
+    it = graph.nodes.count(it->first) ? std::next(it) : impl.instances.erase(it);
+  impl.lastOutputs = std::move(results);
+  return report;
+}
+
+}  // namespace geobrush

@@ -1,0 +1,28 @@
+// Paths and fixtures shared by the test suites.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "geobrush/registry.hpp"
+
+namespace geobrush::test {
+
+// ../shared/data/meshes beside the repository.
+std::filesystem::path meshDir();
+std::filesystem::path meshPath(const std::string& name);
+std::filesystem::path sourceDir();
+// The build's plugin directory (every node of the repository).
+std::filesystem::path pluginDir();
+// The plugins built only for loader tests (other ABI, throwing, broken...).
+std::filesystem::path testPluginDir();
+// The geobrush command-line program.
+std::filesystem::path cliPath();
+
+// A registry with every plugin of the build loaded (once per process).
+const NodeRegistry& registry();
+
+// A fresh, empty folder under the system temp dir, removed at exit.
+std::filesystem::path tempDir(const std::string& name);
+
+}  // namespace geobrush::test
