@@ -18,13 +18,20 @@ function(geobrush_add_node NAME)
     set(core GeoBrush::geobrush_core)
   endif()
 
+  # A node whose algorithm lives in core (e.g. the renderer) has no ALGORITHM.
   set(algo geobrush_${NAME}_algo)
-  add_library(${algo} STATIC ${ARG_ALGORITHM})
-  set_target_properties(${algo} PROPERTIES POSITION_INDEPENDENT_CODE ON
-                                           CXX_VISIBILITY_PRESET hidden
-                                           VISIBILITY_INLINES_HIDDEN ON)
-  target_include_directories(${algo} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
-  target_link_libraries(${algo} PUBLIC ${core} ${ARG_LIBS})
+  if(ARG_ALGORITHM)
+    add_library(${algo} STATIC ${ARG_ALGORITHM})
+    set_target_properties(${algo} PROPERTIES POSITION_INDEPENDENT_CODE ON
+                                             CXX_VISIBILITY_PRESET hidden
+                                             VISIBILITY_INLINES_HIDDEN ON)
+    target_include_directories(${algo} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})
+    target_link_libraries(${algo} PUBLIC ${core} ${ARG_LIBS})
+  else()
+    add_library(${algo} INTERFACE)
+    target_include_directories(${algo} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR})
+    target_link_libraries(${algo} INTERFACE ${core} ${ARG_LIBS})
+  endif()
 
   set(plugin geobrush_${NAME})
   add_library(${plugin} MODULE ${ARG_NODE})

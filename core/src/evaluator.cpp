@@ -31,13 +31,18 @@ void hashParam(Hasher& hasher, const ParamValue& value) {
   std::visit(
       [&](const auto& v) {
         using T = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<T, bool>) hasher.u64(v);
-        else if constexpr (std::is_same_v<T, std::int64_t>) hasher.u64(std::uint64_t(v));
-        else if constexpr (std::is_same_v<T, double>) hasher.f64(v);
-        else if constexpr (std::is_same_v<T, std::string>) hasher.str(v);
+        if constexpr (std::is_same_v<T, bool>)
+          hasher.u64(v);
+        else if constexpr (std::is_same_v<T, std::int64_t>)
+          hasher.u64(std::uint64_t(v));
+        else if constexpr (std::is_same_v<T, double>)
+          hasher.f64(v);
+        else if constexpr (std::is_same_v<T, std::string>)
+          hasher.str(v);
         else {
           hasher.u64(v.size());
-          for (double d : v) hasher.f64(d);
+          for (double d : v)
+            hasher.f64(d);
         }
       },
       value);
@@ -104,8 +109,8 @@ class EvalContext final : public Context {
     if (path.empty()) throw NodeError("no output file given");
     std::error_code ec;
     if (!std::filesystem::is_directory(path.parent_path(), ec))
-      throw NodeError("cannot write " + path.string() + ": folder " +
-                      path.parent_path().string() + " does not exist");
+      throw NodeError("cannot write " + path.string() + ": folder " + path.parent_path().string() +
+                      " does not exist");
     const auto tmp = temporaryPathFor(path);
     pending_.push_back({path, tmp});
     write(tmp);
@@ -157,13 +162,15 @@ std::string formatFailure(const Graph& graph, const std::string& node, const Fai
 
 int EvalReport::computed() const {
   int count = 0;
-  for (const auto& run : runs) count += !run.cacheHit;
+  for (const auto& run : runs)
+    count += !run.cacheHit;
   return count;
 }
 
 int EvalReport::cacheHits() const {
   int count = 0;
-  for (const auto& run : runs) count += run.cacheHit;
+  for (const auto& run : runs)
+    count += run.cacheHit;
   return count;
 }
 
@@ -331,6 +338,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     ++computeCount_;
     try {
       ctx.throwIfCancelled();
+      ctx.progress(0.0);
       impl.instance(name, type).compute(ctx);
       for (const auto& port : type.outputs)
         if (!ctx.outputs().count(port.name))
@@ -347,7 +355,8 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     }
     run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     run.warnings = ctx.warnings();
-    for (auto& file : ctx.pending()) pendingFiles.push_back(file);
+    for (auto& file : ctx.pending())
+      pendingFiles.push_back(file);
 
     if (failure) {
       run.failed = true;
@@ -359,6 +368,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
       report.runs.push_back(std::move(run));
       break;
     }
+    ctx.progress(1.0);
     Impl::Entry entry{ctx.outputs(), std::nullopt, run.warnings, generation};
     results[name] = ctx.outputs();
     if (ctx.pending().empty())
@@ -382,14 +392,17 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     }
   }
   if (!report.ok) {
-    for (const auto& file : pendingFiles) std::filesystem::remove(file.tmp, ec);
+    for (const auto& file : pendingFiles)
+      std::filesystem::remove(file.tmp, ec);
   } else {
-    for (auto& [key, entry] : deferredEntries) impl.cache[key] = std::move(entry);
+    for (auto& [key, entry] : deferredEntries)
+      impl.cache[key] = std::move(entry);
   }
 
   // Keep what this run or the previous one used: toggling a param back and
   // forth stays instant, and memory stays bounded by two graphs' worth.
-  std::erase_if(impl.cache, [&](const auto& item) { return item.second.lastUsed + 1 < generation; });
+  std::erase_if(impl.cache,
+                [&](const auto& item) { return item.second.lastUsed + 1 < generation; });
   for (auto it = impl.instances.begin(); it != impl.instances.end();)
     it = graph.nodes.count(it->first) ? std::next(it) : impl.instances.erase(it);
   impl.lastOutputs = std::move(results);

@@ -17,11 +17,14 @@ std::string formatGraphError(const std::filesystem::path& file, const std::strin
   return text + ": " + cause;
 }
 
-std::string describe(const Endpoint& endpoint) { return endpoint.node + "." + endpoint.port; }
+std::string describe(const Endpoint& endpoint) {
+  return endpoint.node + "." + endpoint.port;
+}
 
 std::string searchedDirsText(const NodeRegistry& registry) {
   std::string dirs;
-  for (const auto& dir : registry.searchedDirs()) dirs += (dirs.empty() ? "" : ", ") + dir.string();
+  for (const auto& dir : registry.searchedDirs())
+    dirs += (dirs.empty() ? "" : ", ") + dir.string();
   return dirs.empty() ? "no plugin folder searched" : "searched " + dirs;
 }
 
@@ -33,8 +36,7 @@ void upgradeNode(const Graph& graph, const std::string& name, GraphNode& node,
                          node.type + "', newer than the loaded plugin's version " +
                          std::to_string(type.version) + " (" + type.library + ")");
   }
-  if (node.typeVersion < 1)
-    throw GraphError(graph.file, name, "", "typeVersion must be >= 1");
+  if (node.typeVersion < 1) throw GraphError(graph.file, name, "", "typeVersion must be >= 1");
   for (; node.typeVersion < type.version; ++node.typeVersion) {
     auto it = type.upgrades.find(node.typeVersion);
     if (it == type.upgrades.end()) {
@@ -46,9 +48,9 @@ void upgradeNode(const Graph& graph, const std::string& name, GraphNode& node,
     try {
       it->second(node.params);
     } catch (const std::exception& e) {
-      throw GraphError(graph.file, name, "",
-                       "upgrade from typeVersion " + std::to_string(node.typeVersion) +
-                           " failed: " + e.what());
+      throw GraphError(
+          graph.file, name, "",
+          "upgrade from typeVersion " + std::to_string(node.typeVersion) + " failed: " + e.what());
     }
   }
 }
@@ -59,7 +61,8 @@ void coerceParams(const Graph& graph, const std::string& name, GraphNode& node,
     const ParamDecl* decl = type.findParam(paramName);
     if (!decl) {
       std::string known;
-      for (const auto& p : type.params) known += (known.empty() ? "" : ", ") + p.name;
+      for (const auto& p : type.params)
+        known += (known.empty() ? "" : ", ") + p.name;
       throw GraphError(graph.file, name, "param '" + paramName + "'",
                        "'" + node.type + "' has no such parameter (it has: " +
                            (known.empty() ? "none" : known) + ")");
@@ -130,6 +133,10 @@ void prepareGraph(Graph& graph, const NodeRegistry& registry) {
   for (auto& [name, node] : graph.nodes) {
     const NodeType* type = registry.find(node.type);
     if (!type) {
+      const std::string file = expectedPluginFile(node.type);
+      if (auto reason = registry.refusal(file))
+        throw GraphError(graph.file, name, "",
+                         "node type '" + node.type + "' is unavailable: " + *reason);
       throw GraphError(graph.file, name, "",
                        "unknown node type '" + node.type + "': no loaded plugin provides it (" +
                            "expected plugin " + expectedPluginFile(node.type) + "; " +
@@ -147,14 +154,17 @@ void setParamFromText(Graph& graph, const NodeRegistry& registry, const std::str
   const auto equals = assignment.find('=');
   const auto dot = assignment.find('.');
   if (equals == std::string::npos || dot == std::string::npos || dot > equals)
-    throw GraphError(graph.file, "", "", "--set expects NODE.PARAM=VALUE, got '" + assignment + "'");
+    throw GraphError(graph.file, "", "",
+                     "--set expects NODE.PARAM=VALUE, got '" + assignment + "'");
   const std::string nodeName = assignment.substr(0, dot);
   const std::string paramName = assignment.substr(dot + 1, equals - dot - 1);
   auto it = graph.nodes.find(nodeName);
   if (it == graph.nodes.end())
-    throw GraphError(graph.file, nodeName, "", "no node of that name (in --set " + assignment + ")");
+    throw GraphError(graph.file, nodeName, "",
+                     "no node of that name (in --set " + assignment + ")");
   const NodeType* type = registry.find(it->second.type);
-  if (!type) throw GraphError(graph.file, nodeName, "", "unknown node type '" + it->second.type + "'");
+  if (!type)
+    throw GraphError(graph.file, nodeName, "", "unknown node type '" + it->second.type + "'");
   const ParamDecl* decl = type->findParam(paramName);
   if (!decl)
     throw GraphError(graph.file, nodeName, "param '" + paramName + "'",
@@ -169,7 +179,8 @@ void setParamFromText(Graph& graph, const NodeRegistry& registry, const std::str
 std::vector<std::string> topologicalOrder(const Graph& graph) {
   std::map<std::string, int> pending;
   std::map<std::string, std::vector<std::string>> downstream;
-  for (const auto& [name, node] : graph.nodes) pending[name] = 0;
+  for (const auto& [name, node] : graph.nodes)
+    pending[name] = 0;
   for (const auto& c : graph.connections) {
     if (!pending.count(c.from.node) || !pending.count(c.to.node)) continue;
     ++pending[c.to.node];
@@ -201,7 +212,8 @@ std::vector<std::string> topologicalOrder(const Graph& graph) {
     if (onPath.count(upstream)) {
       const auto first = std::find(path.begin(), path.end(), upstream) - path.begin();
       std::string cycle = "'" + upstream + "'";
-      for (auto k = std::ptrdiff_t(path.size()) - 1; k >= first; --k) cycle += " -> '" + path[k] + "'";
+      for (auto k = std::ptrdiff_t(path.size()) - 1; k >= first; --k)
+        cycle += " -> '" + path[k] + "'";
       throw GraphError(graph.file, upstream, "", "the graph has a cycle: " + cycle);
     }
     path.push_back(upstream);

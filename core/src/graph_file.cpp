@@ -14,8 +14,9 @@ using nlohmann::json;
 
 bool validNodeName(const std::string& name) {
   if (name.empty()) return false;
-  return std::all_of(name.begin(), name.end(),
-                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; });
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
 }
 
 ParamValue paramFromJson(const json& value) {
@@ -31,7 +32,8 @@ ParamValue paramFromJson(const json& value) {
         list.push_back(item.get<double>());
       } else if (item.is_array()) {
         for (const auto& x : item) {
-          if (!x.is_number()) throw std::invalid_argument("lists may hold only numbers or rows of numbers");
+          if (!x.is_number())
+            throw std::invalid_argument("lists may hold only numbers or rows of numbers");
           list.push_back(x.get<double>());
         }
       } else {
@@ -54,7 +56,8 @@ json paramToJson(const ParamValue& value, int rowSize) {
     json operator()(const std::vector<double>& list) const {
       json array = json::array();
       if (rowSize <= 1) {
-        for (double d : list) array.push_back(d);
+        for (double d : list)
+          array.push_back(d);
         return array;
       }
       for (std::size_t i = 0; i + rowSize <= list.size(); i += rowSize)
@@ -67,11 +70,14 @@ json paramToJson(const ParamValue& value, int rowSize) {
 
 Endpoint parseEndpoint(const Graph& graph, const json& value, const char* key) {
   if (!value.is_string())
-    throw GraphError(graph.file, "", "", std::string("connection '") + key + "' must be \"node.port\"");
+    throw GraphError(graph.file, "", "",
+                     std::string("connection '") + key + "' must be \"node.port\"");
   const std::string text = value.get<std::string>();
   const auto dot = text.find('.');
   if (dot == std::string::npos || dot == 0 || dot + 1 == text.size())
-    throw GraphError(graph.file, "", "", std::string("connection '") + key + "' must be \"node.port\", got \"" + text + "\"");
+    throw GraphError(
+        graph.file, "", "",
+        std::string("connection '") + key + "' must be \"node.port\", got \"" + text + "\"");
   return {text.substr(0, dot), text.substr(dot + 1)};
 }
 
@@ -106,22 +112,25 @@ Graph parseGraph(const std::string& text, const std::filesystem::path& file) {
     // e.what() carries "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
     std::string what = e.what();
     auto at = what.find("parse error");
-    throw GraphError(file, "", "", "malformed JSON: " + (at == std::string::npos ? what : what.substr(at)));
+    throw GraphError(file, "", "",
+                     "malformed JSON: " + (at == std::string::npos ? what : what.substr(at)));
   }
   if (!root.is_object()) throw GraphError(file, "", "", "a graph file must hold a JSON object");
   rejectUnknownKeys(graph, "", root, {"format", "formatVersion", "nodes", "connections", "ui"});
   if (root.value("format", json()) != kGraphFormat)
     throw GraphError(file, "", "", "not a GeoBrush graph (\"format\" must be \"geobrush-graph\")");
   const auto version = require<std::int64_t>(graph, "", root, "formatVersion",
-                                              &json::is_number_integer, "an integer");
+                                             &json::is_number_integer, "an integer");
   if (version > kGraphFormatVersion)
     throw GraphError(file, "", "",
-                     "formatVersion " + std::to_string(version) + " was written by a newer GeoBrush; this one reads up to " +
+                     "formatVersion " + std::to_string(version) +
+                         " was written by a newer GeoBrush; this one reads up to " +
                          std::to_string(kGraphFormatVersion));
   if (version < 1) throw GraphError(file, "", "", "formatVersion must be >= 1");
 
   const json nodes = root.value("nodes", json::object());
-  if (!nodes.is_object()) throw GraphError(file, "", "", "\"nodes\" must be an object keyed by node name");
+  if (!nodes.is_object())
+    throw GraphError(file, "", "", "\"nodes\" must be an object keyed by node name");
   for (const auto& [name, entry] : nodes.items()) {
     if (!validNodeName(name))
       throw GraphError(file, name, "", "node names may use only letters, digits, '_' and '-'");
@@ -147,13 +156,15 @@ Graph parseGraph(const std::string& text, const std::filesystem::path& file) {
   if (!connections.is_array()) throw GraphError(file, "", "", "\"connections\" must be an array");
   for (const auto& entry : connections) {
     if (!entry.is_object() || !entry.contains("from") || !entry.contains("to"))
-      throw GraphError(file, "", "", "each connection must be {\"from\": \"node.port\", \"to\": \"node.port\"}");
-    graph.connections.push_back({parseEndpoint(graph, entry["from"], "from"),
-                                 parseEndpoint(graph, entry["to"], "to")});
+      throw GraphError(file, "", "",
+                       "each connection must be {\"from\": \"node.port\", \"to\": \"node.port\"}");
+    graph.connections.push_back(
+        {parseEndpoint(graph, entry["from"], "from"), parseEndpoint(graph, entry["to"], "to")});
   }
 
   const json ui = root.value("ui", json::object());
-  if (!ui.is_object()) throw GraphError(file, "", "", "\"ui\" must be an object keyed by node name");
+  if (!ui.is_object())
+    throw GraphError(file, "", "", "\"ui\" must be an object keyed by node name");
   for (const auto& [name, entry] : ui.items()) {
     if (!entry.is_object()) throw GraphError(file, name, "", "ui entry must be an object");
     graph.ui[name] = {entry.value("x", 0.0), entry.value("y", 0.0)};
@@ -193,11 +204,13 @@ std::string serializeGraph(const Graph& graph, const NodeRegistry* registry) {
   root["nodes"] = nodes;
   json connections = json::array();
   for (const auto& c : graph.connections)
-    connections.push_back({{"from", c.from.node + "." + c.from.port}, {"to", c.to.node + "." + c.to.port}});
+    connections.push_back(
+        {{"from", c.from.node + "." + c.from.port}, {"to", c.to.node + "." + c.to.port}});
   root["connections"] = connections;
   if (!graph.ui.empty()) {
     json ui = json::object();
-    for (const auto& [name, pos] : graph.ui) ui[name] = {{"x", pos.x}, {"y", pos.y}};
+    for (const auto& [name, pos] : graph.ui)
+      ui[name] = {{"x", pos.x}, {"y", pos.y}};
     root["ui"] = ui;
   }
   return root.dump(2) + "\n";

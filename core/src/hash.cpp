@@ -42,6 +42,8 @@ Hasher& Hasher::bytes(const void* data, std::size_t size) {
   return *this;
 }
 
-Hash Hasher::digest() const { return splitmix64(state_ ^ count_); }
+Hash Hasher::digest() const {
+  return splitmix64(state_ ^ count_);
+}
 
 }  // namespace geobrush

@@ -7,7 +7,8 @@ namespace {
 
 template <typename T>
 const T* findByName(const std::vector<T>& items, std::string_view name) {
-  auto it = std::find_if(items.begin(), items.end(), [&](const T& item) { return item.name == name; });
+  auto it =
+      std::find_if(items.begin(), items.end(), [&](const T& item) { return item.name == name; });
   return it == items.end() ? nullptr : &*it;
 }
 
@@ -32,7 +33,9 @@ ParamDecl makeParam(std::string name, ParamKind kind, ParamValue value, std::str
 
 }  // namespace
 
-const PortDecl* NodeType::findInput(std::string_view name) const { return findByName(inputs, name); }
+const PortDecl* NodeType::findInput(std::string_view name) const {
+  return findByName(inputs, name);
+}
 const PortDecl* NodeType::findOutput(std::string_view name) const {
   return findByName(outputs, name);
 }
@@ -63,7 +66,6 @@ NodeTypeBuilder& NodeTypeBuilder::doc(std::string text) {
   return *this;
 }
 
-
 NodeTypeBuilder& NodeTypeBuilder::addParam(ParamDecl decl) {
   type_.params.push_back(std::move(decl));
   return *this;
@@ -93,7 +95,8 @@ NodeTypeBuilder& NodeTypeBuilder::paramInputPath(std::string name, std::string d
 }
 NodeTypeBuilder& NodeTypeBuilder::paramOutputPath(std::string name, std::string value,
                                                   std::string doc) {
-  return addParam(makeParam(std::move(name), ParamKind::OutputPath, std::move(value), std::move(doc)));
+  return addParam(
+      makeParam(std::move(name), ParamKind::OutputPath, std::move(value), std::move(doc)));
 }
 NodeTypeBuilder& NodeTypeBuilder::paramVec3(std::string name, Vec3 value, std::string doc) {
   return addParam(makeParam(std::move(name), ParamKind::Vec3, value, std::move(doc)));
@@ -124,6 +127,8 @@ NodeTypeBuilder& NodeTypeBuilder::upgrade(int fromVersion, UpgradeFn fn) {
   return *this;
 }
 
-NodeType NodeTypeBuilder::build() const { return type_; }
+NodeType NodeTypeBuilder::build() const {
+  return type_;
+}
 
 }  // namespace geobrush

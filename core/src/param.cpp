@@ -23,12 +23,18 @@ std::string number(double value) {
 
 const char* kindOfValue(const ParamValue& value) {
   switch (value.index()) {
-    case 0: return "a boolean";
-    case 1: return "an integer";
-    case 2: return "a number";
-    case 3: return "a string";
-    case 4: return "a 3-vector";
-    default: return "a list of numbers";
+    case 0:
+      return "a boolean";
+    case 1:
+      return "an integer";
+    case 2:
+      return "a number";
+    case 3:
+      return "a string";
+    case 4:
+      return "a 3-vector";
+    default:
+      return "a list of numbers";
   }
 }
 
@@ -45,10 +51,12 @@ double parseDouble(const std::string& text) {
   double value = 0;
   const char* begin = text.data();
   const char* end = begin + text.size();
-  while (begin < end && *begin == ' ') ++begin;
+  while (begin < end && *begin == ' ')
+    ++begin;
   if (begin < end && *begin == '+') ++begin;
   auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (ec != std::errc() || ptr != end) throw std::invalid_argument("'" + text + "' is not a number");
+  if (ec != std::errc() || ptr != end)
+    throw std::invalid_argument("'" + text + "' is not a number");
   return value;
 }
 
@@ -69,15 +77,24 @@ std::vector<double> parseNumberList(const std::string& text) {
 
 std::string_view toString(ParamKind kind) {
   switch (kind) {
-    case ParamKind::Bool: return "bool";
-    case ParamKind::Int: return "int";
-    case ParamKind::Double: return "double";
-    case ParamKind::String: return "string";
-    case ParamKind::Enum: return "enum";
-    case ParamKind::InputPath: return "input_path";
-    case ParamKind::OutputPath: return "output_path";
-    case ParamKind::Vec3: return "vec3";
-    case ParamKind::DoubleList: return "double_list";
+    case ParamKind::Bool:
+      return "bool";
+    case ParamKind::Int:
+      return "int";
+    case ParamKind::Double:
+      return "double";
+    case ParamKind::String:
+      return "string";
+    case ParamKind::Enum:
+      return "enum";
+    case ParamKind::InputPath:
+      return "input_path";
+    case ParamKind::OutputPath:
+      return "output_path";
+    case ParamKind::Vec3:
+      return "vec3";
+    case ParamKind::DoubleList:
+      return "double_list";
   }
   return "unknown";
 }
@@ -104,7 +121,8 @@ std::optional<std::string> checkParam(const ParamDecl& decl, const ParamValue& v
       if (!text) return "expected a string";
       if (std::find(decl.choices.begin(), decl.choices.end(), *text) == decl.choices.end()) {
         std::string list;
-        for (const auto& choice : decl.choices) list += (list.empty() ? "" : ", ") + choice;
+        for (const auto& choice : decl.choices)
+          list += (list.empty() ? "" : ", ") + choice;
         return "'" + *text + "' is not one of: " + list;
       }
       return std::nullopt;
@@ -167,17 +185,20 @@ ParamValue parseParamText(const ParamDecl& decl, const std::string& text) {
         throw std::invalid_argument("'" + text + "' is not an integer");
       return coerceParam(decl, value);
     }
-    case ParamKind::Double: return coerceParam(decl, parseDouble(text));
+    case ParamKind::Double:
+      return coerceParam(decl, parseDouble(text));
     case ParamKind::String:
     case ParamKind::Enum:
     case ParamKind::InputPath:
-    case ParamKind::OutputPath: return coerceParam(decl, text);
+    case ParamKind::OutputPath:
+      return coerceParam(decl, text);
     case ParamKind::Vec3: {
       auto values = parseNumberList(text);
       if (values.size() != 3) throw std::invalid_argument("expected x,y,z, got '" + text + "'");
       return coerceParam(decl, Vec3{values[0], values[1], values[2]});
     }
-    case ParamKind::DoubleList: return coerceParam(decl, parseNumberList(text));
+    case ParamKind::DoubleList:
+      return coerceParam(decl, parseNumberList(text));
   }
   throw std::invalid_argument("unknown parameter kind");
 }

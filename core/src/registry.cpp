@@ -66,7 +66,8 @@ NodeRegistry::NodeRegistry() = default;
 // Plugin libraries stay loaded until exit: values and nodes they created may
 // outlive the registry, and unloading would leave them without code.
 NodeRegistry::~NodeRegistry() {
-  for (auto& loaded : libraries_) loaded->library.release();
+  for (auto& loaded : libraries_)
+    loaded->library.release();
 }
 
 void NodeRegistry::add(NodeType type) {
@@ -89,7 +90,8 @@ const NodeType* NodeRegistry::find(std::string_view id) const {
 
 std::vector<const NodeType*> NodeRegistry::types() const {
   std::vector<const NodeType*> result;
-  for (const auto& type : types_) result.push_back(type.get());
+  for (const auto& type : types_)
+    result.push_back(type.get());
   return result;
 }
 
@@ -139,14 +141,16 @@ void NodeRegistry::loadPlugin(const std::filesystem::path& file) {
     library->unload();
     throw RegistryError(name + ": plugin refused: " + failure);
   }
-  for (auto& type : declared) add(std::move(type));
+  for (auto& type : declared)
+    add(std::move(type));
   libraries_.push_back(std::make_unique<Loaded>(Loaded{file, std::move(library)}));
 }
 
 NodeRegistry::LoadReport NodeRegistry::loadPlugins(const std::vector<std::filesystem::path>& dirs) {
   LoadReport report;
   std::set<std::filesystem::path> seen;
-  for (const auto& loaded : libraries_) seen.insert(loaded->path);
+  for (const auto& loaded : libraries_)
+    seen.insert(loaded->path);
   for (const auto& dir : dirs) {
     searchedDirs_.push_back(dir);
     std::error_code ec;
@@ -164,10 +168,17 @@ NodeRegistry::LoadReport NodeRegistry::loadPlugins(const std::vector<std::filesy
         report.loaded.push_back(canonical);
       } catch (const std::exception& e) {
         report.errors.push_back(e.what());
+        refusals_[canonical.filename().string()] = e.what();
       }
     }
   }
   return report;
+}
+
+std::optional<std::string> NodeRegistry::refusal(const std::string& fileName) const {
+  auto it = refusals_.find(fileName);
+  if (it == refusals_.end()) return std::nullopt;
+  return it->second;
 }
 
 std::vector<std::filesystem::path> defaultPluginDirs() {

@@ -4,7 +4,9 @@
 
 namespace geobrush {
 
-Hash Scalar::contentHash() const { return Hasher().str(kTypeId).f64(value).digest(); }
+Hash Scalar::contentHash() const {
+  return Hasher().str(kTypeId).f64(value).digest();
+}
 
 std::string Scalar::summary() const {
   char text[64];
@@ -25,9 +27,11 @@ std::string Vector3::summary() const {
 Hash Metrics::contentHash() const {
   Hasher hasher;
   hasher.str(kTypeId).u64(values.size());
-  for (const auto& [name, value] : values) hasher.str(name).f64(value);
+  for (const auto& [name, value] : values)
+    hasher.str(name).f64(value);
   hasher.u64(notes.size());
-  for (const auto& note : notes) hasher.str(note);
+  for (const auto& note : notes)
+    hasher.str(note);
   return hasher.digest();
 }
 

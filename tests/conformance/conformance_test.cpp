@@ -1,1 +1,235 @@
+// One suite every node type of the build must pass: documented ports and
+// params, defaults that survive a graph-file round trip, cache keys that
+// follow every param, no recomputation for an unrelated change, and no crash
+// when computing with defaults.
 #include <gtest/gtest.h>
+
+#include <set>
+
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
+#include "test_support.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+// A value different from the default that is still valid for the declaration.
+ParamValue perturbed(const ParamDecl& decl) {
+  auto fit = [&](double v, double fallback) {
+    if ((decl.min && v < *decl.min) || (decl.max && v > *decl.max)) return fallback;
+    return v;
+  };
+  switch (decl.kind) {
+    case ParamKind::Bool:
+      return !std::get<bool>(decl.defaultValue);
+    case ParamKind::Int: {
+      auto v = std::get<std::int64_t>(decl.defaultValue);
+      return std::int64_t(fit(double(v + 1), double(v - 1)));
+    }
+    case ParamKind::Double: {
+      double v = std::get<double>(decl.defaultValue);
+      double up = v + 0.25 * std::max(1e-3, std::abs(v));
+      double down = v - 0.25 * std::max(1e-3, std::abs(v));
+      return fit(up, down);
+    }
+    case ParamKind::String:
+    case ParamKind::InputPath:
+    case ParamKind::OutputPath: {
+      std::string v = std::get<std::string>(decl.defaultValue);
+      return v.empty() ? std::string("other") : "other_" + v;
+    }
+    case ParamKind::Enum:
+      for (const auto& choice : decl.choices)
+        if (choice != std::get<std::string>(decl.defaultValue)) return choice;
+      return decl.defaultValue;
+    case ParamKind::Vec3: {
+      Vec3 v = std::get<Vec3>(decl.defaultValue);
+      for (double& x : v)
+        x = fit(x + 0.5, x - 0.5);
+      return v;
+    }
+    case ParamKind::DoubleList: {
+      auto v = std::get<std::vector<double>>(decl.defaultValue);
+      double x = decl.min ? *decl.min : (decl.max ? *decl.max : 0.5);
+      for (int i = 0; i < decl.rowSize; ++i)
+        v.push_back(x);
+      return v;
+    }
+  }
+  return decl.defaultValue;
+}
+
+// Adds nodes that produce a value of `typeId` and returns the output feeding
+// it: the first type (by id) whose required inputs can be fed in turn.
+std::optional<Endpoint> feed(Graph& graph, const std::string& typeId, int depth) {
+  if (depth > 4) return std::nullopt;
+  for (const NodeType* type : test::registry().types()) {
+    const PortDecl* out = nullptr;
+    for (const auto& port : type->outputs)
+      if (port.typeId == typeId) out = &port;
+    if (!out || type->writesFiles()) continue;
+    Graph trial = graph;
+    const std::string name = "feed" + std::to_string(trial.nodes.size());
+    trial.nodes[name] = {type->id, type->version, {}};
+    bool ok = true;
+    for (const auto& in : type->inputs) {
+      if (in.optional) continue;
+      auto source = feed(trial, in.typeId, depth + 1);
+      if (!source) {
+        ok = false;
+        break;
+      }
+      trial.connections.push_back({*source, {name, in.name}});
+    }
+    if (!ok) continue;
+    graph = std::move(trial);
+    return Endpoint{name, out->name};
+  }
+  return std::nullopt;
+}
+
+class Conformance : public testing::TestWithParam<std::string> {
+ protected:
+  const NodeType& type() const { return *test::registry().find(GetParam()); }
+
+  // The node under test ("subject") with every required input fed.
+  std::optional<Graph> wired() const {
+    Graph graph;
+    graph.file = test::tempDir("conformance-" + type().id) / "graph.json";
+    graph.nodes["subject"] = {type().id, type().version, {}};
+    for (const auto& in : type().inputs) {
+      if (in.optional) continue;
+      auto source = feed(graph, in.typeId, 0);
+      if (!source) return std::nullopt;
+      graph.connections.push_back({*source, {"subject", in.name}});
+    }
+    return graph;
+  }
+};
+
+std::vector<std::string> allTypeIds() {
+  std::vector<std::string> ids;
+  for (const NodeType* type : test::registry().types())
+    ids.push_back(type->id);
+  return ids;
+}
+
+}  // namespace
+
+TEST(ConformanceSetup, EveryNodeFolderLoadsAsItsOwnPlugin) {
+  EXPECT_TRUE(test::registryLoadErrors().empty()) << test::registryLoadErrors().front();
+  std::set<std::string> libraries;
+  for (const NodeType* type : test::registry().types()) {
+    EXPECT_EQ(std::filesystem::path(type->library).filename(), expectedPluginFile(type->id));
+    libraries.insert(type->library);
+  }
+  EXPECT_EQ(libraries.size(), test::registry().types().size());
+  for (const char* id : {"geobrush.load_mesh", "geobrush.save_mesh", "geobrush.primitive",
+                         "geobrush.transform", "geobrush.render"})
+    EXPECT_NE(test::registry().find(id), nullptr) << id;
+}
+
+TEST_P(Conformance, IsDocumented) {
+  EXPECT_FALSE(type().doc.empty());
+  EXPECT_FALSE(type().label.empty()) << "give the type a label for the studio palette";
+  EXPECT_FALSE(type().category.empty());
+  EXPECT_GE(type().inputs.size() + type().outputs.size(), 1u);
+  for (const auto& port : type().inputs)
+    EXPECT_FALSE(port.doc.empty()) << port.name;
+  for (const auto& port : type().outputs)
+    EXPECT_FALSE(port.doc.empty()) << port.name;
+  for (const auto& param : type().params) {
+    EXPECT_FALSE(param.doc.empty()) << param.name;
+    if (param.kind == ParamKind::Int || param.kind == ParamKind::Double)
+      EXPECT_TRUE(param.min && param.max) << param.name << ": numbers need a range";
+  }
+  EXPECT_NE(type().create(), nullptr);
+}
+
+TEST_P(Conformance, ParamsSurviveAGraphFileRoundTrip) {
+  for (bool useDefaults : {true, false}) {
+    Graph graph;
+    graph.nodes["n"] = {type().id, type().version, {}};
+    for (const auto& param : type().params)
+      graph.nodes["n"].params[param.name] = useDefaults ? param.defaultValue : perturbed(param);
+    const std::string text = serializeGraph(graph, &test::registry());
+    Graph read = parseGraph(text, "roundtrip.json");
+    prepareGraph(read, test::registry());
+    for (const auto& param : type().params) {
+      auto it = read.nodes["n"].params.find(param.name);
+      const ParamValue& value =
+          it == read.nodes["n"].params.end() ? param.defaultValue : it->second;
+      EXPECT_EQ(value, graph.nodes["n"].params[param.name]) << param.name << "\n" << text;
+    }
+    if (useDefaults) EXPECT_EQ(text.find("\"params\""), std::string::npos) << text;
+    EXPECT_EQ(serializeGraph(read, &test::registry()), text);
+  }
+}
+
+TEST_P(Conformance, EveryParamChangesTheCacheKey) {
+  Graph graph;
+  graph.nodes["n"] = {type().id, type().version, {}};
+  Evaluator evaluator(test::registry());
+  const Hash base = evaluator.nodeKeys(graph).at("n");
+  for (const auto& param : type().params) {
+    Graph changed = graph;
+    changed.nodes["n"].params[param.name] = perturbed(param);
+    ASSERT_NE(changed.nodes["n"].params[param.name], param.defaultValue) << param.name;
+    EXPECT_NE(evaluator.nodeKeys(changed).at("n"), base) << param.name;
+  }
+}
+
+TEST_P(Conformance, UnrelatedChangeRecomputesNothingElse) {
+  auto graph = wired();
+  if (!graph) GTEST_SKIP() << "no node type produces one of the inputs";
+  // "0unrelated" sorts first, so it runs before anything that may fail.
+  graph->nodes["0unrelated"] = {"geobrush.primitive", 1, {}};
+  prepareGraph(*graph, test::registry());
+  EvalOptions options;
+  options.outputDir = graph->baseDir();
+  Evaluator evaluator(test::registry());
+  const EvalReport first = evaluator.evaluate(*graph, options);
+  if (!first.ok) EXPECT_NE(first.error.find("node '"), std::string::npos) << first.error;
+
+  setParamFromText(*graph, test::registry(), "0unrelated.resolution=3");
+  const auto before = evaluator.computeCount();
+  const EvalReport second = evaluator.evaluate(*graph, options);
+  EXPECT_EQ(evaluator.computeCount() - before, 1u);
+  EXPECT_EQ(second.ok, first.ok);
+  for (const auto& run : second.runs)
+    if (run.node != "0unrelated") EXPECT_TRUE(run.cacheHit) << run.node;
+}
+
+TEST_P(Conformance, DefaultsComputeDeterministicallyOrFailWithAMessage) {
+  auto graph = wired();
+  if (!graph) GTEST_SKIP() << "no node type produces one of the inputs";
+  prepareGraph(*graph, test::registry());
+  EvalOptions options;
+  options.outputDir = graph->baseDir();
+  Evaluator first(test::registry());
+  Evaluator second(test::registry());
+  const EvalReport a = first.evaluate(*graph, options);
+  const EvalReport b = second.evaluate(*graph, options);
+  ASSERT_EQ(a.ok, b.ok);
+  if (!a.ok) {
+    EXPECT_EQ(a.error, b.error);
+    EXPECT_NE(a.error.find("node 'subject'"), std::string::npos) << a.error;
+    return;
+  }
+  for (const auto& port : type().outputs) {
+    auto x = first.output("subject", port.name);
+    auto y = second.output("subject", port.name);
+    ASSERT_TRUE(x && y) << port.name;
+    EXPECT_EQ(x->typeId(), port.typeId);
+    EXPECT_EQ(x->contentHash(), y->contentHash()) << port.name;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllNodeTypes, Conformance, testing::ValuesIn(allTypeIds()),
+                         [](const testing::TestParamInfo<std::string>& info) {
+                           std::string name = info.param;
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });

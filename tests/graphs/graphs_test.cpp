@@ -1,1 +1,104 @@
+// Every saved graph in graphs/ is evaluated headless and its outputs checked:
+// written meshes are valid, written images show something, and a second run
+// from scratch writes bit-identical files.
 #include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
+#include "geobrush/image.hpp"
+#include "geobrush/mesh_io.hpp"
+#include "test_support.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+std::vector<std::string> graphFiles() {
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(test::sourceDir() / "graphs"))
+    if (entry.path().extension() == ".json") files.push_back(entry.path().filename().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+EvalReport runGraph(const std::filesystem::path& file, const std::filesystem::path& outDir) {
+  Graph graph = readGraphFile(file);
+  prepareGraph(graph, test::registry());
+  EvalOptions options;
+  options.outputDir = outDir;
+  Evaluator evaluator(test::registry());
+  return evaluator.evaluate(graph, options);
+}
+
+void checkMeshFile(const std::filesystem::path& path) {
+  auto loaded = readMesh(path);
+  const MeshStats stats = meshStats(loaded.mesh->surface);
+  EXPECT_GT(stats.faces, 0u) << path;
+  EXPECT_EQ(stats.nonFiniteVertices, 0u) << path;
+  EXPECT_EQ(stats.isolatedVertices, 0u) << path;
+  EXPECT_TRUE(loaded.warnings.empty()) << path << ": " << loaded.warnings.front();
+}
+
+void checkImageFile(const std::filesystem::path& path) {
+  const Image image = readPng(path);
+  ASSERT_GT(image.width, 0);
+  // Something other than the background: at least 5% of pixels differ from the corner.
+  const std::uint8_t* corner = image.pixel(0, 0);
+  std::size_t different = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      different += !std::equal(corner, corner + 3, image.pixel(x, y));
+  EXPECT_GT(different, std::size_t(image.width) * image.height / 20) << path;
+}
+
+class SavedGraph : public testing::TestWithParam<std::string> {};
+
+}  // namespace
+
+TEST(SavedGraphs, ThereIsADefaultGraph) {
+  const auto files = graphFiles();
+  EXPECT_NE(std::find(files.begin(), files.end(), "default.json"), files.end());
+}
+
+TEST_P(SavedGraph, RunsAndWritesValidDeterministicOutputs) {
+  const auto file = test::sourceDir() / "graphs" / GetParam();
+  const auto first = test::tempDir("graph-a-" + GetParam());
+  const auto second = test::tempDir("graph-b-" + GetParam());
+  const EvalReport a = runGraph(file, first);
+  ASSERT_TRUE(a.ok) << a.error;
+  ASSERT_FALSE(a.filesWritten.empty()) << "a saved graph should write what it makes";
+  for (const auto& path : a.filesWritten) {
+    ASSERT_TRUE(std::filesystem::exists(path)) << path;
+    const auto ext = path.extension().string();
+    if (ext == ".png")
+      checkImageFile(path);
+    else
+      checkMeshFile(path);
+  }
+  const EvalReport b = runGraph(file, second);
+  ASSERT_TRUE(b.ok) << b.error;
+  ASSERT_EQ(a.filesWritten.size(), b.filesWritten.size());
+  for (std::size_t i = 0; i < a.filesWritten.size(); ++i) {
+    EXPECT_EQ(a.filesWritten[i].filename(), b.filesWritten[i].filename());
+    EXPECT_TRUE(bytes(a.filesWritten[i]) == bytes(b.filesWritten[i]))
+        << a.filesWritten[i] << " differs between two runs";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Graphs, SavedGraph, testing::ValuesIn(graphFiles()),
+                         [](const testing::TestParamInfo<std::string>& info) {
+                           std::string name = info.param.substr(0, info.param.size() - 5);
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });

@@ -9,20 +9,43 @@ namespace geobrush::test {
 std::filesystem::path meshDir() {
   return std::filesystem::weakly_canonical(GEOBRUSH_MESH_DIR);
 }
-std::filesystem::path meshPath(const std::string& name) { return meshDir() / name; }
-std::filesystem::path sourceDir() { return GEOBRUSH_SOURCE_DIR; }
-std::filesystem::path pluginDir() { return GEOBRUSH_PLUGIN_DIR; }
-std::filesystem::path testPluginDir() { return GEOBRUSH_TEST_PLUGIN_DIR; }
-std::filesystem::path cliPath() { return GEOBRUSH_CLI; }
+std::filesystem::path meshPath(const std::string& name) {
+  return meshDir() / name;
+}
+std::filesystem::path sourceDir() {
+  return GEOBRUSH_SOURCE_DIR;
+}
+std::filesystem::path pluginDir() {
+  return GEOBRUSH_PLUGIN_DIR;
+}
+std::filesystem::path testPluginDir() {
+  return GEOBRUSH_TEST_PLUGIN_DIR;
+}
+std::filesystem::path cliPath() {
+  return GEOBRUSH_CLI;
+}
 
-const NodeRegistry& registry() {
-  static NodeRegistry* instance = [] {
-    auto* r = new NodeRegistry();
-    auto report = r->loadPlugins({pluginDir()});
-    for (const auto& error : report.errors) ADD_FAILURE() << error;
+namespace {
+struct LoadedRegistry {
+  NodeRegistry registry;
+  std::vector<std::string> errors;
+};
+LoadedRegistry& loaded() {
+  // Never destroyed: plugin code must outlive every value it made.
+  static LoadedRegistry* instance = [] {
+    auto* r = new LoadedRegistry();
+    r->errors = r->registry.loadPlugins({pluginDir()}).errors;
     return r;
   }();
   return *instance;
+}
+}  // namespace
+
+const NodeRegistry& registry() {
+  return loaded().registry;
+}
+const std::vector<std::string>& registryLoadErrors() {
+  return loaded().errors;
 }
 
 std::filesystem::path tempDir(const std::string& name) {
@@ -38,7 +61,8 @@ std::filesystem::path tempDir(const std::string& name) {
     }
   };
   static std::vector<std::unique_ptr<Cleanup>> cleanups;
-  cleanups.push_back(std::make_unique<Cleanup>(Cleanup{dir}));
+  cleanups.push_back(std::make_unique<Cleanup>());
+  cleanups.back()->root = dir;
   return dir;
 }
 

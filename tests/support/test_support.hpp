@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "geobrush/registry.hpp"
 
@@ -21,6 +22,8 @@ std::filesystem::path cliPath();
 
 // A registry with every plugin of the build loaded (once per process).
 const NodeRegistry& registry();
+// What the loader refused while building registry(); empty in a good build.
+const std::vector<std::string>& registryLoadErrors();
 
 // A fresh, empty folder under the system temp dir, removed at exit.
 std::filesystem::path tempDir(const std::string& name);

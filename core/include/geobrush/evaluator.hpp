@@ -40,7 +40,7 @@ struct NodeRun {
 struct EvalReport {
   bool ok = true;
   bool cancelled = false;
-  std::string error;  // one line naming the file, node and port
+  std::string error;          // one line naming the file, node and port
   std::vector<NodeRun> runs;  // in evaluation order
   std::vector<std::filesystem::path> filesWritten;
 

@@ -40,8 +40,7 @@ class Hasher {
     return u64(bits);
   }
   template <typename T>
-    requires std::is_trivially_copyable_v<T>
-  Hasher& span(std::span<const T> values) {
+  requires std::is_trivially_copyable_v<T> Hasher& span(std::span<const T> values) {
     u64(values.size());
     return bytes(values.data(), values.size_bytes());
   }

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -44,12 +46,16 @@ class NodeRegistry {
   // Loads one library; throws RegistryError naming it.
   void loadPlugin(const std::filesystem::path& library);
   const std::vector<std::filesystem::path>& searchedDirs() const { return searchedDirs_; }
+  // Why the library with this file name (e.g. "geobrush_gdem.so") was
+  // refused, if it was.
+  std::optional<std::string> refusal(const std::string& fileName) const;
 
  private:
   struct Loaded;
   std::vector<std::unique_ptr<NodeType>> types_;
   std::vector<std::unique_ptr<Loaded>> libraries_;
   std::vector<std::filesystem::path> searchedDirs_;
+  std::map<std::string, std::string> refusals_;  // by file name
 };
 
 // The plugin directory of this build or installation (next to the running
@@ -74,11 +80,11 @@ class PluginRegistrar {
 }  // namespace geobrush
 
 // Every plugin library defines its entry points with this macro, once.
-#define GEOBRUSH_PLUGIN(REGISTER_FUNCTION)                                                       \
-  extern "C" __attribute__((visibility("default"))) int geobrush_plugin_abi_version() {          \
-    return ::geobrush::kPluginAbiVersion;                                                        \
-  }                                                                                              \
-  extern "C" __attribute__((visibility("default"))) void geobrush_plugin_register(               \
-      ::geobrush::PluginRegistrar& registrar) {                                                  \
-    REGISTER_FUNCTION(registrar);                                                                \
+#define GEOBRUSH_PLUGIN(REGISTER_FUNCTION)                                              \
+  extern "C" __attribute__((visibility("default"))) int geobrush_plugin_abi_version() { \
+    return ::geobrush::kPluginAbiVersion;                                               \
+  }                                                                                     \
+  extern "C" __attribute__((visibility("default"))) void geobrush_plugin_register(      \
+      ::geobrush::PluginRegistrar& registrar) {                                         \
+    REGISTER_FUNCTION(registrar);                                                       \
   }

@@ -1,0 +1,183 @@
+#include "commands.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include "geobrush/graph.hpp"
+#include "geobrush/image.hpp"
+#include "geobrush/mesh_io.hpp"
+
+namespace geobrush::cli {
+namespace {
+
+void printError(const std::string& message) {
+  std::fprintf(stderr, "error: %s\n", message.c_str());
+}
+
+std::vector<std::string> loadPlugins(NodeRegistry& registry, bool quiet) {
+  auto report = registry.loadPlugins(defaultPluginDirs());
+  if (!quiet)
+    for (const auto& error : report.errors)
+      std::fprintf(stderr, "warning: %s\n", error.c_str());
+  return report.errors;
+}
+
+// A single status line on a terminal: "[2/5] gdem 40%".
+class TerminalProgress {
+ public:
+  explicit TerminalProgress(bool enabled) : enabled_(enabled) {}
+  ~TerminalProgress() { clear(); }
+
+  void update(const std::string& node, double fraction) {
+    if (!enabled_) return;
+    if (node != node_) {
+      node_ = node;
+      ++index_;
+    }
+    std::fprintf(stderr, "\r\033[K[%d] %s %3d%%", index_, node.c_str(), int(fraction * 100 + 0.5));
+    std::fflush(stderr);
+    dirty_ = true;
+  }
+  void clear() {
+    if (!dirty_) return;
+    std::fprintf(stderr, "\r\033[K");
+    dirty_ = false;
+  }
+
+ private:
+  bool enabled_;
+  bool dirty_ = false;
+  int index_ = 0;
+  std::string node_;
+};
+
+}  // namespace
+
+int runGraph(const RunOptions& options) {
+  NodeRegistry registry;
+  const auto pluginErrors = loadPlugins(registry, options.quiet || options.json);
+  Graph graph;
+  try {
+    graph = readGraphFile(options.graph);
+    prepareGraph(graph, registry);
+    for (const auto& assignment : options.sets)
+      setParamFromText(graph, registry, assignment);
+  } catch (const GraphError& e) {
+    printError(e.what());
+    if (options.json) {
+      EvalReport failed;
+      failed.ok = false;
+      failed.error = e.what();
+      std::cout << runReportJson(options.graph, failed, pluginErrors);
+    }
+    return kExitUsage;
+  }
+
+  EvalOptions eval;
+  if (!options.outDir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(options.outDir, ec);
+    if (ec) {
+      printError(options.outDir.string() + ": cannot create the output folder: " + ec.message());
+      return kExitUsage;
+    }
+    eval.outputDir = options.outDir;
+  }
+  TerminalProgress progress(!options.quiet && ::isatty(STDERR_FILENO));
+  eval.progress = [&](const std::string& node, double fraction) {
+    progress.update(node, fraction);
+  };
+
+  Evaluator evaluator(registry);
+  const EvalReport report = evaluator.evaluate(graph, eval);
+  progress.clear();
+
+  if (!options.quiet && !options.json) {
+    for (const auto& run : report.runs)
+      for (const auto& warning : run.warnings)
+        std::fprintf(stderr, "warning: %s: node '%s': %s\n", options.graph.c_str(),
+                     run.node.c_str(), warning.c_str());
+    for (const auto& file : report.filesWritten)
+      std::fprintf(stderr, "wrote %s\n", file.c_str());
+  }
+  if (!report.ok) printError(report.error);
+  if (options.json) std::cout << runReportJson(options.graph, report, pluginErrors);
+  return report.ok ? kExitOk : kExitEvaluation;
+}
+
+int validateGraph(const std::filesystem::path& path, bool quiet) {
+  NodeRegistry registry;
+  loadPlugins(registry, quiet);
+  try {
+    Graph graph = readGraphFile(path);
+    prepareGraph(graph, registry);
+    if (!quiet)
+      std::printf("%s: ok (%zu nodes, %zu connections)\n", path.c_str(), graph.nodes.size(),
+                  graph.connections.size());
+    return kExitOk;
+  } catch (const GraphError& e) {
+    printError(e.what());
+    return kExitUsage;
+  }
+}
+
+int listNodes(bool json) {
+  NodeRegistry registry;
+  loadPlugins(registry, json);
+  if (json) {
+    std::cout << nodeTypesJson(registry);
+    return kExitOk;
+  }
+  for (const NodeType* type : registry.types()) {
+    std::printf("%s (v%d)  %s\n", type->id.c_str(), type->version, type->doc.c_str());
+    for (const auto& port : type->inputs)
+      std::printf("    in  %-14s %-20s %s%s\n", port.name.c_str(), port.typeId.c_str(),
+                  port.doc.c_str(), port.optional ? " (optional)" : "");
+    for (const auto& port : type->outputs)
+      std::printf("    out %-14s %-20s %s\n", port.name.c_str(), port.typeId.c_str(),
+                  port.doc.c_str());
+    for (const auto& param : type->params)
+      std::printf("    param %-12s %-12s = %-10s %s\n", param.name.c_str(),
+                  std::string(toString(param.kind)).c_str(),
+                  formatParam(param.defaultValue).c_str(), param.doc.c_str());
+    std::printf("    from %s\n\n", type->library.c_str());
+  }
+  return kExitOk;
+}
+
+int renderFiles(const RenderCommandOptions& options) {
+  // Distinct, colour-blind-safe hues for several meshes in one picture.
+  static const Rgb kPalette[] = {{0.80f, 0.80f, 0.82f}, {0.90f, 0.60f, 0.00f},
+                                 {0.34f, 0.71f, 0.91f}, {0.00f, 0.62f, 0.45f},
+                                 {0.80f, 0.47f, 0.65f}, {0.94f, 0.89f, 0.26f}};
+  std::vector<RenderItem> items;
+  for (std::size_t i = 0; i < options.meshes.size(); ++i) {
+    try {
+      auto loaded = readMesh(options.meshes[i]);
+      for (const auto& warning : loaded.warnings)
+        std::fprintf(stderr, "warning: %s: %s\n", options.meshes[i].c_str(), warning.c_str());
+      RenderItem item;
+      item.mesh = loaded.mesh;
+      item.color = kPalette[i % std::size(kPalette)];
+      item.wireframe = options.wireframe;
+      items.push_back(std::move(item));
+    } catch (const std::exception& e) {
+      printError(e.what());
+      return kExitUsage;
+    }
+  }
+  try {
+    const RenderResult result = renderMeshes(items, options.render);
+    writePng(result.image, options.output);
+    std::fprintf(stderr, "wrote %s (%dx%d, %s: %s)\n", options.output.c_str(), result.image.width,
+                 result.image.height, result.backend.c_str(), result.device.c_str());
+    return kExitOk;
+  } catch (const std::exception& e) {
+    printError(options.output.string() + ": " + e.what());
+    return kExitEvaluation;
+  }
+}
+
+}  // namespace geobrush::cli

@@ -1,0 +1,89 @@
+// JSON output of the CLI; the only CLI file that sees nlohmann_json.
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+
+namespace geobrush::cli {
+namespace {
+
+using nlohmann::json;
+
+json paramValueJson(const ParamValue& value) {
+  return std::visit(
+      [](const auto& v) -> json {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, Vec3>)
+          return json::array({v[0], v[1], v[2]});
+        else
+          return v;
+      },
+      value);
+}
+
+json portsJson(const std::vector<PortDecl>& ports) {
+  json list = json::array();
+  for (const auto& port : ports)
+    list.push_back({{"name", port.name},
+                    {"type", port.typeId},
+                    {"doc", port.doc},
+                    {"optional", port.optional}});
+  return list;
+}
+
+}  // namespace
+
+std::string runReportJson(const std::filesystem::path& graph, const EvalReport& report,
+                          const std::vector<std::string>& pluginErrors) {
+  json nodes = json::array();
+  for (const auto& run : report.runs) {
+    nodes.push_back({{"name", run.node},
+                     {"type", run.type},
+                     {"key", toHex(run.key)},
+                     {"seconds", run.seconds},
+                     {"cacheHit", run.cacheHit},
+                     {"failed", run.failed},
+                     {"warnings", run.warnings}});
+  }
+  json outputs = json::array();
+  for (const auto& file : report.filesWritten)
+    outputs.push_back(file.string());
+  json root = {{"graph", graph.string()},
+               {"ok", report.ok},
+               {"outputs", outputs},
+               {"nodes", nodes},
+               {"computed", report.computed()},
+               {"cacheHits", report.cacheHits()},
+               {"pluginErrors", pluginErrors}};
+  if (!report.ok) root["error"] = report.error;
+  return root.dump(2) + "\n";
+}
+
+std::string nodeTypesJson(const NodeRegistry& registry) {
+  json types = json::array();
+  for (const NodeType* type : registry.types()) {
+    json params = json::array();
+    for (const auto& param : type->params) {
+      json entry = {{"name", param.name},
+                    {"kind", std::string(toString(param.kind))},
+                    {"default", paramValueJson(param.defaultValue)},
+                    {"doc", param.doc}};
+      if (param.min) entry["min"] = *param.min;
+      if (param.max) entry["max"] = *param.max;
+      if (!param.choices.empty()) entry["choices"] = param.choices;
+      if (param.kind == ParamKind::DoubleList) entry["rowSize"] = param.rowSize;
+      params.push_back(entry);
+    }
+    types.push_back({{"id", type->id},
+                     {"version", type->version},
+                     {"label", type->label},
+                     {"category", type->category},
+                     {"doc", type->doc},
+                     {"library", type->library},
+                     {"inputs", portsJson(type->inputs)},
+                     {"outputs", portsJson(type->outputs)},
+                     {"params", params}});
+  }
+  return json(types).dump(2) + "\n";
+}
+
+}  // namespace geobrush::cli

@@ -1,0 +1,238 @@
+// The geobrush program: commands, exit statuses, reports, and one clear
+// error line with no output written for each kind of bad input.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "process.hpp"
+#include "test_support.hpp"
+
+using namespace geobrush;
+using test::runCli;
+
+namespace {
+
+void writeText(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+// A graph: load MESH -> save result.obj, in `dir`.
+std::string loadSaveGraph(const std::string& meshPath) {
+  return R"({"format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {"load": {"type": "geobrush.load_mesh", "typeVersion": 1, "params": {"path": ")" +
+         meshPath + R"("}},
+              "save": {"type": "geobrush.save_mesh", "typeVersion": 1}},
+    "connections": [{"from": "load.mesh", "to": "save.mesh"}]})";
+}
+
+bool isEmptyDir(const std::filesystem::path& dir) {
+  return !std::filesystem::exists(dir) || std::filesystem::is_empty(dir);
+}
+
+struct BadCase {
+  std::string name;
+  std::string graph;                         // graph file text
+  std::map<std::string, std::string> files;  // extra files beside it
+  int status;
+  std::string expected;  // part of the error line
+  std::map<std::string, std::string> env;
+};
+
+class BadInput : public testing::TestWithParam<BadCase> {};
+
+const char* kPrimitiveSave = R"({"format": "geobrush-graph", "formatVersion": 1,
+  "nodes": {"shape": {"type": "geobrush.primitive", "typeVersion": 1},
+            "save": {"type": "geobrush.save_mesh", "typeVersion": 1}},
+  "connections": [{"from": "shape.mesh", "to": "save.mesh"}]})";
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  return text.replace(text.find(from), from.size(), to);
+}
+
+std::vector<BadCase> badCases() {
+  const std::string tetra =
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+  return {
+      {"malformed_json",
+       R"({"format": "geobrush-graph", "formatVersion": 1, "nodes": {)",
+       {},
+       2,
+       "graph.json: malformed JSON"},
+      {"wrong_format",
+       replaced(kPrimitiveSave, "geobrush-graph", "blender"),
+       {},
+       2,
+       "graph.json: not a GeoBrush graph"},
+      {"newer_format",
+       replaced(kPrimitiveSave, R"("formatVersion": 1)", R"("formatVersion": 7)"),
+       {},
+       2,
+       "graph.json: formatVersion 7 was written by a newer GeoBrush"},
+      {"unknown_type",
+       replaced(kPrimitiveSave, "geobrush.primitive", "geobrush.teapot"),
+       {},
+       2,
+       "graph.json: node 'shape': unknown node type 'geobrush.teapot': no loaded plugin provides "
+       "it "
+       "(expected plugin geobrush_teapot.so"},
+      {"missing_node",
+       replaced(kPrimitiveSave, "shape.mesh", "shap.mesh"),
+       {},
+       2,
+       "graph.json: node 'shap' connection 'shap.mesh -> save.mesh': no node named 'shap'"},
+      {"missing_port",
+       replaced(kPrimitiveSave, "shape.mesh", "shape.image"),
+       {},
+       2,
+       "graph.json: node 'shape' output 'image': 'geobrush.primitive' has no such output"},
+      {"type_mismatch",
+       R"({"format": "geobrush-graph", "formatVersion": 1,
+          "nodes": {"n": {"type": "test.number", "typeVersion": 1},
+                    "save": {"type": "geobrush.save_mesh", "typeVersion": 1}},
+          "connections": [{"from": "n.value", "to": "save.mesh"}]})",
+       {},
+       2,
+       "graph.json: node 'save' input 'mesh': type mismatch: it takes geobrush.Mesh but 'n.value' "
+       "gives geobrush.Scalar",
+       {{"GEOBRUSH_PLUGIN_PATH", test::testPluginDir().string()}}},
+      {"cycle",
+       R"({"format": "geobrush-graph", "formatVersion": 1,
+          "nodes": {"a": {"type": "geobrush.transform", "typeVersion": 1},
+                    "b": {"type": "geobrush.transform", "typeVersion": 1}},
+          "connections": [{"from": "a.mesh", "to": "b.mesh"}, {"from": "b.mesh", "to": "a.mesh"}]})",
+       {},
+       2,
+       "graph.json: node 'a': the graph has a cycle"},
+      {"bad_param",
+       replaced(kPrimitiveSave, R"("typeVersion": 1},)",
+                R"("typeVersion": 1, "params": {"resolution": "many"}},)"),
+       {},
+       2,
+       "graph.json: node 'shape' param 'resolution': expected an integer"},
+      {"missing_mesh",
+       loadSaveGraph("nothing_here.obj"),
+       {},
+       1,
+       "graph.json: node 'load' param 'path':"},
+      {"nan_mesh",
+       loadSaveGraph("nan.obj"),
+       {{"nan.obj", "v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n"}},
+       1,
+       "graph.json: node 'load' param 'path':"},
+      {"no_faces",
+       loadSaveGraph("points.obj"),
+       {{"points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"}},
+       1,
+       "graph.json: node 'load' param 'path':"},
+      {"non_manifold",
+       loadSaveGraph("fan.obj"),
+       {{"fan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n"}},
+       1,
+       "graph.json: node 'load' param 'path':"},
+      {"other_abi_plugin",
+       R"({"format": "geobrush-graph", "formatVersion": 1,
+          "nodes": {"x": {"type": "test.other_abi", "typeVersion": 1}}})",
+       {},
+       2,
+       "graph.json: node 'x': node type 'test.other_abi' is unavailable: ",
+       {{"GEOBRUSH_PLUGIN_PATH", test::testPluginDir().string()}}},
+      {"node_throws",
+       R"({"format": "geobrush-graph", "formatVersion": 1,
+          "nodes": {"n": {"type": "test.number", "typeVersion": 1},
+                    "f": {"type": "test.fail", "typeVersion": 1, "params": {"how": "std_exception"}},
+                    "w": {"type": "test.write_text", "typeVersion": 1}},
+          "connections": [{"from": "n.value", "to": "f.in"}, {"from": "f.value", "to": "w.value"}]})",
+       {},
+       1,
+       "graph.json: node 'f': failed: a std::exception from the node",
+       {{"GEOBRUSH_PLUGIN_PATH", test::testPluginDir().string()}}},
+      {"good_tetra_bad_save_folder",
+       replaced(loadSaveGraph("tetra.obj"), R"("typeVersion": 1}},)",
+                R"("typeVersion": 1, "params": {"path": "no/such/folder/r.obj"}}},)"),
+       {{"tetra.obj", tetra}},
+       1,
+       "graph.json: node 'save': cannot write"},
+  };
+}
+
+}  // namespace
+
+TEST_P(BadInput, OneErrorLineNonZeroExitNoOutput) {
+  const BadCase& c = GetParam();
+  const auto dir = test::tempDir("cli-bad-" + c.name);
+  writeText(dir / "graph.json", c.graph);
+  for (const auto& [name, text] : c.files)
+    writeText(dir / name, text);
+  const auto out = dir / "out";
+  auto result = runCli({"run", (dir / "graph.json").string(), "--out", out.string()}, c.env);
+  EXPECT_EQ(result.status, c.status) << result.err;
+  EXPECT_EQ(result.errorLines(), 1) << result.err;
+  EXPECT_NE(result.err.find(c.expected), std::string::npos) << result.err;
+  EXPECT_TRUE(isEmptyDir(out)) << "a failed run must write nothing";
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, BadInput, testing::ValuesIn(badCases()),
+                         [](const testing::TestParamInfo<BadCase>& info) {
+                           return info.param.name;
+                         });
+
+TEST(Cli, NodesJsonListsEachTypeFromItsOwnLibrary) {
+  auto result = runCli({"nodes", "--json"});
+  ASSERT_EQ(result.status, 0) << result.err;
+  for (const char* name : {"load_mesh", "save_mesh", "primitive", "transform", "render"}) {
+    EXPECT_NE(result.out.find(std::string("\"id\": \"geobrush.") + name + "\""), std::string::npos)
+        << name;
+    EXPECT_NE(result.out.find(std::string("/geobrush_") + name + ".so\""), std::string::npos)
+        << name;
+  }
+  EXPECT_EQ(runCli({"nodes"}).status, 0);
+}
+
+TEST(Cli, RunsTheDefaultGraphAndReportsJson) {
+  const auto out = test::tempDir("cli-default");
+  auto result = runCli({"run", (test::sourceDir() / "graphs" / "default.json").string(), "--out",
+                        out.string(), "--json"});
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_NE(result.out.find("\"ok\": true"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("\"cacheHits\": 0"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("\"seconds\":"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(out / "default.obj"));
+  EXPECT_TRUE(std::filesystem::exists(out / "default.png"));
+  EXPECT_NE(result.out.find((out / "default.png").string()), std::string::npos);
+}
+
+TEST(Cli, SetOverridesAParam) {
+  const auto out = test::tempDir("cli-set");
+  const auto graph = (test::sourceDir() / "graphs" / "default.json").string();
+  auto small =
+      runCli({"run", graph, "--out", out.string(), "--quiet", "--set", "shape.resolution=1",
+              "--set", "render.width=64", "--set", "render.height=48"});
+  ASSERT_EQ(small.status, 0) << small.err;
+  EXPECT_TRUE(small.err.empty()) << small.err;
+  auto bad = runCli({"run", graph, "--out", out.string(), "--set", "shape.resolution=-3"});
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("node 'shape' param 'resolution'"), std::string::npos) << bad.err;
+}
+
+TEST(Cli, ValidateAndUsageErrors) {
+  EXPECT_EQ(runCli({"validate", (test::sourceDir() / "graphs" / "default.json").string()}).status,
+            0);
+  EXPECT_EQ(runCli({"validate", "/no/such/graph.json"}).status, 2);
+  EXPECT_EQ(runCli({}).status, 2);
+  EXPECT_EQ(runCli({"run"}).status, 2);
+  EXPECT_EQ(runCli({"frobnicate"}).status, 2);
+  EXPECT_EQ(runCli({"--help"}).status, 0);
+}
+
+TEST(Cli, RendersMeshFiles) {
+  const auto dir = test::tempDir("cli-render");
+  auto result = runCli({"render", test::meshPath("bunny_small.obj").string(),
+                        test::meshPath("sphere.obj").string(), "-o", (dir / "two.png").string(),
+                        "--width", "160", "--height", "120", "--azimuth", "45"});
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "two.png"));
+  auto missing = runCli({"render", (dir / "none.obj").string(), "-o", (dir / "x.png").string()});
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_EQ(missing.errorLines(), 1) << missing.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+}

@@ -1,0 +1,262 @@
+// The evaluator: pull, cache keys, recomputation counts, failures, files.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <thread>
+
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
+#include "geobrush/values.hpp"
+#include "test_support.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+const NodeRegistry& testRegistry() {
+  static NodeRegistry* registry = [] {
+    auto* r = new NodeRegistry();
+    r->loadPlugins({test::testPluginDir()});
+    return r;
+  }();
+  return *registry;
+}
+
+// a ─┐
+//    ├─ sum ── fail ── write
+// b ─┘
+// c (independent)
+Graph chain(const std::filesystem::path& file) {
+  Graph graph = parseGraph(R"({
+    "format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {
+      "a": {"type": "test.number", "typeVersion": 1, "params": {"value": 2}},
+      "b": {"type": "test.number", "typeVersion": 1, "params": {"value": 3}},
+      "c": {"type": "test.number", "typeVersion": 1, "params": {"value": 9}},
+      "sum": {"type": "test.add", "typeVersion": 2},
+      "fail": {"type": "test.fail", "typeVersion": 1},
+      "write": {"type": "test.write_text", "typeVersion": 1, "params": {"path": "out/sum.txt"}}
+    },
+    "connections": [{"from": "a.value", "to": "sum.a"}, {"from": "b.value", "to": "sum.b"},
+                    {"from": "sum.value", "to": "fail.in"}, {"from": "fail.value", "to": "write.value"}]
+  })",
+                           file);
+  prepareGraph(graph, testRegistry());
+  return graph;
+}
+
+double scalar(const Evaluator& evaluator, const std::string& node) {
+  auto value = std::dynamic_pointer_cast<const Scalar>(evaluator.output(node, "value"));
+  return value ? value->value : std::nan("");
+}
+
+std::string readText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string text;
+  std::getline(in, text);
+  return text;
+}
+
+}  // namespace
+
+TEST(Evaluator, ComputesAndWritesFiles) {
+  const auto dir = test::tempDir("eval-basic");
+  std::filesystem::create_directories(dir / "out");
+  Graph graph = chain(dir / "g.json");
+  Evaluator evaluator(testRegistry());
+  EvalReport report = evaluator.evaluate(graph);
+  ASSERT_TRUE(report.ok) << report.error;
+  EXPECT_EQ(scalar(evaluator, "sum"), 5.0);
+  EXPECT_EQ(report.computed(), 6);
+  ASSERT_EQ(report.filesWritten.size(), 1u);
+  EXPECT_EQ(report.filesWritten[0], dir / "out" / "sum.txt");
+  EXPECT_EQ(readText(dir / "out" / "sum.txt"), "5");
+}
+
+TEST(Evaluator, SecondRunIsAllCacheHits) {
+  const auto dir = test::tempDir("eval-cache");
+  std::filesystem::create_directories(dir / "out");
+  Graph graph = chain(dir / "g.json");
+  Evaluator evaluator(testRegistry());
+  ASSERT_TRUE(evaluator.evaluate(graph).ok);
+  const auto before = evaluator.computeCount();
+  EvalReport again = evaluator.evaluate(graph);
+  EXPECT_EQ(evaluator.computeCount(), before);
+  EXPECT_EQ(again.cacheHits(), 6);
+}
+
+TEST(Evaluator, ChangingAParamRerunsOnlyDownstream) {
+  const auto dir = test::tempDir("eval-downstream");
+  std::filesystem::create_directories(dir / "out");
+  Graph graph = chain(dir / "g.json");
+  Evaluator evaluator(testRegistry());
+  ASSERT_TRUE(evaluator.evaluate(graph).ok);
+
+  setParamFromText(graph, testRegistry(), "b.value=10");
+  EvalReport report = evaluator.evaluate(graph);
+  ASSERT_TRUE(report.ok) << report.error;
+  std::vector<std::string> recomputed;
+  for (const auto& run : report.runs)
+    if (!run.cacheHit) recomputed.push_back(run.node);
+  EXPECT_EQ(recomputed, (std::vector<std::string>{"b", "sum", "fail", "write"}));
+  EXPECT_EQ(scalar(evaluator, "sum"), 12.0);
+  EXPECT_EQ(readText(dir / "out" / "sum.txt"), "12");
+
+  // An unrelated node's param: nothing else recomputes.
+  const auto before = evaluator.computeCount();
+  setParamFromText(graph, testRegistry(), "c.value=1");
+  report = evaluator.evaluate(graph);
+  EXPECT_EQ(evaluator.computeCount() - before, 1u);
+  // A param that changes the key but not the value still recomputes only that node's chain.
+  setParamFromText(graph, testRegistry(), "c.label=renamed");
+  EXPECT_EQ(evaluator.evaluate(graph).computed(), 1);
+}
+
+TEST(Evaluator, KeysDependOnTypeParamsAndInputsNotNames) {
+  Graph graph = chain("/tmp/g.json");
+  Evaluator evaluator(testRegistry());
+  auto keys = evaluator.nodeKeys(graph);
+  Graph renamed = graph;
+  renamed.nodes["z"] = renamed.nodes["c"];
+  renamed.nodes.erase("c");
+  EXPECT_EQ(evaluator.nodeKeys(renamed).at("z"), keys.at("c"));
+  EXPECT_NE(keys.at("a"), keys.at("b"));
+  setParamFromText(graph, testRegistry(), "a.value=3");
+  auto changed = evaluator.nodeKeys(graph);
+  EXPECT_EQ(changed.at("a"), keys.at("b"));  // same type, same params
+  EXPECT_NE(changed.at("sum"), keys.at("sum"));
+  EXPECT_EQ(changed.at("c"), keys.at("c"));
+  // Output paths resolve against the output folder, so --out changes the writer's key.
+  EvalOptions elsewhere;
+  elsewhere.outputDir = "/somewhere/else";
+  EXPECT_NE(evaluator.nodeKeys(graph, elsewhere).at("write"), changed.at("write"));
+  EXPECT_EQ(evaluator.nodeKeys(graph, elsewhere).at("sum"), changed.at("sum"));
+}
+
+TEST(Evaluator, TargetsPullOnlyUpstream) {
+  Graph graph = chain(test::tempDir("eval-pull") / "g.json");
+  Evaluator evaluator(testRegistry());
+  EvalOptions options;
+  options.targets = {"sum"};
+  EvalReport report = evaluator.evaluate(graph, options);
+  ASSERT_TRUE(report.ok);
+  EXPECT_EQ(report.runs.size(), 3u);
+  EXPECT_TRUE(report.filesWritten.empty());
+}
+
+TEST(Evaluator, NodeFailuresAreReportedNotThrown) {
+  const auto dir = test::tempDir("eval-fail");
+  std::filesystem::create_directories(dir / "out");
+  const std::pair<const char*, const char*> cases[] = {
+      {"node_error", "node 'fail' param 'how': asked to fail"},
+      {"std_exception", "node 'fail': failed: a std::exception from the node"},
+      {"unknown", "node 'fail': failed with an unknown exception"},
+      {"no_output", "node 'fail' output 'value': was not set by 'test.fail'"},
+      {"wrong_type", "node 'fail' output 'value': was set to a geobrush.Metrics but is declared"},
+  };
+  for (const auto& [how, expected] : cases) {
+    Graph graph = chain(dir / "g.json");
+    setParamFromText(graph, testRegistry(), std::string("fail.how=") + how);
+    Evaluator evaluator(testRegistry());
+    EvalReport report = evaluator.evaluate(graph);
+    EXPECT_FALSE(report.ok) << how;
+    EXPECT_NE(report.error.find((dir / "g.json").string() + ": " + expected), std::string::npos)
+        << report.error;
+    EXPECT_TRUE(report.filesWritten.empty());
+    EXPECT_FALSE(std::filesystem::exists(dir / "out" / "sum.txt")) << how;
+    // A failure is remembered for its key: asking again does not recompute.
+    const auto before = evaluator.computeCount();
+    EXPECT_FALSE(evaluator.evaluate(graph).ok);
+    EXPECT_EQ(evaluator.computeCount(), before);
+  }
+}
+
+TEST(Evaluator, FailedRunLeavesNoFileAndOldFileIntact) {
+  const auto dir = test::tempDir("eval-atomic");
+  std::filesystem::create_directories(dir / "out");
+  { std::ofstream(dir / "out" / "sum.txt") << "old\n"; }
+  Graph graph = chain(dir / "g.json");
+  // "write" runs (and writes its temporary file) before "zfail" fails.
+  graph.nodes["zfail"] = {"test.fail", 1, {{"how", std::string("node_error")}}};
+  graph.connections.push_back({{"sum", "value"}, {"zfail", "in"}});
+  prepareGraph(graph, testRegistry());
+  Evaluator evaluator(testRegistry());
+  EvalReport report = evaluator.evaluate(graph);
+  EXPECT_FALSE(report.ok);
+  ASSERT_EQ(report.runs.back().node, "zfail");
+  EXPECT_EQ(report.runs[report.runs.size() - 2].node, "write");
+  EXPECT_EQ(readText(dir / "out" / "sum.txt"), "old");
+  // No temporary file is left behind either.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir / "out"), {}), 1);
+}
+
+TEST(Evaluator, MissingOutputFolderIsANodeError) {
+  const auto dir = test::tempDir("eval-nofolder");
+  Graph graph = chain(dir / "g.json");
+  Evaluator evaluator(testRegistry());
+  EvalReport report = evaluator.evaluate(graph);
+  EXPECT_FALSE(report.ok);
+  EXPECT_NE(report.error.find("node 'write': cannot write"), std::string::npos) << report.error;
+  EXPECT_NE(report.error.find("does not exist"), std::string::npos) << report.error;
+}
+
+TEST(Evaluator, CancellationStopsALongNode) {
+  Graph graph = parseGraph(R"({"format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {"n": {"type": "test.number", "typeVersion": 1}, "s": {"type": "test.slow", "typeVersion": 1}},
+    "connections": [{"from": "n.value", "to": "s.in"}]})",
+                           "slow.json");
+  prepareGraph(graph, testRegistry());
+  Evaluator evaluator(testRegistry());
+  std::atomic<bool> cancel{false};
+  EvalOptions options;
+  options.cancel = &cancel;
+  double lastProgress = -1;
+  options.progress = [&](const std::string& node, double fraction) {
+    if (node == "s") lastProgress = fraction;
+    if (node == "s" && fraction > 0.01) cancel = true;
+  };
+  EvalReport report = evaluator.evaluate(graph, options);
+  EXPECT_FALSE(report.ok);
+  EXPECT_TRUE(report.cancelled);
+  EXPECT_LT(lastProgress, 0.5);
+  // Cancelled work is not cached: it runs again when asked.
+  cancel = false;
+  options.progress = nullptr;
+  EXPECT_TRUE(evaluator.evaluate(graph, options).ok);
+}
+
+TEST(Evaluator, InputFileChangesInvalidateTheKey) {
+  const auto dir = test::tempDir("eval-inputfile");
+  { std::ofstream(dir / "n.txt") << "1.5\n"; }
+  Graph graph = parseGraph(R"({"format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {"r": {"type": "test.read_text", "typeVersion": 1, "params": {"path": "n.txt"}}}})",
+                           dir / "g.json");
+  prepareGraph(graph, testRegistry());
+  Evaluator evaluator(testRegistry());
+  ASSERT_TRUE(evaluator.evaluate(graph).ok);
+  EXPECT_EQ(scalar(evaluator, "r"), 1.5);
+  EXPECT_EQ(evaluator.evaluate(graph).cacheHits(), 1);
+  { std::ofstream(dir / "n.txt") << "-20.25\n"; }  // another size, so another key
+  EvalReport report = evaluator.evaluate(graph);
+  EXPECT_EQ(report.computed(), 1);
+  EXPECT_EQ(scalar(evaluator, "r"), -20.25);
+  std::filesystem::remove(dir / "n.txt");
+  report = evaluator.evaluate(graph);
+  EXPECT_FALSE(report.ok);
+  EXPECT_NE(report.error.find("node 'r' param 'path': cannot read"), std::string::npos)
+      << report.error;
+}
+
+TEST(Evaluator, DeterministicAcrossEvaluators) {
+  const auto dir = test::tempDir("eval-determinism");
+  std::filesystem::create_directories(dir / "out");
+  Graph graph = chain(dir / "g.json");
+  Evaluator first(testRegistry());
+  Evaluator second(testRegistry());
+  ASSERT_TRUE(first.evaluate(graph).ok);
+  ASSERT_TRUE(second.evaluate(graph).ok);
+  EXPECT_EQ(first.output("sum", "value")->contentHash(),
+            second.output("sum", "value")->contentHash());
+  EXPECT_EQ(first.nodeKeys(graph), second.nodeKeys(graph));
+}

@@ -1,0 +1,128 @@
+// Small node types that exercise the evaluator: numbers, sums, failures,
+// file writes, cancellation. Each compute also bumps a global counter per
+// type so tests can count recomputations from outside.
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+#include "geobrush/registry.hpp"
+#include "geobrush/values.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+void number(Context& ctx) {
+  ctx.out("value", std::make_shared<Scalar>(ctx.param<double>("value")));
+}
+
+void add(Context& ctx) {
+  double sum = ctx.in<Scalar>("a")->value;
+  if (ctx.hasInput("b")) sum += ctx.in<Scalar>("b")->value;
+  ctx.out("value", std::make_shared<Scalar>(sum));
+}
+
+void fail(Context& ctx) {
+  const std::string how = ctx.param<std::string>("how");
+  if (how == "node_error") throw NodeError::param("how", "asked to fail");
+  if (how == "std_exception") throw std::runtime_error("a std::exception from the node");
+  if (how == "unknown") throw 42;
+  if (how == "no_output") return;
+  if (how == "wrong_type") {
+    ctx.out("value", std::make_shared<Metrics>());
+    return;
+  }
+  ctx.out("value", std::make_shared<Scalar>(ctx.in<Scalar>("in")->value));
+}
+
+void writeText(Context& ctx) {
+  const double value = ctx.in<Scalar>("value")->value;
+  ctx.writeFile(ctx.path("path"), [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp);
+    out << value << "\n";
+  });
+}
+
+void readText(Context& ctx) {
+  std::ifstream in(ctx.path("path"));
+  double value = 0;
+  if (!(in >> value)) throw NodeError::param("path", "cannot read " + ctx.path("path").string());
+  ctx.out("value", std::make_shared<Scalar>(value));
+}
+
+void slow(Context& ctx) {
+  for (int i = 0; i < 1000; ++i) {
+    ctx.throwIfCancelled();
+    ctx.progress(i / 1000.0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ctx.out("value", std::make_shared<Scalar>(ctx.in<Scalar>("in")->value));
+}
+
+void registerNodes(PluginRegistrar& r) {
+  r.add(NodeTypeBuilder("test.number", 1)
+            .doc("Outputs its parameter as a scalar.")
+            .output<Scalar>("value", "The number.")
+            .paramDouble("value", 1.0, "The number to output.")
+            .range(-1e9, 1e9)
+            .paramString("label", "", "An unrelated label; changes nothing.")
+            .compute(number)
+            .build());
+  r.add(NodeTypeBuilder("test.add", 2)
+            .doc("Adds two scalars.")
+            .input<Scalar>("a", "First term.")
+            .optionalInput<Scalar>("b", "Second term (0 if unconnected).")
+            .output<Scalar>("value", "The sum.")
+            .paramInt("unused", 0, "Has no effect.")
+            .compute(add)
+            // Version 1 called the unused parameter "spare".
+            .upgrade(1,
+                     [](ParamMap& params) {
+                       if (auto it = params.find("spare"); it != params.end()) {
+                         params["unused"] = it->second;
+                         params.erase(it);
+                       }
+                     })
+            .build());
+  r.add(
+      NodeTypeBuilder("test.fail", 1)
+          .doc("Fails in the way its parameter says, or passes its input through.")
+          .input<Scalar>("in", "Passed through.")
+          .output<Scalar>("value", "The input.")
+          .paramEnum("how", "none",
+                     {"none", "node_error", "std_exception", "unknown", "no_output", "wrong_type"},
+                     "How to fail.")
+          .compute(fail)
+          .build());
+  r.add(NodeTypeBuilder("test.write_text", 1)
+            .doc("Writes its input as text.")
+            .input<Scalar>("value", "The number to write.")
+            .paramOutputPath("path", "value.txt", "Text file to write.")
+            .compute(writeText)
+            .build());
+  r.add(NodeTypeBuilder("test.metric_count", 1)
+            .doc("Counts the values of a metrics input.")
+            .input<Metrics>("metrics", "Any metrics.")
+            .output<Scalar>("value", "How many values it holds.")
+            .compute([](Context& ctx) {
+              const double count = double(ctx.in<Metrics>("metrics")->values.size());
+              ctx.out("value", std::make_shared<Scalar>(count));
+            })
+            .build());
+  r.add(NodeTypeBuilder("test.read_text", 1)
+            .doc("Reads a number from a text file.")
+            .output<Scalar>("value", "The number.")
+            .paramInputPath("path", "Text file holding one number.")
+            .compute(readText)
+            .build());
+  r.add(NodeTypeBuilder("test.slow", 1)
+            .doc("Takes a second, checking for cancellation.")
+            .input<Scalar>("in", "Passed through.")
+            .output<Scalar>("value", "The input.")
+            .compute(slow)
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)
