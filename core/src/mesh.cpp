@@ -1,0 +1,32 @@
+#include "geobrush/mesh.hpp"
+
+#include <string>
+
+namespace geobrush {
+
+Hash Mesh::contentHash() const {
+  Hasher hasher;
+  hasher.str(kTypeId).u64(surface.n_vertices());
+  for (auto vertex : surface.vertices()) {
+    const auto& point = surface.point(vertex);
+    hasher.f64(point[0]).f64(point[1]).f64(point[2]);
+  }
+  hasher.u64(surface.n_faces());
+  for (auto face : surface.faces())
+    for (auto vertex : surface.fv_range(face))
+      hasher.u64(std::uint64_t(vertex.idx()));
+  hasher.u64(vertexColors.size());
+  for (const Rgb& color : vertexColors)
+    hasher.f64(color[0]).f64(color[1]).f64(color[2]);
+  return hasher.digest();
+}
+
+std::string Mesh::summary() const {
+  const auto count = [](std::size_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+  };
+  return count(surface.n_vertices(), "vertex", "vertices") + ", " +
+         count(surface.n_faces(), "face", "faces");
+}
+
+}  // namespace geobrush
