@@ -1,0 +1,70 @@
+#include "geobrush/mesh.hpp"
+#include "geobrush/node.hpp"
+#include "geobrush/registry.hpp"
+#include "primitive.hpp"
+
+namespace {
+
+using geobrush::Context;
+using geobrush::Mesh;
+using geobrush::NodeError;
+
+class PrimitiveNode final : public geobrush::Node {
+ public:
+  void compute(Context& ctx) override {
+    geobrush::PrimitiveOptions options;
+    options.size = ctx.param<double>("size");
+    options.minorRadius = ctx.param<double>("minor_radius");
+    options.resolution = ctx.param<int>("resolution");
+    options.relief = ctx.param<double>("relief");
+    options.reliefFrequency = ctx.param<double>("relief_frequency");
+    options.progress = [&ctx](double fraction) {
+      ctx.throwIfCancelled();
+      ctx.progress(fraction);
+    };
+    try {
+      options.shape = geobrush::parsePrimitiveShape(ctx.param<std::string>("shape"));
+      ctx.out("mesh", std::make_shared<const Mesh>(geobrush::makePrimitive(options)));
+    } catch (const geobrush::PrimitiveOptionError& e) {
+      throw NodeError::param(e.option(), e.what());
+    }
+  }
+};
+
+void registerNodes(geobrush::PluginRegistrar& r) {
+  r.add(geobrush::NodeTypeBuilder("geobrush.primitive", 1)
+            .label("Primitive")
+            .category("Mesh")
+            .doc("Generates a plane, sphere, rounded cube or torus mesh, optionally with "
+                 "procedural relief, so graphs run without input files.")
+            .output<Mesh>("mesh",
+                          "The generated triangle mesh: closed and outward-facing, except the "
+                          "plane, an open square facing +z.")
+            .paramEnum("shape", "sphere", geobrush::primitiveShapeNames(),
+                       "Which surface: plane (square at z = 0), sphere (geodesic), rounded_cube "
+                       "or torus (around the z axis).")
+            .paramDouble("size", 1.0,
+                         "Plane side length, sphere radius, cube half-extent or torus major "
+                         "radius.")
+            .range(1e-6, 1e6)
+            .paramDouble("minor_radius", 0.25,
+                         "Torus tube radius (below size) or rounded-cube edge radius (at most "
+                         "size); unused by the plane and sphere.")
+            .range(1e-6, 1e6)
+            .paramInt("resolution", 64,
+                      "Plane: quads per side; sphere: segments per icosahedron edge; rounded "
+                      "cube: quads per face side; torus: segments around the major circle.")
+            .range(1, 1000)
+            .paramDouble("relief", 0.0,
+                         "Amplitude of the procedural relief along the normal; 0 gives the exact "
+                         "shape.")
+            .range(0, 1e6)
+            .paramDouble("relief_frequency", 4.0, "Relief noise cells per size length.")
+            .range(1e-3, 1e3)
+            .node<PrimitiveNode>()
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)

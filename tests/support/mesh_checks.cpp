@@ -1,0 +1,139 @@
+#include "mesh_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <numeric>
+
+namespace geobrush::test {
+namespace {
+
+std::array<TriMesh::Point, 3> corners(const TriMesh& mesh, TriMesh::FaceHandle face) {
+  std::array<TriMesh::Point, 3> p;
+  int i = 0;
+  for (auto v : mesh.fv_range(face))
+    p[i++] = mesh.point(v);
+  return p;
+}
+
+// Smallest set representative with path halving.
+int findRoot(std::vector<int>& parent, int i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+}  // namespace
+
+double surfaceArea(const TriMesh& mesh) {
+  double area = 0;
+  for (auto face : mesh.faces()) {
+    const auto p = corners(mesh, face);
+    area += 0.5 * ((p[1] - p[0]) % (p[2] - p[0])).norm();
+  }
+  return area;
+}
+
+double signedVolume(const TriMesh& mesh) {
+  double volume = 0;
+  for (auto face : mesh.faces()) {
+    const auto p = corners(mesh, face);
+    volume += (p[0] | (p[1] % p[2])) / 6.0;
+  }
+  return volume;
+}
+
+Topology topology(const TriMesh& mesh) {
+  Topology t;
+  t.vertices = mesh.n_vertices();
+  t.edges = mesh.n_edges();
+  t.faces = mesh.n_faces();
+  t.eulerCharacteristic =
+      static_cast<long>(t.vertices) - static_cast<long>(t.edges) + static_cast<long>(t.faces);
+
+  std::vector<bool> visited(mesh.n_halfedges(), false);
+  for (auto h : mesh.halfedges()) {
+    if (!mesh.is_boundary(h)) continue;
+    ++t.boundaryHalfedges;
+    if (visited[h.idx()]) continue;
+    ++t.boundaryLoops;
+    for (auto walk = h; !visited[walk.idx()]; walk = mesh.next_halfedge_handle(walk)) {
+      visited[walk.idx()] = true;
+    }
+  }
+
+  std::vector<int> parent(mesh.n_vertices());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (auto face : mesh.faces()) {
+    const int first = findRoot(parent, mesh.to_vertex_handle(mesh.halfedge_handle(face)).idx());
+    for (auto v : mesh.fv_range(face))
+      parent[findRoot(parent, v.idx())] = first;
+  }
+  for (auto v : mesh.vertices()) {
+    if (mesh.is_isolated(v)) {
+      ++t.isolatedVertices;
+    } else {
+      if (findRoot(parent, v.idx()) == v.idx()) ++t.components;
+      if (!mesh.is_manifold(v)) ++t.nonManifoldVertices;
+    }
+  }
+  return t;
+}
+
+double minAngleDegrees(const TriMesh& mesh) {
+  double smallest = 180;
+  for (auto face : mesh.faces()) {
+    const auto p = corners(mesh, face);
+    for (int i = 0; i < 3; ++i) {
+      const auto a = p[(i + 1) % 3] - p[i];
+      const auto b = p[(i + 2) % 3] - p[i];
+      const double angle = std::atan2((a % b).norm(), a | b);
+      smallest = std::min(smallest, angle * 180 / std::numbers::pi);
+    }
+  }
+  return smallest;
+}
+
+std::size_t closeVertexPairs(const TriMesh& mesh, double tolerance) {
+  std::vector<TriMesh::Point> points(mesh.points(), mesh.points() + mesh.n_vertices());
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (std::size_t j = i + 1; j < points.size() && points[j][0] - points[i][0] < tolerance; ++j) {
+      if ((points[j] - points[i]).norm() < tolerance) ++pairs;
+    }
+  }
+  return pairs;
+}
+
+std::vector<std::array<int, 3>> faceIndices(const TriMesh& mesh) {
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(mesh.n_faces());
+  for (auto face : mesh.faces()) {
+    std::array<int, 3> f;
+    int i = 0;
+    for (auto v : mesh.fv_range(face))
+      f[i++] = v.idx();
+    faces.push_back(f);
+  }
+  return faces;
+}
+
+bool bitIdentical(const TriMesh& a, const TriMesh& b) {
+  return a.n_vertices() == b.n_vertices() &&
+         std::memcmp(a.points(), b.points(), a.n_vertices() * sizeof(TriMesh::Point)) == 0 &&
+         faceIndices(a) == faceIndices(b);
+}
+
+std::vector<double> edgeLengths(const TriMesh& mesh) {
+  std::vector<double> lengths;
+  lengths.reserve(mesh.n_edges());
+  for (auto e : mesh.edges())
+    lengths.push_back(mesh.calc_edge_length(e));
+  return lengths;
+}
+
+}  // namespace geobrush::test

@@ -1,0 +1,50 @@
+// Geometric and topological measurements of triangle meshes, for checking results in tests.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "geobrush/mesh.hpp"
+
+namespace geobrush::test {
+
+double surfaceArea(const TriMesh& mesh);
+
+// Sum of the signed volumes of the tetrahedra from the origin to each face: the enclosed volume
+// of a closed mesh, positive when its faces are oriented outward.
+double signedVolume(const TriMesh& mesh);
+
+struct Topology {
+  std::size_t vertices = 0;
+  std::size_t edges = 0;
+  std::size_t faces = 0;
+  std::size_t boundaryHalfedges = 0;
+  std::size_t boundaryLoops = 0;
+  // Connected components of faces (isolated vertices are not counted).
+  std::size_t components = 0;
+  std::size_t isolatedVertices = 0;
+  // Vertices whose faces do not form a single fan (e.g. two cones touching at a tip).
+  std::size_t nonManifoldVertices = 0;
+  // V - E + F = 2 - 2 genus - boundary loops, per component.
+  long eulerCharacteristic = 0;
+};
+Topology topology(const TriMesh& mesh);
+
+// The smallest interior angle of any face, in degrees (0 for a degenerate face).
+double minAngleDegrees(const TriMesh& mesh);
+
+// Pairs of distinct vertices closer than `tolerance`: unwelded seams show up here.
+std::size_t closeVertexPairs(const TriMesh& mesh, double tolerance);
+
+// Whether both have bit-identical points (in vertex order) and faces (as vertex index triples
+// in face order).
+bool bitIdentical(const TriMesh& a, const TriMesh& b);
+
+// Every face as its vertex indices, starting from each face's first halfedge.
+std::vector<std::array<int, 3>> faceIndices(const TriMesh& mesh);
+
+// The length of every edge, in edge order.
+std::vector<double> edgeLengths(const TriMesh& mesh);
+
+}  // namespace geobrush::test
