@@ -156,8 +156,9 @@ int renderFiles(const RenderCommandOptions& options) {
   for (std::size_t i = 0; i < options.meshes.size(); ++i) {
     try {
       auto loaded = readMesh(options.meshes[i]);
+      // The reader's warnings name the file already.
       for (const auto& warning : loaded.warnings)
-        std::fprintf(stderr, "warning: %s: %s\n", options.meshes[i].c_str(), warning.c_str());
+        std::fprintf(stderr, "warning: %s\n", warning.c_str());
       RenderItem item;
       item.mesh = loaded.mesh;
       item.color = kPalette[i % std::size(kPalette)];

@@ -35,8 +35,11 @@ struct BadCase {
   std::map<std::string, std::string> files;  // extra files beside it
   int status;
   std::string expected;  // part of the error line
-  std::map<std::string, std::string> env;
+  std::map<std::string, std::string> env = {};
 };
+
+// Keeps test names and failure messages readable.
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
 
 class BadInput : public testing::TestWithParam<BadCase> {};
 
@@ -102,7 +105,7 @@ std::vector<BadCase> badCases() {
           "connections": [{"from": "a.mesh", "to": "b.mesh"}, {"from": "b.mesh", "to": "a.mesh"}]})",
        {},
        2,
-       "graph.json: node 'a': the graph has a cycle"},
+       "graph.json: node 'b': the graph has a cycle: 'b' -> 'a' -> 'b'"},
       {"bad_param",
        replaced(kPrimitiveSave, R"("typeVersion": 1},)",
                 R"("typeVersion": 1, "params": {"resolution": "many"}},)"),
@@ -151,7 +154,7 @@ std::vector<BadCase> badCases() {
                 R"("typeVersion": 1, "params": {"path": "no/such/folder/r.obj"}}},)"),
        {{"tetra.obj", tetra}},
        1,
-       "graph.json: node 'save': cannot write"},
+       "graph.json: node 'save' param 'path': "},
   };
 }
 

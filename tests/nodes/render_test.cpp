@@ -1,0 +1,126 @@
+// geobrush.render: the node wrapper around core's renderer (whose own
+// analytic tests are in tests/core/render_test.cpp).
+#include <gtest/gtest.h>
+
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
+#include "geobrush/image.hpp"
+#include "geobrush/render.hpp"
+#include "test_support.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+struct Rendered {
+  EvalReport report;
+  ImagePtr image;
+};
+
+// load(mesh) -> render, with `params` on the render node.
+Rendered renderFile(const std::filesystem::path& dir, const std::string& mesh, ParamMap params,
+                    const std::string& overlay = "") {
+  Graph graph;
+  graph.file = dir / "graph.json";
+  graph.nodes["load"] = {"geobrush.load_mesh", 1, {{"path", mesh}}};
+  graph.nodes["render"] = {"geobrush.render", 1, std::move(params)};
+  graph.connections.push_back({{"load", "mesh"}, {"render", "mesh"}});
+  if (!overlay.empty()) {
+    graph.nodes["load2"] = {"geobrush.load_mesh", 1, {{"path", overlay}}};
+    graph.connections.push_back({{"load2", "mesh"}, {"render", "overlay"}});
+  }
+  prepareGraph(graph, test::registry());
+  Evaluator evaluator(test::registry());
+  Rendered result{evaluator.evaluate(graph), nullptr};
+  result.image = std::dynamic_pointer_cast<const Image>(evaluator.output("render", "image"));
+  return result;
+}
+
+double coverage(const Image& image) {
+  std::size_t covered = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const auto* p = image.pixel(x, y);
+      covered += !(p[0] == 255 && p[1] == 255 && p[2] == 255);
+    }
+  return double(covered) / (double(image.width) * image.height);
+}
+
+}  // namespace
+
+TEST(RenderNode, WritesThePngItOutputs) {
+  const auto dir = test::tempDir("render-node-png");
+  auto result = renderFile(dir, test::meshPath("bunny_small.obj").string(),
+                           {{"width", std::int64_t(200)},
+                            {"height", std::int64_t(150)},
+                            {"path", std::string("bunny.png")}});
+  ASSERT_TRUE(result.report.ok) << result.report.error;
+  ASSERT_TRUE(result.image);
+  EXPECT_EQ(result.image->width, 200);
+  EXPECT_EQ(result.image->height, 150);
+  ASSERT_EQ(result.report.filesWritten.size(), 1u);
+  EXPECT_EQ(result.report.filesWritten[0], dir / "bunny.png");
+  const Image fromFile = readPng(dir / "bunny.png");
+  EXPECT_EQ(fromFile.rgba, result.image->rgba);
+  // The bunny fills a good part of the fitted view, but not all of it.
+  EXPECT_GT(coverage(*result.image), 0.10);
+  EXPECT_LT(coverage(*result.image), 0.90);
+}
+
+TEST(RenderNode, EmptyPathWritesNoFile) {
+  const auto dir = test::tempDir("render-node-nopath");
+  auto result = renderFile(
+      dir, test::meshPath("sphere.obj").string(),
+      {{"path", std::string()}, {"width", std::int64_t(64)}, {"height", std::int64_t(64)}});
+  ASSERT_TRUE(result.report.ok) << result.report.error;
+  EXPECT_TRUE(result.report.filesWritten.empty());
+  EXPECT_TRUE(result.image);
+}
+
+// A unit sphere seen from any direction is a disc: its area fraction follows
+// from the fitted camera (bounding sphere of the box, radius sqrt(3), fitted
+// to the vertical field of view).
+TEST(RenderNode, SphereCoverageMatchesTheCameraFit) {
+  const auto dir = test::tempDir("render-node-sphere");
+  auto result = renderFile(dir, test::meshPath("sphere.obj").string(),
+                           {{"width", std::int64_t(400)},
+                            {"height", std::int64_t(400)},
+                            {"path", std::string()},
+                            {"backend", std::string("cpu")}});
+  ASSERT_TRUE(result.report.ok) << result.report.error;
+  const double halfFov = 35.0 / 2 * M_PI / 180;
+  const double distance = std::sqrt(3.0) / std::sin(halfFov);
+  // Angular radius of the unit sphere from that distance, projected.
+  const double discRadius = std::tan(std::asin(1.0 / distance)) / std::tan(halfFov);  // in NDC
+  const double expected = M_PI * discRadius * discRadius / 4.0;
+  EXPECT_NEAR(coverage(*result.image), expected, 0.02 * expected + 0.002);
+}
+
+TEST(RenderNode, OverlayAndWireframeChangeThePicture) {
+  const auto dir = test::tempDir("render-node-overlay");
+  const ParamMap small{
+      {"width", std::int64_t(160)}, {"height", std::int64_t(120)}, {"path", std::string()}};
+  auto plain = renderFile(dir, test::meshPath("cube.obj").string(), small);
+  auto overlay = renderFile(dir, test::meshPath("cube.obj").string(), small,
+                            test::meshPath("torus.obj").string());
+  ParamMap wire = small;
+  wire["wireframe"] = true;
+  auto wired = renderFile(dir, test::meshPath("cube.obj").string(), wire);
+  ASSERT_TRUE(plain.report.ok && overlay.report.ok && wired.report.ok);
+  EXPECT_NE(plain.image->rgba, overlay.image->rgba);
+  EXPECT_NE(plain.image->rgba, wired.image->rgba);
+}
+
+TEST(RenderNode, CpuAndVulkanBackendsAgree) {
+  const auto dir = test::tempDir("render-node-backends");
+  auto cpu = renderFile(dir, test::meshPath("bunny_small.obj").string(),
+                        {{"backend", std::string("cpu")}, {"path", std::string()}});
+  auto vulkan = renderFile(dir, test::meshPath("bunny_small.obj").string(),
+                           {{"backend", std::string("vulkan")}, {"path", std::string()}});
+  ASSERT_TRUE(cpu.report.ok) << cpu.report.error;
+  if (!vulkan.report.ok) GTEST_SKIP() << "no Vulkan device: " << vulkan.report.error;
+  std::size_t close = 0;
+  for (std::size_t i = 0; i < cpu.image->rgba.size(); i += 4)
+    close += std::abs(int(cpu.image->rgba[i]) - int(vulkan.image->rgba[i])) <= 8;
+  EXPECT_GT(double(close) / (cpu.image->rgba.size() / 4), 0.98);
+}
