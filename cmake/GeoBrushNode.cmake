@@ -45,6 +45,8 @@ function(geobrush_add_node NAME)
                                              VISIBILITY_INLINES_HIDDEN ON
                                              LIBRARY_OUTPUT_DIRECTORY ${GEOBRUSH_PLUGIN_OUTPUT_DIR})
   if(GEOBRUSH_PLUGIN_INSTALL_DIR)
+    # Installed plugins sit in <prefix>/lib/geobrush/plugins, beside <prefix>/lib.
+    set_target_properties(${plugin} PROPERTIES INSTALL_RPATH "$ORIGIN/../..")
     install(TARGETS ${plugin} LIBRARY DESTINATION ${GEOBRUSH_PLUGIN_INSTALL_DIR})
   endif()
   set_property(GLOBAL APPEND PROPERTY GEOBRUSH_NODE_PLUGINS ${plugin})
