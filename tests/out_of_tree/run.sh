@@ -11,7 +11,8 @@ cmake -S "$source/tests/out_of_tree/plugin" -B "$work/build" -DCMAKE_PREFIX_PATH
   -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$work/build" > /dev/null
 export GEOBRUSH_PLUGIN_PATH=$work/build/plugins
-"$work/prefix/bin/geobrush" nodes --json | grep -q '"id": "example.centre"'
+nodes=$("$work/prefix/bin/geobrush" nodes --json)
+grep -q '"id": "example.centre"' <<< "$nodes"
 cat > "$work/graph.json" <<'JSON'
 {"format": "geobrush-graph", "formatVersion": 1,
  "nodes": {"shape": {"type": "geobrush.primitive", "typeVersion": 1,

@@ -22,7 +22,7 @@ struct MeshTraits : OpenMesh::DefaultTraits {
 
 using TriMesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
 
-// Linear RGB in [0, 1].
+// RGB in [0, 1]; images store round(255 c), with no sRGB curve.
 using Rgb = std::array<float, 3>;
 
 class Mesh final : public Value {

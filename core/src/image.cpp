@@ -1,0 +1,56 @@
+#include "geobrush/image.hpp"
+
+#include <QtCore/QString>
+#include <QtGui/QImage>
+#include <cstring>
+#include <stdexcept>
+
+#include "atomic_file.hpp"
+
+namespace geobrush {
+namespace {
+
+QString toQString(const std::filesystem::path& path) {
+  return QString::fromStdString(path.string());
+}
+
+}  // namespace
+
+Hash Image::contentHash() const {
+  Hasher hasher;
+  hasher.str(kTypeId).u64(std::uint64_t(width)).u64(std::uint64_t(height));
+  return hasher.span(std::span<const std::uint8_t>(rgba)).digest();
+}
+
+std::string Image::summary() const {
+  return "image: " + std::to_string(width) + "x" + std::to_string(height) + " RGBA8";
+}
+
+void writePng(const Image& image, const std::filesystem::path& path) {
+  const std::string where = "writePng: " + path.string() + ": ";
+  if (image.width <= 0 || image.height <= 0 ||
+      image.rgba.size() != 4ull * image.width * image.height)
+    throw std::runtime_error(where + "the image is empty or its pixel buffer has the wrong size");
+  // QImage only wraps the pixels here; save() reads them.
+  const QImage wrapped(image.rgba.data(), image.width, image.height, 4 * image.width,
+                       QImage::Format_RGBA8888);
+  writeFileAtomically(path, [&](const std::filesystem::path& temporary) {
+    if (!wrapped.save(toQString(temporary), "PNG"))
+      throw std::runtime_error(where + "cannot write " + temporary.string());
+  });
+}
+
+Image readPng(const std::filesystem::path& path) {
+  QImage decoded;
+  if (!decoded.load(toQString(path)))
+    throw std::runtime_error("readPng: " + path.string() +
+                             ": cannot read it or it is not an image in a known format");
+  decoded.convertTo(QImage::Format_RGBA8888);
+  Image image(decoded.width(), decoded.height());
+  const std::size_t rowBytes = 4ull * image.width;
+  for (int y = 0; y < image.height; ++y)
+    std::memcpy(image.pixel(0, y), decoded.constScanLine(y), rowBytes);
+  return image;
+}
+
+}  // namespace geobrush

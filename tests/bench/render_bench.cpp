@@ -1,0 +1,56 @@
+// renderMeshes() on bunny_small at 800×600: the Vulkan backend (on whatever
+// device the shared context found) against the CPU rasterizer twin.
+#include <benchmark/benchmark.h>
+
+#include "geobrush/gpu/vulkan_context.hpp"
+#include "geobrush/render.hpp"
+#include "test_support.hpp"
+
+namespace geobrush {
+namespace {
+
+MeshPtr bunny() {
+  static const MeshPtr mesh = [] {
+    TriMesh surface;
+    const auto path = test::meshPath("bunny_small.obj");
+    if (!OpenMesh::IO::read_mesh(surface, path.string()))
+      throw std::runtime_error("cannot read " + path.string());
+    return std::make_shared<const Mesh>(std::move(surface));
+  }();
+  return mesh;
+}
+
+void renderBunny(benchmark::State& state, RenderBackend backend, bool wireframe) {
+  if (backend == RenderBackend::Vulkan && !gpu::VulkanContext::shared()) {
+    state.SkipWithError(
+        ("Vulkan is unavailable: " + gpu::VulkanContext::unavailableReason()).c_str());
+    return;
+  }
+  const std::vector<RenderItem> items = {{bunny(), {0.78f, 0.78f, 0.80f}, wireframe}};
+  RenderOptions options;
+  options.width = 800;
+  options.height = 600;
+  options.backend = backend;
+  // The first Vulkan render builds the pipeline once per process; leave it out.
+  state.SetLabel(renderMeshes(items, options).device);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(renderMeshes(items, options));
+  state.SetItemsProcessed(state.iterations() * std::int64_t(bunny()->surface.n_faces()));
+}
+
+// Real time: lavapipe renders on its own threads, which CPU time misses.
+BENCHMARK_CAPTURE(renderBunny, vulkan, RenderBackend::Vulkan, false)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(renderBunny, cpu, RenderBackend::Cpu, false)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(renderBunny, vulkan_wireframe, RenderBackend::Vulkan, true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(renderBunny, cpu_wireframe, RenderBackend::Cpu, true)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace geobrush
