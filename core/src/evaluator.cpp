@@ -60,6 +60,22 @@ void hashFileState(Hasher& hasher, const std::filesystem::path& path) {
   hasher.u64(std::uint64_t(info.st_mtim.tv_nsec));
 }
 
+// Where each input port gets its value: (node, port) -> upstream output.
+// Built once per call so that large graphs stay linear.
+using SourceIndex = std::map<std::pair<std::string, std::string>, Endpoint>;
+
+SourceIndex indexSources(const Graph& graph) {
+  SourceIndex sources;
+  for (const auto& c : graph.connections) sources.emplace(std::pair{c.to.node, c.to.port}, c.from);
+  return sources;
+}
+
+const Endpoint* findSource(const SourceIndex& sources, const std::string& node,
+                           const std::string& port) {
+  auto it = sources.find({node, port});
+  return it == sources.end() ? nullptr : &it->second;
+}
+
 struct PendingFile {
   std::filesystem::path target;
   std::filesystem::path tmp;
@@ -228,6 +244,7 @@ std::map<std::string, Hash> Evaluator::nodeKeys(const Graph& graph,
                                                 const EvalOptions& options) const {
   const auto baseDir = graph.baseDir();
   const auto outputDir = impl_->outputDir(graph, options);
+  const SourceIndex sources = indexSources(graph);
   std::map<std::string, Hash> keys;
   for (const auto& name : topologicalOrder(graph)) {
     const GraphNode& node = graph.nodes.at(name);
@@ -249,8 +266,8 @@ std::map<std::string, Hash> Evaluator::nodeKeys(const Graph& graph,
     }
     for (const auto& port : type->inputs) {
       hasher.str(port.name);
-      if (const Connection* c = graph.source(name, port.name))
-        hasher.u64(keys.at(c->from.node)).str(c->from.port);
+      if (const Endpoint* from = findSource(sources, name, port.name))
+        hasher.u64(keys.at(from->node)).str(from->port);
       else
         hasher.u64(0);
     }
@@ -276,6 +293,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
   }
 
   // Pull: only the targets and what they depend on.
+  const SourceIndex sources = indexSources(graph);
   std::set<std::string> needed;
   if (options.targets.empty()) {
     needed.insert(order.begin(), order.end());
@@ -290,8 +308,9 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
         return report;
       }
       if (!needed.insert(name).second) continue;
-      for (const auto& c : graph.connections)
-        if (c.to.node == name) stack.push_back(c.from.node);
+      for (auto it = sources.lower_bound({name, ""}); it != sources.end() && it->first.first == name;
+           ++it)
+        stack.push_back(it->second.node);
     }
   }
 
@@ -329,8 +348,8 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
 
     Outputs inputs;
     for (const auto& port : type.inputs)
-      if (const Connection* c = graph.source(name, port.name))
-        inputs[port.name] = results[c->from.node].at(c->from.port);
+      if (const Endpoint* from = findSource(sources, name, port.name))
+        inputs[port.name] = results[from->node].at(from->port);
 
     EvalContext ctx(type, node, name, inputs, baseDir, outputDir, options);
     std::optional<Failure> failure;
