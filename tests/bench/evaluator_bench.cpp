@@ -12,15 +12,6 @@ using namespace geobrush;
 
 namespace {
 
-const NodeRegistry& registry() {
-  static NodeRegistry* r = [] {
-    auto* loaded = new NodeRegistry();
-    loaded->loadPlugins({test::testPluginDir()});
-    return loaded;
-  }();
-  return *r;
-}
-
 // n0 -> add1 -> add2 -> ... -> add{N-1}, plus an unrelated number "z".
 Graph chain(int length) {
   Graph graph;
@@ -33,14 +24,14 @@ Graph chain(int length) {
     graph.connections.push_back({{previous, "value"}, {name, "a"}});
     previous = name;
   }
-  prepareGraph(graph, registry());
+  prepareGraph(graph, test::testNodeRegistry());
   return graph;
 }
 
 void BM_EvaluateCold(benchmark::State& state) {
   const Graph graph = chain(int(state.range(0)));
   for (auto _ : state) {
-    Evaluator evaluator(registry());
+    Evaluator evaluator(test::testNodeRegistry());
     benchmark::DoNotOptimize(evaluator.evaluate(graph).ok);
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
@@ -48,7 +39,7 @@ void BM_EvaluateCold(benchmark::State& state) {
 
 void BM_EvaluateAllCacheHits(benchmark::State& state) {
   const Graph graph = chain(int(state.range(0)));
-  Evaluator evaluator(registry());
+  Evaluator evaluator(test::testNodeRegistry());
   evaluator.evaluate(graph);
   for (auto _ : state)
     benchmark::DoNotOptimize(evaluator.evaluate(graph).ok);
@@ -57,7 +48,7 @@ void BM_EvaluateAllCacheHits(benchmark::State& state) {
 
 void BM_EvaluateUnrelatedChange(benchmark::State& state) {
   Graph graph = chain(int(state.range(0)));
-  Evaluator evaluator(registry());
+  Evaluator evaluator(test::testNodeRegistry());
   evaluator.evaluate(graph);
   double value = 0;
   for (auto _ : state) {

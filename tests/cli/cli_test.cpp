@@ -39,7 +39,9 @@ struct BadCase {
 };
 
 // Keeps test names and failure messages readable.
-void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const BadCase& c, std::ostream* os) {
+  *os << c.name;
+}
 
 class BadInput : public testing::TestWithParam<BadCase> {};
 

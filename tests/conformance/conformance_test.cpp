@@ -158,7 +158,8 @@ TEST_P(Conformance, ParamsSurviveAGraphFileRoundTrip) {
   for (bool useDefaults : {true, false}) {
     Graph graph = *wiredGraph;
     for (const auto& param : type().params)
-      graph.nodes["subject"].params[param.name] = useDefaults ? param.defaultValue : perturbed(param);
+      graph.nodes["subject"].params[param.name] =
+          useDefaults ? param.defaultValue : perturbed(param);
     const std::string text = serializeGraph(graph, &test::registry());
     Graph read = parseGraph(text, "roundtrip.json");
     prepareGraph(read, test::registry());

@@ -14,15 +14,6 @@ using namespace geobrush;
 
 namespace {
 
-const NodeRegistry& testRegistry() {
-  static NodeRegistry* registry = [] {
-    auto* r = new NodeRegistry();
-    r->loadPlugins({test::testPluginDir()});
-    return r;
-  }();
-  return *registry;
-}
-
 // a ─┐
 //    ├─ sum ── fail ── write
 // b ─┘
@@ -42,7 +33,7 @@ Graph chain(const std::filesystem::path& file) {
                     {"from": "sum.value", "to": "fail.in"}, {"from": "fail.value", "to": "write.value"}]
   })",
                            file);
-  prepareGraph(graph, testRegistry());
+  prepareGraph(graph, test::testNodeRegistry());
   return graph;
 }
 
@@ -64,7 +55,7 @@ TEST(Evaluator, ComputesAndWritesFiles) {
   const auto dir = test::tempDir("eval-basic");
   std::filesystem::create_directories(dir / "out");
   Graph graph = chain(dir / "g.json");
-  Evaluator evaluator(testRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
   EvalReport report = evaluator.evaluate(graph);
   ASSERT_TRUE(report.ok) << report.error;
   EXPECT_EQ(scalar(evaluator, "sum"), 5.0);
@@ -78,7 +69,7 @@ TEST(Evaluator, SecondRunIsAllCacheHits) {
   const auto dir = test::tempDir("eval-cache");
   std::filesystem::create_directories(dir / "out");
   Graph graph = chain(dir / "g.json");
-  Evaluator evaluator(testRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
   ASSERT_TRUE(evaluator.evaluate(graph).ok);
   const auto before = evaluator.computeCount();
   EvalReport again = evaluator.evaluate(graph);
@@ -90,10 +81,10 @@ TEST(Evaluator, ChangingAParamRerunsOnlyDownstream) {
   const auto dir = test::tempDir("eval-downstream");
   std::filesystem::create_directories(dir / "out");
   Graph graph = chain(dir / "g.json");
-  Evaluator evaluator(testRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
   ASSERT_TRUE(evaluator.evaluate(graph).ok);
 
-  setParamFromText(graph, testRegistry(), "b.value=10");
+  setParamFromText(graph, test::testNodeRegistry(), "b.value=10");
   EvalReport report = evaluator.evaluate(graph);
   ASSERT_TRUE(report.ok) << report.error;
   std::vector<std::string> recomputed;
@@ -105,24 +96,24 @@ TEST(Evaluator, ChangingAParamRerunsOnlyDownstream) {
 
   // An unrelated node's param: nothing else recomputes.
   const auto before = evaluator.computeCount();
-  setParamFromText(graph, testRegistry(), "c.value=1");
+  setParamFromText(graph, test::testNodeRegistry(), "c.value=1");
   report = evaluator.evaluate(graph);
   EXPECT_EQ(evaluator.computeCount() - before, 1u);
   // A param that changes the key but not the value still recomputes only that node's chain.
-  setParamFromText(graph, testRegistry(), "c.label=renamed");
+  setParamFromText(graph, test::testNodeRegistry(), "c.label=renamed");
   EXPECT_EQ(evaluator.evaluate(graph).computed(), 1);
 }
 
 TEST(Evaluator, KeysDependOnTypeParamsAndInputsNotNames) {
   Graph graph = chain("/tmp/g.json");
-  Evaluator evaluator(testRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
   auto keys = evaluator.nodeKeys(graph);
   Graph renamed = graph;
   renamed.nodes["z"] = renamed.nodes["c"];
   renamed.nodes.erase("c");
   EXPECT_EQ(evaluator.nodeKeys(renamed).at("z"), keys.at("c"));
   EXPECT_NE(keys.at("a"), keys.at("b"));
-  setParamFromText(graph, testRegistry(), "a.value=3");
+  setParamFromText(graph, test::testNodeRegistry(), "a.value=3");
   auto changed = evaluator.nodeKeys(graph);
   EXPECT_EQ(changed.at("a"), keys.at("b"));  // same type, same params
   EXPECT_NE(changed.at("sum"), keys.at("sum"));
@@ -136,7 +127,7 @@ TEST(Evaluator, KeysDependOnTypeParamsAndInputsNotNames) {
 
 TEST(Evaluator, TargetsPullOnlyUpstream) {
   Graph graph = chain(test::tempDir("eval-pull") / "g.json");
-  Evaluator evaluator(testRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
   EvalOptions options;
   options.targets = {"sum"};
   EvalReport report = evaluator.evaluate(graph, options);
@@ -157,8 +148,8 @@ TEST(Evaluator, NodeFailuresAreReportedNotThrown) {
   };
   for (const auto& [how, expected] : cases) {
     Graph graph = chain(dir / "g.json");
-    setParamFromText(graph, testRegistry(), std::string("fail.how=") + how);
-    Evaluator evaluator(testRegistry());
+    setParamFromText(graph, test::testNodeRegistry(), std::string("fail.how=") + how);
+    Evaluator evaluator(test::testNodeRegistry());
     EvalReport report = evaluator.evaluate(graph);
     EXPECT_FALSE(report.ok) << how;
     EXPECT_NE(report.error.find((dir / "g.json").string() + ": " + expected), std::string::npos)
@@ -180,8 +171,8 @@ TEST(Evaluator, FailedRunLeavesNoFileAndOldFileIntact) {
   // "write" runs (and writes its temporary file) before "zfail" fails.
   graph.nodes["zfail"] = {"test.fail", 1, {{"how", std::string("node_error")}}};
   graph.connections.push_back({{"sum", "value"}, {"zfail", "in"}});
-  prepareGraph(graph, testRegistry());
-  Evaluator evaluator(testRegistry());
+  prepareGraph(graph, test::testNodeRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
   EvalReport report = evaluator.evaluate(graph);
   EXPECT_FALSE(report.ok);
   ASSERT_EQ(report.runs.back().node, "zfail");
@@ -194,7 +185,7 @@ TEST(Evaluator, FailedRunLeavesNoFileAndOldFileIntact) {
 TEST(Evaluator, MissingOutputFolderIsANodeError) {
   const auto dir = test::tempDir("eval-nofolder");
   Graph graph = chain(dir / "g.json");
-  Evaluator evaluator(testRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
   EvalReport report = evaluator.evaluate(graph);
   EXPECT_FALSE(report.ok);
   EXPECT_NE(report.error.find("node 'write': cannot write"), std::string::npos) << report.error;
@@ -206,8 +197,8 @@ TEST(Evaluator, CancellationStopsALongNode) {
     "nodes": {"n": {"type": "test.number", "typeVersion": 1}, "s": {"type": "test.slow", "typeVersion": 1}},
     "connections": [{"from": "n.value", "to": "s.in"}]})",
                            "slow.json");
-  prepareGraph(graph, testRegistry());
-  Evaluator evaluator(testRegistry());
+  prepareGraph(graph, test::testNodeRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
   std::atomic<bool> cancel{false};
   EvalOptions options;
   options.cancel = &cancel;
@@ -232,8 +223,8 @@ TEST(Evaluator, InputFileChangesInvalidateTheKey) {
   Graph graph = parseGraph(R"({"format": "geobrush-graph", "formatVersion": 1,
     "nodes": {"r": {"type": "test.read_text", "typeVersion": 1, "params": {"path": "n.txt"}}}})",
                            dir / "g.json");
-  prepareGraph(graph, testRegistry());
-  Evaluator evaluator(testRegistry());
+  prepareGraph(graph, test::testNodeRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
   ASSERT_TRUE(evaluator.evaluate(graph).ok);
   EXPECT_EQ(scalar(evaluator, "r"), 1.5);
   EXPECT_EQ(evaluator.evaluate(graph).cacheHits(), 1);
@@ -252,8 +243,8 @@ TEST(Evaluator, DeterministicAcrossEvaluators) {
   const auto dir = test::tempDir("eval-determinism");
   std::filesystem::create_directories(dir / "out");
   Graph graph = chain(dir / "g.json");
-  Evaluator first(testRegistry());
-  Evaluator second(testRegistry());
+  Evaluator first(test::testNodeRegistry());
+  Evaluator second(test::testNodeRegistry());
   ASSERT_TRUE(first.evaluate(graph).ok);
   ASSERT_TRUE(second.evaluate(graph).ok);
   EXPECT_EQ(first.output("sum", "value")->contentHash(),

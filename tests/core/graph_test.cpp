@@ -10,15 +10,6 @@ using namespace geobrush;
 
 namespace {
 
-const NodeRegistry& testRegistry() {
-  static NodeRegistry* registry = [] {
-    auto* r = new NodeRegistry();
-    r->loadPlugins({test::testPluginDir()});
-    return r;
-  }();
-  return *registry;
-}
-
 const char* kSumGraph = R"({
   "format": "geobrush-graph", "formatVersion": 1,
   "nodes": {
@@ -33,7 +24,7 @@ const char* kSumGraph = R"({
 std::string prepareError(const std::string& json) {
   try {
     Graph graph = parseGraph(json, "bad.json");
-    prepareGraph(graph, testRegistry());
+    prepareGraph(graph, test::testNodeRegistry());
   } catch (const GraphError& e) {
     return e.what();
   }
@@ -61,20 +52,20 @@ TEST(GraphFile, ParsesNodesConnectionsAndUi) {
 
 TEST(GraphFile, PrepareCoercesParamsToDeclaredKinds) {
   Graph graph = parseGraph(kSumGraph, "sum.json");
-  prepareGraph(graph, testRegistry());
+  prepareGraph(graph, test::testNodeRegistry());
   // "value": 2 was read as an integer; the param is declared as a double.
   EXPECT_EQ(std::get<double>(graph.nodes.at("a").params.at("value")), 2.0);
 }
 
 TEST(GraphFile, RoundTripIsByteStableAndDropsDefaults) {
   Graph graph = parseGraph(kSumGraph, "sum.json");
-  prepareGraph(graph, testRegistry());
+  prepareGraph(graph, test::testNodeRegistry());
   graph.nodes.at("sum").params["unused"] = std::int64_t(0);  // equal to the default
-  const std::string once = serializeGraph(graph, &testRegistry());
+  const std::string once = serializeGraph(graph, &test::testNodeRegistry());
   EXPECT_EQ(once.find("unused"), std::string::npos) << once;
   Graph again = parseGraph(once, "sum.json");
-  prepareGraph(again, testRegistry());
-  EXPECT_EQ(serializeGraph(again, &testRegistry()), once);
+  prepareGraph(again, test::testNodeRegistry());
+  EXPECT_EQ(serializeGraph(again, &test::testNodeRegistry()), once);
   EXPECT_EQ(again.connections, graph.connections);
   EXPECT_EQ(again.ui, graph.ui);
 }
@@ -94,7 +85,7 @@ TEST(GraphFile, UpgradesOlderTypeVersions) {
       replaceOnce(kSumGraph, R"("type": "test.add", "typeVersion": 2})",
                   R"("type": "test.add", "typeVersion": 1, "params": {"spare": 4}})");
   Graph graph = parseGraph(json, "old.json");
-  prepareGraph(graph, testRegistry());
+  prepareGraph(graph, test::testNodeRegistry());
   EXPECT_EQ(graph.nodes.at("sum").typeVersion, 2);
   EXPECT_EQ(std::get<std::int64_t>(graph.nodes.at("sum").params.at("unused")), 4);
   EXPECT_FALSE(graph.nodes.at("sum").params.count("spare"));
@@ -102,14 +93,15 @@ TEST(GraphFile, UpgradesOlderTypeVersions) {
 
 TEST(GraphFile, SetParamFromText) {
   Graph graph = parseGraph(kSumGraph, "sum.json");
-  prepareGraph(graph, testRegistry());
-  setParamFromText(graph, testRegistry(), "a.value=-7.25");
+  prepareGraph(graph, test::testNodeRegistry());
+  setParamFromText(graph, test::testNodeRegistry(), "a.value=-7.25");
   EXPECT_EQ(std::get<double>(graph.nodes.at("a").params.at("value")), -7.25);
-  EXPECT_THROW(setParamFromText(graph, testRegistry(), "a.value=abc"), GraphError);
-  EXPECT_THROW(setParamFromText(graph, testRegistry(), "nobody.value=1"), GraphError);
-  EXPECT_THROW(setParamFromText(graph, testRegistry(), "a.nothing=1"), GraphError);
-  EXPECT_THROW(setParamFromText(graph, testRegistry(), "a.value=1e12"), GraphError);  // range
-  EXPECT_THROW(setParamFromText(graph, testRegistry(), "novalue"), GraphError);
+  EXPECT_THROW(setParamFromText(graph, test::testNodeRegistry(), "a.value=abc"), GraphError);
+  EXPECT_THROW(setParamFromText(graph, test::testNodeRegistry(), "nobody.value=1"), GraphError);
+  EXPECT_THROW(setParamFromText(graph, test::testNodeRegistry(), "a.nothing=1"), GraphError);
+  EXPECT_THROW(setParamFromText(graph, test::testNodeRegistry(), "a.value=1e12"),
+               GraphError);  // range
+  EXPECT_THROW(setParamFromText(graph, test::testNodeRegistry(), "novalue"), GraphError);
 }
 
 TEST(GraphFile, TopologicalOrderIsDeterministic) {

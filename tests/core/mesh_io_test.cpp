@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "geobrush/mesh_io.hpp"
+#include "mesh_checks.hpp"
 #include "test_support.hpp"
 
 using namespace geobrush;
@@ -69,30 +70,19 @@ Vec3d pointOf(const TriMesh& mesh, int index) {
 const std::string kTetrahedron =
     "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
 
-Mesh tetrahedron(const std::array<Vec3d, 4>& corners) {
-  TriMesh mesh;
-  std::array<TriMesh::VertexHandle, 4> v;
-  for (int i = 0; i < 4; ++i)
-    v[i] = mesh.add_vertex(corners[i]);
-  mesh.add_face(v[0], v[2], v[1]);
-  mesh.add_face(v[0], v[1], v[3]);
-  mesh.add_face(v[0], v[3], v[2]);
-  mesh.add_face(v[1], v[2], v[3]);
-  return Mesh(std::move(mesh));
-}
-
 // Coordinates that no short decimal and no 32-bit float holds exactly, within the float range.
 Mesh awkwardTetrahedron() {
-  return tetrahedron({Vec3d(1.0 / 3, -0.0, 1e-30), Vec3d(M_PI, 2.0 / 7, -1e30 / 7),
-                      Vec3d(0.1, std::nextafter(1.0, 2.0), 123456789.123456789),
-                      Vec3d(-1e-40, 0.7, std::sqrt(2.0))});
+  return test::tetrahedron({Vec3d(1.0 / 3, -0.0, 1e-30), Vec3d(M_PI, 2.0 / 7, -1e30 / 7),
+                            Vec3d(0.1, std::nextafter(1.0, 2.0), 123456789.123456789),
+                            Vec3d(-1e-40, 0.7, std::sqrt(2.0))});
 }
 
 // Beyond the float range too: the extremes of double.
 Mesh extremeTetrahedron() {
-  return tetrahedron({Vec3d(1.0 / 3, -0.0, 1e-300), Vec3d(M_PI, 2.0 / 7, -1e300 / 7),
-                      Vec3d(0.1, std::nextafter(1.0, 2.0), std::numeric_limits<double>::max()),
-                      Vec3d(-5e-324, 0.7, std::numeric_limits<double>::min())});
+  return test::tetrahedron(
+      {Vec3d(1.0 / 3, -0.0, 1e-300), Vec3d(M_PI, 2.0 / 7, -1e300 / 7),
+       Vec3d(0.1, std::nextafter(1.0, 2.0), std::numeric_limits<double>::max()),
+       Vec3d(-5e-324, 0.7, std::numeric_limits<double>::min())});
 }
 
 // ------------------------------------------------------------------------------------------------

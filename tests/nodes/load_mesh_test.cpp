@@ -20,18 +20,6 @@ fs::path writeFile(const fs::path& path, const std::string& text) {
   return path;
 }
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' lacks '" << part << "'";
-}
-
-std::string quoted(const fs::path& path) {
-  std::string text = "'";
-  text += path.string();
-  text += '\'';
-  return text;
-}
-
 std::string loadError(const fs::path& path, const LoadMeshOptions& options = {}) {
   try {
     loadMesh(path, options);
@@ -59,19 +47,19 @@ TEST(LoadMesh, NeedsAPath) {
 
 TEST(LoadMesh, RepairSplitsNonManifoldFacesInsteadOfFailing) {
   const auto path = writeFile(test::tempDir("load-mesh-repair") / "fin.obj", kFin);
-  EXPECT_TRUE(contains(loadError(path), "set repair to split them off"));
+  EXPECT_TRUE(test::contains(loadError(path), "set repair to split them off"));
   const LoadMeshResult repaired = loadMesh(path, {.repair = true});
   EXPECT_EQ(repaired.mesh->surface.n_faces(), 3u);
   EXPECT_EQ(repaired.mesh->surface.n_vertices(), 8u);
   ASSERT_EQ(repaired.warnings.size(), 1u);
-  EXPECT_TRUE(contains(repaired.warnings[0], "repaired 1 face"));
+  EXPECT_TRUE(test::contains(repaired.warnings[0], "repaired 1 face"));
 }
 
 TEST(LoadMesh, PassesFileErrorsOn) {
   const auto dir = test::tempDir("load-mesh-errors");
-  EXPECT_EQ(loadError(dir / "missing.obj"), quoted(dir / "missing.obj") + ": no such file");
+  EXPECT_EQ(loadError(dir / "missing.obj"), test::quoted(dir / "missing.obj") + ": no such file");
   const auto points = writeFile(dir / "points.off", "OFF\n1 0 0\n0 0 0\n");
-  EXPECT_TRUE(contains(loadError(points), "has 1 vertex but no faces"));
+  EXPECT_TRUE(test::contains(loadError(points), "has 1 vertex but no faces"));
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -116,7 +104,7 @@ TEST(LoadMeshNode, LoadsRelativeToTheGraphFileWithWarnings) {
   EXPECT_EQ(mesh->surface.n_faces(), 2u);
   ASSERT_EQ(report.runs.size(), 1u);
   ASSERT_EQ(report.runs[0].warnings.size(), 1u);
-  EXPECT_TRUE(contains(report.runs[0].warnings[0], "triangulated 1 polygon"));
+  EXPECT_TRUE(test::contains(report.runs[0].warnings[0], "triangulated 1 polygon"));
 }
 
 TEST(LoadMeshNode, ReportsProblemsOnThePathParam) {
@@ -127,18 +115,18 @@ TEST(LoadMeshNode, ReportsProblemsOnThePathParam) {
   const EvalReport missing =
       evaluator.evaluate(loadGraph(dir / "graph.json", {{"path", std::string("none.obj")}}));
   EXPECT_FALSE(missing.ok);
-  EXPECT_TRUE(contains(missing.error, "param 'path'"));
-  EXPECT_TRUE(contains(missing.error, (dir / "none.obj").string() + "': no such file"));
+  EXPECT_TRUE(test::contains(missing.error, "param 'path'"));
+  EXPECT_TRUE(test::contains(missing.error, (dir / "none.obj").string() + "': no such file"));
 
   const EvalReport empty = evaluator.evaluate(loadGraph(dir / "graph.json", {}));
   EXPECT_FALSE(empty.ok);
-  EXPECT_TRUE(contains(empty.error, "param 'path'"));
-  EXPECT_TRUE(contains(empty.error, "no file given"));
+  EXPECT_TRUE(test::contains(empty.error, "param 'path'"));
+  EXPECT_TRUE(test::contains(empty.error, "no file given"));
 
   const EvalReport refused =
       evaluator.evaluate(loadGraph(dir / "graph.json", {{"path", std::string("fin.obj")}}));
   EXPECT_FALSE(refused.ok);
-  EXPECT_TRUE(contains(refused.error, "set repair to split them off"));
+  EXPECT_TRUE(test::contains(refused.error, "set repair to split them off"));
 
   const EvalReport repaired = evaluator.evaluate(
       loadGraph(dir / "graph.json", {{"path", std::string("fin.obj")}, {"repair", true}}));

@@ -8,6 +8,7 @@
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "mesh_checks.hpp"
 #include "test_support.hpp"
 
 namespace geobrush {
@@ -16,32 +17,8 @@ namespace {
 namespace fs = std::filesystem;
 using OpenMesh::Vec3d;
 
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' lacks '" << part << "'";
-}
-
-std::string quoted(const fs::path& path) {
-  std::string text = "'";
-  text += path.string();
-  text += '\'';
-  return text;
-}
-
-Mesh tetrahedron(const std::array<Vec3d, 4>& corners) {
-  TriMesh mesh;
-  std::array<TriMesh::VertexHandle, 4> v;
-  for (int i = 0; i < 4; ++i)
-    v[i] = mesh.add_vertex(corners[i]);
-  mesh.add_face(v[0], v[2], v[1]);
-  mesh.add_face(v[0], v[1], v[3]);
-  mesh.add_face(v[0], v[3], v[2]);
-  mesh.add_face(v[1], v[2], v[3]);
-  return Mesh(std::move(mesh));
-}
-
 Mesh unitTetrahedron() {
-  return tetrahedron({Vec3d(0, 0, 0), Vec3d(1, 0, 0), Vec3d(0, 1, 0), Vec3d(0, 0, 1)});
+  return test::tetrahedron({Vec3d(0, 0, 0), Vec3d(1, 0, 0), Vec3d(0, 1, 0), Vec3d(0, 0, 1)});
 }
 
 std::string planError(const Mesh& mesh, const fs::path& destination) {
@@ -75,22 +52,25 @@ TEST(SaveMesh, RefusesWhatCannotBeWrittenBeforeWritingAnything) {
   const Mesh mesh = unitTetrahedron();
   EXPECT_EQ(planError(mesh, ""), "no file given");
   EXPECT_EQ(planError(mesh, dir / "a.xyz"),
-            quoted(dir / "a.xyz") +
+            test::quoted(dir / "a.xyz") +
                 ": unknown mesh format '.xyz' (supported: .obj, .ply, .off, "
                 ".stl)");
   const auto intoMissing = dir / "missing" / "deeper" / "a.obj";
-  EXPECT_EQ(planError(mesh, intoMissing), quoted(intoMissing) + ": the folder " +
-                                              quoted(dir / "missing" / "deeper") +
+  EXPECT_EQ(planError(mesh, intoMissing), test::quoted(intoMissing) + ": the folder " +
+                                              test::quoted(dir / "missing" / "deeper") +
                                               " does not exist");
   fs::create_directory(dir / "taken.obj");
-  EXPECT_EQ(planError(mesh, dir / "taken.obj"), quoted(dir / "taken.obj") + ": is a folder");
+  EXPECT_EQ(planError(mesh, dir / "taken.obj"), test::quoted(dir / "taken.obj") + ": is a folder");
 
   Mesh broken = mesh;
   broken.surface.set_point(TriMesh::VertexHandle(1), Vec3d(std::nan(""), 0, 0));
-  EXPECT_TRUE(contains(planError(broken, dir / "a.obj"),
-                       quoted(dir / "a.obj") + ": vertex 1 (0-based) has a non-finite"));
-  const Mesh far = tetrahedron({Vec3d(0, 0, 0), Vec3d(1e39, 0, 0), Vec3d(0, 1, 0), Vec3d(0, 0, 1)});
-  EXPECT_TRUE(contains(planError(far, dir / "a.stl"), "beyond the 32-bit float range of STL"));
+  EXPECT_TRUE(
+      test::contains(planError(broken, dir / "a.obj"),
+                     test::quoted(dir / "a.obj") + ": vertex 1 (0-based) has a non-finite"));
+  const Mesh far =
+      test::tetrahedron({Vec3d(0, 0, 0), Vec3d(1e39, 0, 0), Vec3d(0, 1, 0), Vec3d(0, 0, 1)});
+  EXPECT_TRUE(
+      test::contains(planError(far, dir / "a.stl"), "beyond the 32-bit float range of STL"));
   EXPECT_EQ(planError(far, dir / "a.obj"), "");
 
   EXPECT_EQ(filesUnder(dir), std::vector<fs::path>{dir / "taken.obj"});
@@ -100,19 +80,19 @@ TEST(SaveMesh, WarnsAboutWhatTheFormatCannotHold) {
   const auto dir = test::tempDir("save-mesh-warn");
   const Mesh coloured(unitTetrahedron().surface, std::vector<Rgb>(4, Rgb{1, 0, 0}));
   const auto colours = planMeshSave(coloured, {dir / "a.obj"}).warnings;
-  EXPECT_EQ(colours, std::vector<std::string>{quoted(dir / "a.obj") +
+  EXPECT_EQ(colours, std::vector<std::string>{test::quoted(dir / "a.obj") +
                                               ": vertex colours are not saved (only points and "
                                               "faces are)"});
 
   // 1/3 and 0.1 are no 32-bit floats; 0.5 and 1 are.
   const Mesh thirds =
-      tetrahedron({Vec3d(1.0 / 3, 0, 0), Vec3d(1, 0.1, 0), Vec3d(0, 1, 0.5), Vec3d(0, 0, 1)});
+      test::tetrahedron({Vec3d(1.0 / 3, 0, 0), Vec3d(1, 0.1, 0), Vec3d(0, 1, 0.5), Vec3d(0, 0, 1)});
   EXPECT_TRUE(planMeshSave(thirds, {dir / "a.obj"}).warnings.empty());
   const auto rounded = planMeshSave(thirds, {dir / "a.ply"}).warnings;
   ASSERT_EQ(rounded.size(), 1u);
   char largest[32];
   std::snprintf(largest, sizeof largest, "%.3g", std::abs(1.0 / 3 - double(float(1.0 / 3))));
-  EXPECT_EQ(rounded[0], quoted(dir / "a.ply") +
+  EXPECT_EQ(rounded[0], test::quoted(dir / "a.ply") +
                             ": PLY holds 32-bit floats: 2 coordinates rounded, by up to " +
                             largest + " (OBJ keeps them exact)");
 
@@ -124,9 +104,9 @@ TEST(SaveMesh, WarnsAboutWhatTheFormatCannotHold) {
   split.add_face(a, b, c);
   const auto stl = planMeshSave(Mesh(split), {dir / "a.stl"}).warnings;
   EXPECT_EQ(stl, (std::vector<std::string>{
-                     quoted(dir / "a.stl") +
+                     test::quoted(dir / "a.stl") +
                          ": STL holds triangles only: 1 vertex of no face is not saved",
-                     quoted(dir / "a.stl") +
+                     test::quoted(dir / "a.stl") +
                          ": STL holds triangle corners only: 2 vertices share their position "
                          "with another and will be merged with it on reading"}));
   EXPECT_TRUE(planMeshSave(Mesh(split), {dir / "a.off"}).warnings.empty());
@@ -198,7 +178,7 @@ TEST(SaveMeshNode, WritesIntoTheOutputFolderExactly) {
                                 [](const NodeRun& run) { return run.node == "ply"; });
   ASSERT_NE(ply, report.runs.end());
   ASSERT_EQ(ply->warnings.size(), 1u);
-  EXPECT_TRUE(contains(ply->warnings[0], "PLY holds 32-bit floats"));
+  EXPECT_TRUE(test::contains(ply->warnings[0], "PLY holds 32-bit floats"));
 }
 
 TEST(SaveMeshNode, WritesNothingWhenAnySaveFails) {
@@ -209,9 +189,10 @@ TEST(SaveMeshNode, WritesNothingWhenAnySaveFails) {
   const EvalReport report = evaluator.evaluate(
       saveGraph(dir / "graph.json", input, {{"a", "a.obj"}, {"b", "missing/b.obj"}}));
   EXPECT_FALSE(report.ok);
-  EXPECT_TRUE(contains(report.error, "param 'path'"));
-  EXPECT_TRUE(contains(report.error, quoted(dir / "missing" / "b.obj") + ": the folder " +
-                                         quoted(dir / "missing") + " does not exist"));
+  EXPECT_TRUE(test::contains(report.error, "param 'path'"));
+  EXPECT_TRUE(test::contains(report.error, test::quoted(dir / "missing" / "b.obj") +
+                                               ": the folder " + test::quoted(dir / "missing") +
+                                               " does not exist"));
   EXPECT_TRUE(report.filesWritten.empty());
   EXPECT_EQ(filesUnder(dir), std::vector<fs::path>{});
 }
@@ -222,8 +203,8 @@ TEST(SaveMeshNode, RefusesAnUnknownExtensionOnThePathParam) {
   const EvalReport report = evaluator.evaluate(
       saveGraph(dir / "graph.json", test::meshPath("sphere.obj"), {{"sink", "sphere.glb"}}));
   EXPECT_FALSE(report.ok);
-  EXPECT_TRUE(contains(report.error, "param 'path'"));
-  EXPECT_TRUE(contains(report.error, "unknown mesh format '.glb'"));
+  EXPECT_TRUE(test::contains(report.error, "param 'path'"));
+  EXPECT_TRUE(test::contains(report.error, "unknown mesh format '.glb'"));
   EXPECT_EQ(filesUnder(dir), std::vector<fs::path>{});
 }
 

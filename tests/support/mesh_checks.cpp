@@ -28,6 +28,18 @@ int findRoot(std::vector<int>& parent, int i) {
 
 }  // namespace
 
+Mesh tetrahedron(const std::array<OpenMesh::Vec3d, 4>& corners) {
+  TriMesh mesh;
+  std::array<TriMesh::VertexHandle, 4> v;
+  for (int i = 0; i < 4; ++i)
+    v[i] = mesh.add_vertex(corners[i]);
+  mesh.add_face(v[0], v[2], v[1]);
+  mesh.add_face(v[0], v[1], v[3]);
+  mesh.add_face(v[0], v[3], v[2]);
+  mesh.add_face(v[1], v[2], v[3]);
+  return Mesh(std::move(mesh));
+}
+
 double surfaceArea(const TriMesh& mesh) {
   double area = 0;
   for (auto face : mesh.faces()) {

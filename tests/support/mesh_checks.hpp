@@ -9,6 +9,10 @@
 
 namespace geobrush::test {
 
+// A tetrahedron on four corners; its faces point outward when the corners
+// are ordered like (0,0,0), (1,0,0), (0,1,0), (0,0,1).
+Mesh tetrahedron(const std::array<OpenMesh::Vec3d, 4>& corners);
+
 double surfaceArea(const TriMesh& mesh);
 
 // Sum of the signed volumes of the tetrahedra from the origin to each face: the enclosed volume

@@ -48,6 +48,28 @@ const std::vector<std::string>& registryLoadErrors() {
   return loaded().errors;
 }
 
+const NodeRegistry& testNodeRegistry() {
+  static NodeRegistry* instance = [] {
+    auto* r = new NodeRegistry();
+    r->loadPlugins({testPluginDir()});
+    return r;
+  }();
+  return *instance;
+}
+
+std::string quoted(const std::filesystem::path& path) {
+  // Appending, not operator+: GCC 12 warns falsely (-Wrestrict) on "'" + string.
+  std::string text = "'";
+  text += path.string();
+  text += '\'';
+  return text;
+}
+
+::testing::AssertionResult contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "'" << text << "' lacks '" << part << "'";
+}
+
 std::filesystem::path tempDir(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() /
              ("geobrush-test-" + std::to_string(::getpid()) + "-" + name);

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "geobrush/registry.hpp"
 
 namespace geobrush::test {
@@ -24,6 +26,15 @@ std::filesystem::path cliPath();
 const NodeRegistry& registry();
 // What the loader refused while building registry(); empty in a good build.
 const std::vector<std::string>& registryLoadErrors();
+
+// A registry with only the test plugins loaded: test.number, test.add,
+// test.fail, ... (tests/test_plugins/), and the refusals of the bad ones.
+const NodeRegistry& testNodeRegistry();
+
+// "'path'", as error messages quote file names.
+std::string quoted(const std::filesystem::path& path);
+// Passes when `text` contains `part`, and shows both when it does not.
+::testing::AssertionResult contains(const std::string& text, const std::string& part);
 
 // A fresh, empty folder under the system temp dir, removed at exit.
 std::filesystem::path tempDir(const std::string& name);
