@@ -75,7 +75,7 @@ void coerceParams(const Graph& graph, const std::string& name, GraphNode& node,
   }
 }
 
-void checkConnections(const Graph& graph, const NodeRegistry& registry) {
+void checkConnections(const Graph& graph, const NodeRegistry& registry, bool requireInputs) {
   std::set<std::pair<std::string, std::string>> fed;
   for (const auto& c : graph.connections) {
     const std::string where = "connection '" + describe(c.from) + " -> " + describe(c.to) + "'";
@@ -104,6 +104,7 @@ void checkConnections(const Graph& graph, const NodeRegistry& registry) {
                        "has more than one incoming connection");
   }
   for (const auto& [name, node] : graph.nodes) {
+    if (!requireInputs) break;
     for (const auto& port : registry.find(node.type)->inputs) {
       if (!port.optional && !fed.count({name, port.name}))
         throw GraphError(graph.file, name, "input '" + port.name + "'",
@@ -129,7 +130,7 @@ const Connection* Graph::source(const std::string& node, const std::string& port
   return nullptr;
 }
 
-void prepareGraph(Graph& graph, const NodeRegistry& registry) {
+void prepareGraph(Graph& graph, const NodeRegistry& registry, bool requireInputs) {
   for (auto& [name, node] : graph.nodes) {
     const NodeType* type = registry.find(node.type);
     if (!type) {
@@ -145,7 +146,7 @@ void prepareGraph(Graph& graph, const NodeRegistry& registry) {
     upgradeNode(graph, name, node, *type);
     coerceParams(graph, name, node, *type);
   }
-  checkConnections(graph, registry);
+  checkConnections(graph, registry, requireInputs);
   topologicalOrder(graph);
   std::erase_if(graph.ui, [&](const auto& entry) { return !graph.nodes.count(entry.first); });
 }

@@ -153,16 +153,15 @@ TEST_P(Conformance, IsDocumented) {
 }
 
 TEST_P(Conformance, ParamsSurviveAGraphFileRoundTrip) {
-  auto wiredGraph = wired();
-  if (!wiredGraph) GTEST_SKIP() << "no node type produces one of the inputs";
   for (bool useDefaults : {true, false}) {
-    Graph graph = *wiredGraph;
+    Graph graph;
+    graph.nodes["subject"] = {type().id, type().version, {}};
     for (const auto& param : type().params)
       graph.nodes["subject"].params[param.name] =
           useDefaults ? param.defaultValue : perturbed(param);
     const std::string text = serializeGraph(graph, &test::registry());
     Graph read = parseGraph(text, "roundtrip.json");
-    prepareGraph(read, test::registry());
+    prepareGraph(read, test::registry(), /*requireInputs=*/false);
     for (const auto& param : type().params) {
       auto it = read.nodes["subject"].params.find(param.name);
       const ParamValue& value =

@@ -164,6 +164,10 @@ TEST(GraphFileErrors, MissingNodeOrPort) {
 TEST(GraphFileErrors, UnconnectedRequiredInput) {
   auto error = prepareError(replaceOnce(kSumGraph, R"({"from": "a.value", "to": "sum.a"}, )", ""));
   EXPECT_NE(error.find("node 'sum' input 'a': is not connected"), std::string::npos) << error;
+  // While editing, open inputs are allowed.
+  Graph editing = parseGraph(replaceOnce(kSumGraph, R"({"from": "a.value", "to": "sum.a"}, )", ""),
+                             "editing.json");
+  EXPECT_NO_THROW(prepareGraph(editing, test::testNodeRegistry(), false));
 }
 
 TEST(GraphFileErrors, TypeMismatch) {

@@ -79,8 +79,10 @@ void writeGraphFile(const Graph& graph, const std::filesystem::path& path,
 // upgrades older typeVersions with the types' upgrade functions, converts
 // params to their declared kinds and checks them, and checks every
 // connection (nodes and ports exist, types match, one source per input,
-// required inputs connected, no cycles). Throws GraphError.
-void prepareGraph(Graph& graph, const NodeRegistry& registry);
+// required inputs connected, no cycles). Throws GraphError. A graph being
+// edited may leave required inputs open (`requireInputs = false`); it is
+// then checked but cannot be evaluated.
+void prepareGraph(Graph& graph, const NodeRegistry& registry, bool requireInputs = true);
 
 // Sets NODE.PARAM from its command-line text form ("--set NODE.PARAM=VALUE").
 // Throws GraphError.
