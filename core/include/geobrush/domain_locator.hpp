@@ -1,0 +1,44 @@
+// Finding where a point of the parameter domain lies on a parameterized
+// canvas: the inverse map E^-1(u) and the local frame there.
+#pragma once
+
+#include <optional>
+
+#include "geobrush/canvas.hpp"
+
+namespace geobrush {
+
+struct DomainHit {
+  int face = -1;                // canvas surface face whose uv triangle holds u
+  Eigen::Vector3d barycentric;  // of u in that triangle (may be outside [0,1] when clamped)
+  Eigen::Vector3d point;        // E^-1(u): the barycentric point on the surface
+  Eigen::Vector3d normal;       // the parameterization's normals, interpolated, unit
+  Eigen::Matrix<double, 3, 2> jacobian;  // d point / d(u, v) on that face
+  bool inside = false;                   // false: u is outside every triangle, the nearest was used
+  Frame frame() const;                   // normal, u axis along the jacobian's first column
+};
+
+// Buckets the canvas triangles of a parameterization in a uniform grid over
+// their uv bounding box, so that each query costs O(1) on average.
+class DomainLocator {
+ public:
+  explicit DomainLocator(const Parameterization& parameterization);
+
+  // The triangle holding u; where several do (fold-overs), the first by face
+  // index that is not flagged reversed, else the first. Where none does, the
+  // nearest triangle, with barycentrics extrapolated (inside = false).
+  DomainHit locate(const Eigen::Vector2d& u) const;
+
+ private:
+  DomainHit hit(int face, const Eigen::Vector3d& barycentric, bool inside) const;
+  Eigen::Vector3d barycentricOf(int face, const Eigen::Vector2d& u) const;
+
+  const Parameterization& param_;
+  std::vector<std::array<int, 3>> faces_;
+  Eigen::Vector2d corner_;
+  double step_ = 1;
+  int cellsX_ = 1, cellsY_ = 1;
+  std::vector<std::vector<int>> buckets_;
+};
+
+}  // namespace geobrush

@@ -1,0 +1,151 @@
+#include "geobrush/domain_locator.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace geobrush {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+Frame DomainHit::frame() const {
+  Frame f;
+  f.point = point;
+  f.normal = normal;
+  Vector3d u = jacobian.col(0) - jacobian.col(0).dot(normal) * normal;
+  if (u.norm() < 1e-300) u = normal.unitOrthogonal();
+  f.uAxis = u.normalized();
+  f.vAxis = normal.cross(f.uAxis);
+  return f;
+}
+
+DomainLocator::DomainLocator(const Parameterization& param) : param_(param) {
+  if (!param.canvas || param.uv.size() != param.canvas->surface.n_vertices())
+    throw std::invalid_argument("the parameterization does not match its canvas");
+  const TriMesh& surface = param.canvas->surface;
+  for (auto f : surface.faces()) {
+    std::array<int, 3> ids;
+    int k = 0;
+    for (auto v : surface.fv_range(f))
+      ids[k++] = v.idx();
+    faces_.push_back(ids);
+  }
+  if (faces_.empty()) throw std::invalid_argument("the canvas has no faces");
+  Vector2d lo = param.uv.front(), hi = param.uv.front();
+  for (const auto& p : param.uv) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  // About one triangle per cell on average.
+  const double area = std::max((hi - lo).prod(), 1e-300);
+  step_ = std::max(std::sqrt(area / double(faces_.size())), 1e-12 * (hi - lo).maxCoeff() + 1e-300);
+  corner_ = lo;
+  cellsX_ = std::clamp(int((hi.x() - lo.x()) / step_) + 1, 1, 4096);
+  cellsY_ = std::clamp(int((hi.y() - lo.y()) / step_) + 1, 1, 4096);
+  step_ = std::max((hi.x() - lo.x()) / cellsX_, (hi.y() - lo.y()) / cellsY_) * (1 + 1e-12) + 1e-300;
+  buckets_.resize(std::size_t(cellsX_) * cellsY_);
+  for (int f = 0; f < int(faces_.size()); ++f) {
+    Vector2d a = param.uv[faces_[f][0]], b = a;
+    for (int k = 1; k < 3; ++k) {
+      a = a.cwiseMin(param.uv[faces_[f][k]]);
+      b = b.cwiseMax(param.uv[faces_[f][k]]);
+    }
+    const int i0 = std::clamp(int((a.x() - corner_.x()) / step_), 0, cellsX_ - 1);
+    const int i1 = std::clamp(int((b.x() - corner_.x()) / step_), 0, cellsX_ - 1);
+    const int j0 = std::clamp(int((a.y() - corner_.y()) / step_), 0, cellsY_ - 1);
+    const int j1 = std::clamp(int((b.y() - corner_.y()) / step_), 0, cellsY_ - 1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        buckets_[std::size_t(j) * cellsX_ + i].push_back(f);
+  }
+}
+
+Vector3d DomainLocator::barycentricOf(int face, const Vector2d& u) const {
+  const Vector2d& a = param_.uv[faces_[face][0]];
+  const Vector2d e1 = param_.uv[faces_[face][1]] - a, e2 = param_.uv[faces_[face][2]] - a;
+  const double det = e1.x() * e2.y() - e1.y() * e2.x();
+  if (std::abs(det) < 1e-300) return Vector3d(1, 0, 0);  // degenerate in uv: its first corner
+  const Vector2d d = u - a;
+  const double s = (d.x() * e2.y() - d.y() * e2.x()) / det;
+  const double t = (e1.x() * d.y() - e1.y() * d.x()) / det;
+  return {1 - s - t, s, t};
+}
+
+DomainHit DomainLocator::hit(int face, const Vector3d& bary, bool inside) const {
+  const TriMesh& surface = param_.canvas->surface;
+  DomainHit h;
+  h.face = face;
+  h.barycentric = bary;
+  h.inside = inside;
+  Vector3d p[3];
+  h.point.setZero();
+  h.normal.setZero();
+  for (int k = 0; k < 3; ++k) {
+    const auto& q = surface.point(TriMesh::VertexHandle(faces_[face][k]));
+    p[k] = {q[0], q[1], q[2]};
+    h.point += bary[k] * p[k];
+    h.normal += bary[k] * param_.normal[faces_[face][k]];
+  }
+  h.normal.normalize();
+  // The affine map (u, v) -> point of the face: point = p0 + J (uv - uv0).
+  const Vector2d& a = param_.uv[faces_[face][0]];
+  Eigen::Matrix2d domain;
+  domain.col(0) = param_.uv[faces_[face][1]] - a;
+  domain.col(1) = param_.uv[faces_[face][2]] - a;
+  Eigen::Matrix<double, 3, 2> edges;
+  edges.col(0) = p[1] - p[0];
+  edges.col(1) = p[2] - p[0];
+  h.jacobian = std::abs(domain.determinant()) > 1e-300
+                   ? Eigen::Matrix<double, 3, 2>(edges * domain.inverse())
+                   : Eigen::Matrix<double, 3, 2>::Zero();
+  return h;
+}
+
+DomainHit DomainLocator::locate(const Vector2d& u) const {
+  const int i = std::clamp(int(std::floor((u.x() - corner_.x()) / step_)), 0, cellsX_ - 1);
+  const int j = std::clamp(int(std::floor((u.y() - corner_.y()) / step_)), 0, cellsY_ - 1);
+  const bool inGrid = (u - corner_).minCoeff() >= 0 && u.x() <= corner_.x() + step_ * cellsX_ &&
+                      u.y() <= corner_.y() + step_ * cellsY_;
+  const auto reversed = [&](int f) {
+    return !param_.reversedFaces.empty() && param_.reversedFaces[f] != 0;
+  };
+  if (inGrid) {
+    int firstAny = -1;
+    Vector3d firstAnyBary;
+    for (int f : buckets_[std::size_t(j) * cellsX_ + i]) {  // ascending face order
+      const Vector3d b = barycentricOf(f, u);
+      if (b.minCoeff() < -1e-12) continue;
+      if (!reversed(f)) return hit(f, b, true);
+      if (firstAny < 0) {
+        firstAny = f;
+        firstAnyBary = b;
+      }
+    }
+    if (firstAny >= 0) return hit(firstAny, firstAnyBary, true);
+  }
+  // Outside every triangle: the one whose nearest point is closest.
+  int best = -1;
+  double bestDistance = std::numeric_limits<double>::infinity();
+  Vector3d bestBary;
+  for (int f = 0; f < int(faces_.size()); ++f) {
+    const Vector3d b = barycentricOf(f, u);
+    Vector3d clamped = b.cwiseMax(0.0);
+    clamped /= clamped.sum();
+    Vector2d q = Vector2d::Zero();
+    for (int k = 0; k < 3; ++k)
+      q += clamped[k] * param_.uv[faces_[f][k]];
+    const double d = (q - u).squaredNorm();
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = f;
+      bestBary = b;
+    }
+  }
+  return hit(best, bestBary, false);
+}
+
+}  // namespace geobrush
