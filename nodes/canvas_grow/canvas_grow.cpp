@@ -1,0 +1,424 @@
+#include "canvas_grow.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <deque>
+#include <limits>
+#include <sstream>
+
+namespace geobrush {
+namespace {
+
+// Below this relative size an offset is rounding noise of the mesh's coordinates.
+constexpr double kRoundoff = 1e-9;
+
+Eigen::Vector3d toEigen(const TriMesh::Point& p) {
+  return {p[0], p[1], p[2]};
+}
+
+std::string formatPoint(const Eigen::Vector3d& p) {
+  std::ostringstream s;
+  s.precision(6);
+  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return s.str();
+}
+
+std::string formatNumber(double x) {
+  std::ostringstream s;
+  s.precision(4);
+  s << x;
+  return s.str();
+}
+
+std::array<Eigen::Vector3d, 3> corners(const TriMesh& mesh, TriMesh::FaceHandle f) {
+  std::array<Eigen::Vector3d, 3> c;
+  int i = 0;
+  for (auto v : mesh.fv_range(f))
+    c[i++] = toEigen(mesh.point(v));
+  return c;
+}
+
+double distanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                         const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+void checkInput(const MeshPtr& source, const CanvasGrowOptions& options) {
+  if (!source || source->surface.n_faces() == 0) {
+    throw CanvasGrowError("mesh", "the mesh has no faces to paint on");
+  }
+  for (auto v : source->surface.vertices()) {
+    if (!toEigen(source->surface.point(v)).allFinite()) {
+      throw CanvasGrowError(
+          "mesh", "vertex " + std::to_string(v.idx()) + " of the mesh has a non-finite coordinate");
+    }
+  }
+  if (!options.origin.allFinite()) {
+    throw CanvasGrowError("origin", "every coordinate must be a finite number");
+  }
+  if (!std::isfinite(options.originTolerance) || options.originTolerance < 0) {
+    throw CanvasGrowError("origin", "the tolerance must be a finite number >= 0");
+  }
+  if (options.dabs.empty()) {
+    throw CanvasGrowError("dabs", "nothing is painted: add at least one dab (x, y, z, radius)");
+  }
+  for (std::size_t i = 0; i < options.dabs.size(); ++i) {
+    const Dab& dab = options.dabs[i];
+    if (!dab.center.allFinite() || !std::isfinite(dab.radius)) {
+      throw CanvasGrowError("dabs", "dab " + std::to_string(i) + " has a non-finite entry");
+    }
+    if (dab.radius <= 0) {
+      throw CanvasGrowError("dabs", "dab " + std::to_string(i) + " has radius " +
+                                        formatNumber(dab.radius) + ": radii must be positive");
+    }
+  }
+}
+
+bool insideSomeDab(const Eigen::Vector3d& p, const std::vector<Dab>& dabs) {
+  return std::any_of(dabs.begin(), dabs.end(), [&](const Dab& d) {
+    return (p - d.center).squaredNorm() <= d.radius * d.radius;
+  });
+}
+
+double boundingDiagonal(const TriMesh& mesh) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (auto v : mesh.vertices()) {
+    const Eigen::Vector3d p = toEigen(mesh.point(v));
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).norm();
+}
+
+// Throws when the snapped origin lies on a boundary edge of one of `faces`, naming the loop.
+void rejectOriginOnBoundary(const TriMesh& mesh, const std::vector<int>& faces,
+                            const Eigen::Vector3d& point, double diagonal) {
+  for (int f : faces) {
+    for (auto h : mesh.fh_range(TriMesh::FaceHandle(f))) {
+      const auto outside = mesh.opposite_halfedge_handle(h);
+      if (!mesh.is_boundary(outside)) continue;
+      const auto a = mesh.from_vertex_handle(h);
+      const auto b = mesh.to_vertex_handle(h);
+      if (distanceToSegment(point, toEigen(mesh.point(a)), toEigen(mesh.point(b))) >
+          kRoundoff * diagonal) {
+        continue;
+      }
+      // Loops are numbered in order of their lowest halfedge index.
+      std::vector<char> seen(mesh.n_halfedges(), 0);
+      int loops = 0, loop = -1;
+      std::size_t edges = 0;
+      for (auto start : mesh.halfedges()) {
+        if (!mesh.is_boundary(start) || seen[start.idx()]) continue;
+        std::size_t count = 0;
+        bool ours = false;
+        auto g = start;
+        do {
+          seen[g.idx()] = 1;
+          ours = ours || g == outside;
+          ++count;
+          g = mesh.next_halfedge_handle(g);
+        } while (g != start);
+        if (ours) {
+          loop = loops;
+          edges = count;
+        }
+        ++loops;
+      }
+      const auto near =
+          (point - toEigen(mesh.point(a))).norm() <= (point - toEigen(mesh.point(b))).norm() ? a
+                                                                                             : b;
+      throw CanvasGrowError("origin", "the origin lies on a boundary of the mesh (boundary loop " +
+                                          std::to_string(loop) + " of " + std::to_string(loops) +
+                                          ", " + std::to_string(edges) + " edges, near vertex " +
+                                          std::to_string(near.idx()) + " " +
+                                          formatPoint(toEigen(mesh.point(near))) +
+                                          "): pick an origin inside the surface");
+    }
+  }
+}
+
+std::vector<int> floodFill(const TriMesh& mesh, int start, const std::vector<char>& painted) {
+  std::vector<char> reached(mesh.n_faces(), 0);
+  std::vector<int> region;
+  std::deque<int> queue{start};
+  reached[start] = 1;
+  while (!queue.empty()) {
+    const int f = queue.front();
+    queue.pop_front();
+    region.push_back(f);
+    for (auto h : mesh.fh_range(TriMesh::FaceHandle(f))) {
+      const auto g = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+      if (!g.is_valid() || reached[g.idx()] || !painted[g.idx()]) continue;
+      reached[g.idx()] = 1;
+      queue.push_back(g.idx());
+    }
+  }
+  std::sort(region.begin(), region.end());
+  return region;
+}
+
+void rejectDegenerateFaces(const TriMesh& mesh, const std::vector<int>& region, double diagonal) {
+  std::size_t count = 0;
+  int first = -1;
+  for (int f : region) {
+    const auto c = corners(mesh, TriMesh::FaceHandle(f));
+    if ((c[1] - c[0]).cross(c[2] - c[0]).norm() <= 1e-12 * diagonal * diagonal) {
+      if (count++ == 0) first = f;
+    }
+  }
+  if (count > 0) {
+    throw CanvasGrowError("mesh", "the painted region holds " + std::to_string(count) +
+                                      " zero-area face(s), first face " + std::to_string(first) +
+                                      ": repair the mesh or paint around them");
+  }
+}
+
+// A vertex where the region's faces form more than one fan makes the boundary touch itself.
+void rejectPinchedVertices(const TriMesh& mesh, const std::vector<int>& region) {
+  std::vector<char> inRegion(mesh.n_faces(), 0);
+  for (int f : region)
+    inRegion[f] = 1;
+  std::vector<int> borderOut(mesh.n_vertices(), 0);
+  for (int f : region) {
+    for (auto h : mesh.fh_range(TriMesh::FaceHandle(f))) {
+      const auto g = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+      if (g.is_valid() && inRegion[g.idx()]) continue;
+      const auto v = mesh.from_vertex_handle(h);
+      if (++borderOut[v.idx()] == 2) {
+        throw CanvasGrowError("dabs", "the painted region touches itself only at vertex " +
+                                          std::to_string(v.idx()) + " " +
+                                          formatPoint(toEigen(mesh.point(v))) +
+                                          ": paint over the gap there or away from it");
+      }
+    }
+  }
+}
+
+struct Loop {
+  std::vector<TriMesh::HalfedgeHandle> halfedges;
+  double length = 0;
+  bool meshHole = true;  // every edge is on a boundary of the source mesh
+};
+
+std::vector<Loop> boundaryLoops(const TriMesh& surface, const TriMesh& source,
+                                const std::vector<int>& sourceVertex) {
+  std::vector<Loop> loops;
+  std::vector<char> seen(surface.n_halfedges(), 0);
+  for (auto start : surface.halfedges()) {
+    if (!surface.is_boundary(start) || seen[start.idx()]) continue;
+    Loop loop;
+    auto h = start;
+    do {
+      seen[h.idx()] = 1;
+      loop.halfedges.push_back(h);
+      const auto a = surface.from_vertex_handle(h);
+      const auto b = surface.to_vertex_handle(h);
+      loop.length += (surface.point(b) - surface.point(a)).norm();
+      const auto sh = source.find_halfedge(TriMesh::VertexHandle(sourceVertex[a.idx()]),
+                                           TriMesh::VertexHandle(sourceVertex[b.idx()]));
+      loop.meshHole = loop.meshHole && sh.is_valid() && source.is_boundary(sh);
+      h = surface.next_halfedge_handle(h);
+    } while (h != start);
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+Eigen::Vector3d loopCentroid(const TriMesh& surface, const Loop& loop) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (auto h : loop.halfedges)
+    sum += toEigen(surface.point(surface.from_vertex_handle(h)));
+  return sum / static_cast<double>(loop.halfedges.size());
+}
+
+// Section 3.1: the canvas boundary must be a single loop.
+void requireOneLoop(const TriMesh& surface, const std::vector<Loop>& loops) {
+  if (loops.empty()) {
+    throw CanvasGrowError("dabs",
+                          "the painting covers the whole closed surface around the origin (" +
+                              std::to_string(surface.n_faces()) +
+                              " faces), so the canvas has no boundary: leave part of the "
+                              "surface unpainted");
+  }
+  if (loops.size() == 1) return;
+  // The longest loop is taken as the outer one; the others are holes inside the canvas.
+  std::size_t outer = 0;
+  for (std::size_t i = 1; i < loops.size(); ++i)
+    if (loops[i].length > loops[outer].length) outer = i;
+  std::string islands, meshHoles;
+  std::size_t islandCount = 0, meshHoleCount = 0;
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    if (i == outer) continue;
+    std::string& list = loops[i].meshHole ? meshHoles : islands;
+    (loops[i].meshHole ? meshHoleCount : islandCount)++;
+    if (!list.empty()) list += ", ";
+    list += formatPoint(loopCentroid(surface, loops[i]));
+  }
+  const std::size_t holes = loops.size() - 1;
+  std::string message = "the canvas boundary must be a single loop, but the painted region leaves ";
+  message += std::to_string(holes);
+  message += holes == 1 ? " hole" : " holes";
+  message += " inside the canvas (" + std::to_string(loops.size()) + " boundary loops)";
+  if (islandCount > 0) {
+    message += "; unpainted parts near " + islands + ": paint over them";
+  }
+  if (meshHoleCount > 0) {
+    message += "; holes of the mesh near " + meshHoles +
+               ": paint so that the canvas does not "
+               "enclose them";
+  }
+  throw CanvasGrowError("dabs", message);
+}
+
+}  // namespace
+
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  }
+  const double sum = va + vb + vc;
+  // A zero-area triangle that passed every edge test: its corners are as good as any point.
+  if (!(sum > 0)) return a;
+  return a + (vb / sum) * ab + (vc / sum) * ac;
+}
+
+SurfacePoint nearestSurfacePoint(const TriMesh& mesh, const Eigen::Vector3d& query) {
+  SurfacePoint best;
+  best.distance = std::numeric_limits<double>::infinity();
+  for (auto f : mesh.faces()) {
+    const auto c = corners(mesh, f);
+    const Eigen::Vector3d q = closestPointOnTriangle(query, c[0], c[1], c[2]);
+    const double d = (q - query).norm();
+    if (d < best.distance) best = {f.idx(), q, d};
+  }
+  return best;
+}
+
+Canvas growCanvas(const MeshPtr& source, const CanvasGrowOptions& options) {
+  checkInput(source, options);
+  const TriMesh& mesh = source->surface;
+  const double diagonal = boundingDiagonal(mesh);
+
+  std::vector<char> paintedVertex(mesh.n_vertices(), 0);
+  for (auto v : mesh.vertices())
+    paintedVertex[v.idx()] = insideSomeDab(toEigen(mesh.point(v)), options.dabs);
+  std::vector<char> painted(mesh.n_faces(), 0);
+  for (auto f : mesh.faces()) {
+    painted[f.idx()] = std::all_of(mesh.cfv_begin(f), mesh.cfv_end(f),
+                                   [&](auto v) { return paintedVertex[v.idx()] != 0; });
+  }
+
+  // Faces tied for nearest (the origin on a shared edge or vertex) prefer a painted one.
+  std::vector<double> distance(mesh.n_faces());
+  std::vector<Eigen::Vector3d> closest(mesh.n_faces());
+  double nearest = std::numeric_limits<double>::infinity();
+  for (auto f : mesh.faces()) {
+    const auto c = corners(mesh, f);
+    closest[f.idx()] = closestPointOnTriangle(options.origin, c[0], c[1], c[2]);
+    distance[f.idx()] = (closest[f.idx()] - options.origin).norm();
+    nearest = std::min(nearest, distance[f.idx()]);
+  }
+  const double tolerance = options.originTolerance * diagonal;
+  if (nearest > tolerance) {
+    throw CanvasGrowError(
+        "origin", "the origin " + formatPoint(options.origin) + " is " + formatNumber(nearest) +
+                      " away from the surface, farther than the tolerance " +
+                      formatNumber(tolerance) + " (" + formatNumber(100 * options.originTolerance) +
+                      "% of the mesh's bounding-box diagonal): pick a point "
+                      "on the surface");
+  }
+  std::vector<int> tied;
+  for (auto f : mesh.faces())
+    if (distance[f.idx()] <= nearest + kRoundoff * diagonal) tied.push_back(f.idx());
+  const auto paintedTie =
+      std::find_if(tied.begin(), tied.end(), [&](int f) { return painted[f] != 0; });
+  const int originFace = paintedTie != tied.end() ? *paintedTie : tied.front();
+  const Eigen::Vector3d originPoint = closest[originFace];
+
+  rejectOriginOnBoundary(mesh, tied, originPoint, diagonal);
+  if (!insideSomeDab(originPoint, options.dabs)) {
+    throw CanvasGrowError("origin", "the origin " + formatPoint(originPoint) +
+                                        " is outside every dab: paint over the origin or move it "
+                                        "into the painted region");
+  }
+  if (!painted[originFace]) {
+    throw CanvasGrowError("dabs", "the face under the origin (face " + std::to_string(originFace) +
+                                      ") is not wholly painted: paint a larger dab there");
+  }
+
+  const std::vector<int> region = floodFill(mesh, originFace, painted);
+  rejectDegenerateFaces(mesh, region, diagonal);
+  rejectPinchedVertices(mesh, region);
+
+  Canvas canvas;
+  canvas.source = source;
+  std::vector<int> surfaceIndex(mesh.n_vertices(), -1);
+  for (int f : region)
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
+      surfaceIndex[v.idx()] = 0;
+  for (auto v : mesh.vertices()) {
+    if (surfaceIndex[v.idx()] < 0) continue;
+    surfaceIndex[v.idx()] = static_cast<int>(canvas.sourceVertex.size());
+    canvas.sourceVertex.push_back(v.idx());
+    canvas.surface.add_vertex(mesh.point(v));
+  }
+  std::vector<TriMesh::VertexHandle> faceCorners;
+  for (int f : region) {
+    faceCorners.clear();
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
+      faceCorners.emplace_back(surfaceIndex[v.idx()]);
+    // Pinched vertices are rejected above, so a manifold source gives a manifold canvas.
+    if (!canvas.surface.add_face(faceCorners).is_valid()) {
+      throw CanvasGrowError("mesh", "face " + std::to_string(f) +
+                                        " of the painted region cannot be attached to its "
+                                        "neighbours: the mesh is not manifold there");
+    }
+    canvas.sourceFace.push_back(f);
+    if (f == originFace) canvas.originFace = static_cast<int>(canvas.sourceFace.size()) - 1;
+  }
+
+  const std::vector<Loop> loops = boundaryLoops(canvas.surface, mesh, canvas.sourceVertex);
+  requireOneLoop(canvas.surface, loops);
+  const auto& loop = loops.front().halfedges;
+  const auto first = std::min_element(loop.begin(), loop.end(), [&](auto a, auto b) {
+    return canvas.surface.from_vertex_handle(a).idx() < canvas.surface.from_vertex_handle(b).idx();
+  });
+  auto h = *first;
+  do {
+    canvas.boundary.push_back(canvas.surface.from_vertex_handle(h).idx());
+    h = canvas.surface.next_halfedge_handle(h);
+  } while (h != *first);
+
+  canvas.originPoint = originPoint;
+  double best = std::numeric_limits<double>::infinity();
+  for (auto v : canvas.surface.fv_range(TriMesh::FaceHandle(canvas.originFace))) {
+    const double d = (toEigen(canvas.surface.point(v)) - originPoint).norm();
+    if (d < best || (d == best && v.idx() < canvas.originVertex)) {
+      best = d;
+      canvas.originVertex = v.idx();
+    }
+  }
+  return canvas;
+}
+
+}  // namespace geobrush
