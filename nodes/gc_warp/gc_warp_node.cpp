@@ -1,0 +1,118 @@
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gc_warp.hpp"
+#include "geobrush/canvas.hpp"
+#include "geobrush/node.hpp"
+#include "geobrush/registry.hpp"
+
+namespace {
+
+using geobrush::Cage;
+using geobrush::Canvas;
+using geobrush::Context;
+using geobrush::GreenCoordinates;
+using geobrush::Mesh;
+using geobrush::NodeError;
+
+// Computing the coordinates costs about 40 times as much as applying them (GeoBrush section
+// 4.1), and moving the target cage must only re-apply them. The framework caches whole nodes, so
+// the node keeps the last coordinates itself, keyed by the content hashes of the canvas and the
+// source cage and by epsilon: a compute with only the target cage changed reuses them (and
+// outputs the very same GreenCoordinates value).
+class GcWarpNode final : public geobrush::Node {
+ public:
+  void compute(Context& ctx) override {
+    const auto canvas = ctx.in<Canvas>("canvas");
+    const auto sourceCage = ctx.in<Cage>("source_cage");
+    const auto targetCage = ctx.in<Cage>("target_cage");
+    const double epsilon = ctx.param<double>("epsilon");
+    const Key key{canvas->contentHash(), sourceCage->contentHash(), epsilon};
+    if (!coordinates_ || key != key_) {
+      coordinates_.reset();
+      std::vector<Eigen::Vector3d> points;
+      points.reserve(canvas->surface.n_vertices());
+      for (auto v : canvas->surface.vertices()) {
+        const auto& p = canvas->surface.point(v);
+        points.emplace_back(p[0], p[1], p[2]);
+      }
+      geobrush::GreenOptions options;
+      options.epsilon = epsilon;
+      geobrush::GreenCoordinatesResult result;
+      try {
+        result = geobrush::computeGreenCoordinates(sourceCage->mesh, points, options);
+      } catch (const geobrush::CageError& e) {
+        throw NodeError::input("source_cage", e.what());
+      }
+      outsideWarning_.clear();
+      if (!result.outsidePoints.empty()) {
+        outsideWarning_ = std::to_string(result.outsidePoints.size());
+        outsideWarning_ += " canvas points (the first is vertex ";
+        outsideWarning_ += std::to_string(result.outsidePoints.front());
+        outsideWarning_ += ") lie outside the source cage; Green coordinates do not reproduce them";
+      }
+      auto coordinates = std::make_shared<GreenCoordinates>();
+      coordinates->cage = sourceCage;
+      coordinates->phi = std::move(result.phi);
+      coordinates->psi = std::move(result.psi);
+      coordinates_ = std::move(coordinates);
+      key_ = key;
+    }
+    if (!outsideWarning_.empty()) ctx.warn(outsideWarning_);
+    ctx.throwIfCancelled();
+
+    std::vector<Eigen::Vector3d> warped;
+    try {
+      warped = geobrush::applyGreenCoordinates(coordinates_->phi, coordinates_->psi,
+                                               sourceCage->mesh, targetCage->mesh);
+    } catch (const geobrush::CageError& e) {
+      throw NodeError::input("target_cage", e.what());
+    }
+    geobrush::TriMesh draft = canvas->surface;
+    for (auto v : draft.vertices()) {
+      const Eigen::Vector3d& p = warped[std::size_t(v.idx())];
+      draft.set_point(v, {p.x(), p.y(), p.z()});
+    }
+    ctx.out("coordinates", coordinates_);
+    ctx.out("draft", std::make_shared<const Mesh>(std::move(draft)));
+  }
+
+ private:
+  struct Key {
+    geobrush::Hash canvas = 0;
+    geobrush::Hash sourceCage = 0;
+    double epsilon = 0;
+    bool operator==(const Key&) const = default;
+  };
+  Key key_;
+  std::shared_ptr<const GreenCoordinates> coordinates_;
+  std::string outsideWarning_;
+};
+
+void registerNodes(geobrush::PluginRegistrar& r) {
+  r.add(geobrush::NodeTypeBuilder("geobrush.gc_warp", 1)
+            .label("Green Coordinates Warp")
+            .category("Preprocess")
+            .doc("Deforms the canvas by Green coordinates (Lipman, Levin, Cohen-Or 2008) from the "
+                 "source cage to the target cage: the draft geometry G(P_s). The coordinates are "
+                 "kept between evaluations, so changing only the target cage re-applies them.")
+            .input<Canvas>("canvas", "The canvas whose surface vertices are warped.")
+            .input<Cage>("source_cage",
+                         "Closed, outward-oriented cage around the canvas, in its rest pose.")
+            .input<Cage>("target_cage",
+                         "The same cage (same connectivity) moved to where the canvas should go.")
+            .output<GreenCoordinates>("coordinates",
+                                      "phi and psi of every canvas vertex in the source cage.")
+            .output<Mesh>("draft", "The canvas surface with every vertex warped by the cages.")
+            .paramDouble("epsilon", 1e-8,
+                         "Points nearer a cage face than this fraction of the cage's size count as "
+                         "on the cage and get their limits from inside.")
+            .range(0, 1e-3)
+            .node<GcWarpNode>()
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)
