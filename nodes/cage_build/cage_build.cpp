@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
 
 namespace geobrush {
@@ -111,46 +112,47 @@ struct Column {
   bool known = false;
 };
 
-// Fits p ~ point + tangents (w - u) to the canvas vertices of a Voronoi cell
-// (for a uniform grid: the square of side `step` around u).
-void fitColumn(Column& column, const Vector2d& u, const std::vector<int>& members,
-               const Parameterization& param) {
+// Fits p ~ point + tangents (w - u) to the canvas vertices around u (its
+// Voronoi cell, for a uniform grid the square of side `step` around u, and
+// the eight cells beside it, so that sparse canvases still give a plane),
+// then takes the extremal projections of the cell's own vertices.
+void fitColumn(Column& column, const Vector2d& u, const std::vector<int>& around,
+               const std::vector<int>& own, const Parameterization& param) {
   const TriMesh& surface = param.canvas->surface;
-  Vector3d normalSum = Vector3d::Zero();
   Eigen::Matrix3d normalMatrix = Eigen::Matrix3d::Zero();
-  Eigen::Matrix<double, 3, 3> rhs = Eigen::Matrix<double, 3, 3>::Zero();
-  for (int v : members) {
+  Eigen::Matrix3d rhs = Eigen::Matrix3d::Zero();
+  for (int v : around) {
     const Vector2d w = param.uv[v] - u;
-    const Eigen::Vector3d basis(1, w.x(), w.y());
-    const auto& q = surface.point(TriMesh::VertexHandle(v));
+    const Vector3d basis(1, w.x(), w.y());
     normalMatrix += basis * basis.transpose();
-    rhs += basis * Vector3d(q[0], q[1], q[2]).transpose();
-    normalSum += param.normal[v];
+    rhs += basis * toEigen(surface.point(TriMesh::VertexHandle(v))).transpose();
   }
-  // Few or collinear members: the tangents stay unknown and come from the
-  // neighbours; the point is then the members' mean.
+  // Collinear neighbourhoods leave the tangents to the neighbours' columns;
+  // the point is then the mean.
   Eigen::LDLT<Eigen::Matrix3d> solver(normalMatrix);
-  const bool wellPosed =
-      members.size() >= 3 && solver.info() == Eigen::Success &&
-      std::abs(normalMatrix.determinant()) > 1e-12 * std::pow(normalMatrix.trace(), 3);
-  if (wellPosed) {
+  const double scale = normalMatrix.trace();
+  column.known = around.size() >= 3 && solver.info() == Eigen::Success &&
+                 std::abs(normalMatrix.determinant()) > 1e-12 * scale * scale * scale;
+  if (column.known) {
     const Eigen::Matrix3d solution = solver.solve(rhs);
     column.point = solution.row(0).transpose();
     column.tangents.col(0) = solution.row(1).transpose();
     column.tangents.col(1) = solution.row(2).transpose();
   } else {
-    column.point = rhs.row(0).transpose() / double(members.size());
+    column.point = rhs.row(0).transpose() / double(around.size());
   }
+  Vector3d normalSum = Vector3d::Zero();
+  for (int v : own)
+    normalSum += param.normal[v];
   column.normal = normalSum.normalized();
-  column.low = column.high =
-      (toEigen(surface.point(TriMesh::VertexHandle(members[0]))) - column.point).dot(column.normal);
-  for (int v : members) {
+  column.low = std::numeric_limits<double>::infinity();
+  column.high = -column.low;
+  for (int v : own) {
     const double t =
         (toEigen(surface.point(TriMesh::VertexHandle(v))) - column.point).dot(column.normal);
     column.low = std::min(column.low, t);
     column.high = std::max(column.high, t);
   }
-  column.known = wellPosed;
 }
 
 struct Domain {
@@ -217,16 +219,24 @@ std::vector<Column> columns(const Grid& grid, const Domain& domain, const Parame
   for (std::size_t d = 0; d < result.size(); ++d) {
     auto it = cellMembers.find(domain.gridIndex[d]);
     if (it == cellMembers.end()) continue;
-    fitColumn(result[d], domain.positions[d], it->second, param);
+    std::vector<int> around;
+    const auto [i, j] = domain.gridIndex[d];
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di)
+        if (auto cell = cellMembers.find({i + di, j + dj}); cell != cellMembers.end())
+          around.insert(around.end(), cell->second.begin(), cell->second.end());
+    fitColumn(result[d], domain.positions[d], around, it->second, param);
     placed[d] = 1;
   }
-  // Tangents of columns with too few members: the mean of their neighbours',
-  // spreading from the fitted columns ring by ring.
+  // Tangents where the neighbourhood was too thin: the mean of the
+  // neighbours', spreading ring by ring over the whole domain.
+  if (std::none_of(result.begin(), result.end(), [](const Column& c) { return c.known; }))
+    throw CageBuildError("too few canvas vertices to find a tangent plane anywhere");
   for (bool progress = true; progress;) {
     progress = false;
     std::vector<std::size_t> filled;
     for (std::size_t d = 0; d < result.size(); ++d) {
-      if (!placed[d] || result[d].known) continue;
+      if (result[d].known) continue;
       Eigen::Matrix<double, 3, 2> sum = Eigen::Matrix<double, 3, 2>::Zero();
       int count = 0;
       for (int n : domain.neighbours[d])
@@ -241,9 +251,6 @@ std::vector<Column> columns(const Grid& grid, const Domain& domain, const Parame
     for (std::size_t d : filled)
       result[d].known = progress = true;
   }
-  for (std::size_t d = 0; d < result.size(); ++d)
-    if (placed[d] && !result[d].known)
-      throw CageBuildError("too few canvas vertices to find the tangent plane");
   // Breadth-first outward from the placed columns, in a fixed order.
   std::deque<int> queue;
   for (std::size_t d = 0; d < result.size(); ++d)
@@ -260,7 +267,6 @@ std::vector<Column> columns(const Grid& grid, const Domain& domain, const Parame
         const Column& c = result[m];
         sum.point += c.point + c.tangents * (domain.positions[n] - domain.positions[m]);
         sum.normal += c.normal;
-        sum.tangents += c.tangents;
         sum.low += c.low;
         sum.high += c.high;
         ++count;
@@ -268,7 +274,6 @@ std::vector<Column> columns(const Grid& grid, const Domain& domain, const Parame
       Column& column = result[n];
       column.point = sum.point / count;
       column.normal = sum.normal.normalized();
-      column.tangents = sum.tangents / count;
       column.low = sum.low / count;
       column.high = sum.high / count;
       placed[n] = 1;
