@@ -66,7 +66,8 @@ using SourceIndex = std::map<std::pair<std::string, std::string>, Endpoint>;
 
 SourceIndex indexSources(const Graph& graph) {
   SourceIndex sources;
-  for (const auto& c : graph.connections) sources.emplace(std::pair{c.to.node, c.to.port}, c.from);
+  for (const auto& c : graph.connections)
+    sources.emplace(std::pair{c.to.node, c.to.port}, c.from);
   return sources;
 }
 
@@ -308,8 +309,8 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
         return report;
       }
       if (!needed.insert(name).second) continue;
-      for (auto it = sources.lower_bound({name, ""}); it != sources.end() && it->first.first == name;
-           ++it)
+      for (auto it = sources.lower_bound({name, ""});
+           it != sources.end() && it->first.first == name; ++it)
         stack.push_back(it->second.node);
     }
   }

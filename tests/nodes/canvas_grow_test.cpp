@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "direct_context.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/mesh_io.hpp"
@@ -357,44 +358,7 @@ TEST(CanvasGrow, RealMeshesGiveValidCanvases) {
   }
 }
 
-// Runs one node outside any graph: given inputs, and params at their defaults unless set.
-class DirectContext final : public Context {
- public:
-  DirectContext(const NodeType& type, std::map<std::string, ValuePtr, std::less<>> inputs,
-                const ParamMap& params)
-      : inputs_(std::move(inputs)) {
-    for (const auto& decl : type.params)
-      params_[decl.name] = decl.defaultValue;
-    for (const auto& [name, value] : params)
-      params_[name] = value;
-  }
-  std::filesystem::path path(std::string_view) const override { return {}; }
-  void out(std::string_view port, ValuePtr value) override {
-    outputs[std::string(port)] = std::move(value);
-  }
-  void progress(double) override {}
-  bool cancelled() const override { return false; }
-  void warn(const std::string& message) override { ADD_FAILURE() << message; }
-  void writeFile(const std::filesystem::path&,
-                 const std::function<void(const std::filesystem::path&)>&) override {
-    ADD_FAILURE() << "unexpected file";
-  }
-
-  std::map<std::string, ValuePtr, std::less<>> outputs;
-
- protected:
-  ValuePtr inputValue(std::string_view port) const override {
-    const auto it = inputs_.find(port);
-    return it == inputs_.end() ? nullptr : it->second;
-  }
-  const ParamValue& paramValue(std::string_view name) const override {
-    return params_.find(name)->second;
-  }
-
- private:
-  std::map<std::string, ValuePtr, std::less<>> inputs_;
-  std::map<std::string, ParamValue, std::less<>> params_;
-};
+using test::DirectContext;
 
 TEST(CanvasGrowNode, ComputesTheAlgorithmsCanvas) {
   const NodeType* type = test::registry().find("geobrush.canvas_grow");
@@ -404,6 +368,7 @@ TEST(CanvasGrowNode, ComputesTheAlgorithmsCanvas) {
                     {{"origin", Vec3{0.1, 0.1, 0}},
                      {"dabs", std::vector<double>{0.1, 0.1, 0, 0.4, 0.3, 0.1, 0, 0.3}}});
   type->create()->compute(ctx);
+  EXPECT_TRUE(ctx.warnings.empty());
   const auto canvas = std::dynamic_pointer_cast<const Canvas>(ctx.outputs["canvas"]);
   ASSERT_NE(canvas, nullptr);
   const Canvas direct =
@@ -418,6 +383,7 @@ std::string nodeError(const ParamMap& params, const MeshPtr& mesh) {
   DirectContext ctx(*type, {{"mesh", mesh}}, params);
   try {
     type->create()->compute(ctx);
+    EXPECT_TRUE(ctx.warnings.empty());
   } catch (const NodeError& e) {
     return e.where() + ": " + e.what();
   }

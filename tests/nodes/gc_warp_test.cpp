@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "direct_context.hpp"
 #include "geobrush/canvas.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "geobrush/node.hpp"
@@ -333,42 +334,7 @@ TEST(GreenCoordinates, WarpsAPatchOfARealMesh) {
   EXPECT_GT(moved, 0.01 * size);
 }
 
-// Runs one node outside any graph, as no nodes producing canvases and cages are needed for it.
-class DirectContext final : public Context {
- public:
-  DirectContext(const NodeType& type, std::map<std::string, ValuePtr, std::less<>> inputs)
-      : inputs_(std::move(inputs)) {
-    for (const auto& decl : type.params)
-      params_[decl.name] = decl.defaultValue;
-  }
-  std::filesystem::path path(std::string_view) const override { return {}; }
-  void out(std::string_view port, ValuePtr value) override {
-    outputs[std::string(port)] = std::move(value);
-  }
-  void progress(double) override {}
-  bool cancelled() const override { return false; }
-  void warn(const std::string& message) override { warnings.push_back(message); }
-  void writeFile(const std::filesystem::path&,
-                 const std::function<void(const std::filesystem::path&)>&) override {
-    ADD_FAILURE() << "unexpected file";
-  }
-
-  std::map<std::string, ValuePtr, std::less<>> outputs;
-  std::vector<std::string> warnings;
-
- protected:
-  ValuePtr inputValue(std::string_view port) const override {
-    const auto it = inputs_.find(port);
-    return it == inputs_.end() ? nullptr : it->second;
-  }
-  const ParamValue& paramValue(std::string_view name) const override {
-    return params_.find(name)->second;
-  }
-
- private:
-  std::map<std::string, ValuePtr, std::less<>> inputs_;
-  std::map<std::string, ParamValue, std::less<>> params_;
-};
+using test::DirectContext;
 
 std::shared_ptr<const Cage> cageValue(TriMesh mesh) {
   auto cage = std::make_shared<Cage>();

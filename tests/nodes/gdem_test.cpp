@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "direct_context.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/mesh_io.hpp"
@@ -436,44 +437,7 @@ TEST(Gdem, RejectsBadOptionsAndCanvases) {
   EXPECT_EQ(rejected({}, bad), "canvas");
 }
 
-// Runs one node outside any graph: given inputs, and params at their defaults unless set.
-class DirectContext final : public Context {
- public:
-  DirectContext(const NodeType& type, std::map<std::string, ValuePtr, std::less<>> inputs,
-                const ParamMap& params)
-      : inputs_(std::move(inputs)) {
-    for (const auto& decl : type.params)
-      params_[decl.name] = decl.defaultValue;
-    for (const auto& [name, value] : params)
-      params_[name] = value;
-  }
-  std::filesystem::path path(std::string_view) const override { return {}; }
-  void out(std::string_view port, ValuePtr value) override {
-    outputs[std::string(port)] = std::move(value);
-  }
-  void progress(double) override {}
-  bool cancelled() const override { return false; }
-  void warn(const std::string& message) override { ADD_FAILURE() << message; }
-  void writeFile(const std::filesystem::path&,
-                 const std::function<void(const std::filesystem::path&)>&) override {
-    ADD_FAILURE() << "unexpected file";
-  }
-
-  std::map<std::string, ValuePtr, std::less<>> outputs;
-
- protected:
-  ValuePtr inputValue(std::string_view port) const override {
-    const auto it = inputs_.find(port);
-    return it == inputs_.end() ? nullptr : it->second;
-  }
-  const ParamValue& paramValue(std::string_view name) const override {
-    return params_.find(name)->second;
-  }
-
- private:
-  std::map<std::string, ValuePtr, std::less<>> inputs_;
-  std::map<std::string, ParamValue, std::less<>> params_;
-};
+using test::DirectContext;
 
 TEST(GdemNode, OutputsTheGeneralizedMap) {
   const NodeType* type = test::registry().find("geobrush.gdem");
@@ -482,6 +446,7 @@ TEST(GdemNode, OutputsTheGeneralizedMap) {
   const auto canvas = std::make_shared<const Canvas>(grow(mesh, 100, 10));
   DirectContext ctx(*type, {{"canvas", canvas}}, {{"angle", 20.0}});
   type->create()->compute(ctx);
+  EXPECT_TRUE(ctx.warnings.empty());
   const auto out =
       std::dynamic_pointer_cast<const Parameterization>(ctx.outputs["parameterization"]);
   ASSERT_NE(out, nullptr);

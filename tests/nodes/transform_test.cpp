@@ -10,6 +10,7 @@
 #include <map>
 #include <vector>
 
+#include "direct_context.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
 #include "mesh_checks.hpp"
@@ -325,44 +326,7 @@ TEST(TransformNode, ReportsAZeroScale) {
   EXPECT_NE(report.error.find("param 'scale'"), std::string::npos) << report.error;
 }
 
-// Runs one node outside any graph: given inputs, and params at their defaults unless set.
-class DirectContext final : public Context {
- public:
-  DirectContext(const NodeType& type, std::map<std::string, ValuePtr, std::less<>> inputs,
-                const ParamMap& params)
-      : inputs_(std::move(inputs)) {
-    for (const auto& decl : type.params)
-      params_[decl.name] = decl.defaultValue;
-    for (const auto& [name, value] : params)
-      params_[name] = value;
-  }
-  std::filesystem::path path(std::string_view) const override { return {}; }
-  void out(std::string_view port, ValuePtr value) override {
-    outputs[std::string(port)] = std::move(value);
-  }
-  void progress(double) override {}
-  bool cancelled() const override { return false; }
-  void warn(const std::string& message) override { ADD_FAILURE() << message; }
-  void writeFile(const std::filesystem::path&,
-                 const std::function<void(const std::filesystem::path&)>&) override {
-    ADD_FAILURE() << "unexpected file";
-  }
-
-  std::map<std::string, ValuePtr, std::less<>> outputs;
-
- protected:
-  ValuePtr inputValue(std::string_view port) const override {
-    const auto it = inputs_.find(port);
-    return it == inputs_.end() ? nullptr : it->second;
-  }
-  const ParamValue& paramValue(std::string_view name) const override {
-    return params_.find(name)->second;
-  }
-
- private:
-  std::map<std::string, ValuePtr, std::less<>> inputs_;
-  std::map<std::string, ParamValue, std::less<>> params_;
-};
+using test::DirectContext;
 
 TEST(TransformNode, KeepsVertexColours) {
   const NodeType* type = test::registry().find("geobrush.transform");
@@ -371,6 +335,7 @@ TEST(TransformNode, KeepsVertexColours) {
   auto input = std::make_shared<const Mesh>(pointsMesh({{0, 0, 0}}), colours);
   DirectContext ctx(*type, {{"mesh", input}}, {{"scale", Vec3{-1, 1, 1}}});
   type->create()->compute(ctx);
+  EXPECT_TRUE(ctx.warnings.empty());
   const auto out = std::dynamic_pointer_cast<const Mesh>(ctx.outputs["mesh"]);
   ASSERT_NE(out, nullptr);
   EXPECT_EQ(out->vertexColors, colours);

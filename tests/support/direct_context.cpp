@@ -1,0 +1,37 @@
+#include "direct_context.hpp"
+
+#include <stdexcept>
+
+namespace geobrush::test {
+
+DirectContext::DirectContext(const NodeType& type,
+                             std::map<std::string, ValuePtr, std::less<>> inputs,
+                             const ParamMap& params)
+    : inputs_(std::move(inputs)) {
+  for (const auto& decl : type.params)
+    params_[decl.name] = decl.defaultValue;
+  for (const auto& [name, value] : params)
+    params_[name] = value;
+}
+
+void DirectContext::out(std::string_view port, ValuePtr value) {
+  outputs[std::string(port)] = std::move(value);
+}
+
+void DirectContext::writeFile(const std::filesystem::path& path,
+                              const std::function<void(const std::filesystem::path&)>&) {
+  throw std::logic_error("DirectContext writes no files (asked for " + path.string() + ")");
+}
+
+ValuePtr DirectContext::inputValue(std::string_view port) const {
+  const auto it = inputs_.find(port);
+  return it == inputs_.end() ? nullptr : it->second;
+}
+
+const ParamValue& DirectContext::paramValue(std::string_view name) const {
+  const auto it = params_.find(name);
+  if (it == params_.end()) throw NodeError::param(name, "is not declared");
+  return it->second;
+}
+
+}  // namespace geobrush::test

@@ -1,0 +1,39 @@
+// Runs one node outside any graph, for node-level tests: inputs given
+// directly, params at their defaults unless set, outputs and warnings kept.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "geobrush/node.hpp"
+
+namespace geobrush::test {
+
+class DirectContext final : public Context {
+ public:
+  DirectContext(const NodeType& type, std::map<std::string, ValuePtr, std::less<>> inputs,
+                const ParamMap& params = {});
+
+  std::filesystem::path path(std::string_view) const override { return {}; }
+  void out(std::string_view port, ValuePtr value) override;
+  void progress(double) override {}
+  bool cancelled() const override { return false; }
+  void warn(const std::string& message) override { warnings.push_back(message); }
+  // Node tests that write files go through the evaluator instead.
+  void writeFile(const std::filesystem::path& path,
+                 const std::function<void(const std::filesystem::path&)>&) override;
+
+  std::map<std::string, ValuePtr, std::less<>> outputs;
+  std::vector<std::string> warnings;
+
+ protected:
+  ValuePtr inputValue(std::string_view port) const override;
+  const ParamValue& paramValue(std::string_view name) const override;
+
+ private:
+  std::map<std::string, ValuePtr, std::less<>> inputs_;
+  std::map<std::string, ParamValue, std::less<>> params_;
+};
+
+}  // namespace geobrush::test
