@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cage_build.hpp"
+#include "canvas_fixtures.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "mesh_checks.hpp"
 #include "test_support.hpp"
@@ -12,34 +13,6 @@ using Eigen::Vector2d;
 using Eigen::Vector3d;
 
 namespace {
-
-// A height field z = height(x, y) over [-1, 1]^2 with n x n quads,
-// parameterized by projection: uv = (x, y), normals +z.
-std::shared_ptr<Parameterization> heightField(int n,
-                                              const std::function<double(double, double)>& height) {
-  auto canvas = std::make_shared<Canvas>();
-  TriMesh& mesh = canvas->surface;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
-      mesh.add_vertex({x, y, height(x, y)});
-    }
-  auto vh = [&](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      mesh.add_face(vh(i, j), vh(i + 1, j), vh(i + 1, j + 1));
-      mesh.add_face(vh(i, j), vh(i + 1, j + 1), vh(i, j + 1));
-    }
-  for (int v = 0; v < int(mesh.n_vertices()); ++v)
-    canvas->sourceVertex.push_back(v);
-  auto param = std::make_shared<Parameterization>();
-  param->canvas = canvas;
-  for (auto v : mesh.vertices()) {
-    param->uv.emplace_back(mesh.point(v)[0], mesh.point(v)[1]);
-    param->normal.push_back(Vector3d::UnitZ());
-  }
-  return param;
-}
 
 void expectValidCage(const Parameterization& param, const CageBuildResult& result) {
   const TriMesh& cage = result.cage.mesh;
@@ -84,7 +57,7 @@ TEST(SelfIntersections, CrossingTrianglesAreFound) {
 }
 
 TEST(CageBuild, FlatCanvasGetsAThinSlab) {
-  auto param = heightField(20, [](double, double) { return 0.0; });
+  auto param = test::heightFieldParameterization(20, [](double, double) { return 0.0; });
   CageBuildOptions options;
   options.resolution = 8;
   const CageBuildResult result = buildCage(*param, options);
@@ -104,8 +77,8 @@ TEST(CageBuild, FlatCanvasGetsAThinSlab) {
 }
 
 TEST(CageBuild, TallBumpIsEnclosed) {
-  auto param =
-      heightField(40, [](double x, double y) { return 1.5 * std::exp(-8 * (x * x + y * y)); });
+  auto param = test::heightFieldParameterization(
+      40, [](double x, double y) { return 1.5 * std::exp(-8 * (x * x + y * y)); });
   const CageBuildResult result = buildCage(*param);
   expectValidCage(*param, result);
   double highest = -1;
@@ -115,18 +88,7 @@ TEST(CageBuild, TallBumpIsEnclosed) {
 }
 
 TEST(CageBuild, RealTerrain) {
-  // mountain.obj is a height field over the xz plane with +y up: uv = (x, -z)
-  // keeps (u, v, normal) right-handed.
-  auto loaded = readMesh(test::meshPath("mountain.obj"));
-  auto canvas = std::make_shared<Canvas>();
-  canvas->surface = loaded.mesh->surface;
-  auto param = std::make_shared<Parameterization>();
-  param->canvas = canvas;
-  for (auto v : canvas->surface.vertices()) {
-    const auto& p = canvas->surface.point(v);
-    param->uv.emplace_back(p[0], -p[2]);
-    param->normal.push_back(Vector3d::UnitY());
-  }
+  auto param = test::terrainParameterization();
   CageBuildOptions options;
   options.resolution = 10;
   const CageBuildResult result = buildCage(*param, options);
@@ -134,7 +96,7 @@ TEST(CageBuild, RealTerrain) {
 }
 
 TEST(CageBuild, BadParameterizations) {
-  auto param = heightField(4, [](double, double) { return 0.0; });
+  auto param = test::heightFieldParameterization(4, [](double, double) { return 0.0; });
   auto shorter = *param;
   shorter.uv.pop_back();
   EXPECT_THROW(buildCage(shorter), CageBuildError);
@@ -152,8 +114,8 @@ TEST(CageBuild, BadParameterizations) {
 }
 
 TEST(CageBuild, Deterministic) {
-  auto param =
-      heightField(16, [](double x, double y) { return 0.3 * std::sin(3 * x) * std::cos(2 * y); });
+  auto param = test::heightFieldParameterization(
+      16, [](double x, double y) { return 0.3 * std::sin(3 * x) * std::cos(2 * y); });
   const auto a = buildCage(*param);
   const auto b = buildCage(*param);
   EXPECT_EQ(a.cage.contentHash(), b.cage.contentHash());

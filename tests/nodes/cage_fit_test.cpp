@@ -7,6 +7,7 @@
 
 #include "cage_build.hpp"
 #include "cage_fit.hpp"
+#include "canvas_fixtures.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "test_support.hpp"
 
@@ -14,30 +15,6 @@ using namespace geobrush;
 using Eigen::Vector3d;
 
 namespace {
-
-// A height field over [-1, 1]^2 parameterized by projection (uv = x, y).
-std::shared_ptr<Parameterization> heightField(int n, double (*height)(double, double)) {
-  auto canvas = std::make_shared<Canvas>();
-  TriMesh& mesh = canvas->surface;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
-      mesh.add_vertex({x, y, height(x, y)});
-    }
-  auto vh = [&](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      mesh.add_face(vh(i, j), vh(i + 1, j), vh(i + 1, j + 1));
-      mesh.add_face(vh(i, j), vh(i + 1, j + 1), vh(i, j + 1));
-    }
-  auto param = std::make_shared<Parameterization>();
-  param->canvas = canvas;
-  for (auto v : mesh.vertices()) {
-    param->uv.emplace_back(mesh.point(v)[0], mesh.point(v)[1]);
-    param->normal.push_back(Vector3d::UnitZ());
-  }
-  return param;
-}
 
 double bump(double x, double y) {
   return 0.4 * std::exp(-4 * (x * x + y * y));
@@ -76,7 +53,7 @@ double maxDistance(const TriMesh& a, const TriMesh& b, const Eigen::Matrix3d& R,
 }  // namespace
 
 TEST(CageFit, IdenticalCanvasReproducesTheSourceCage) {
-  auto param = heightField(24, bump);
+  auto param = test::heightFieldParameterization(24, bump);
   const Cage cage = buildCage(*param).cage;
   const CageFitResult fit = fitCage(cage, *param, *param);
   EXPECT_LT(maxDistance(cage.mesh, fit.cage.mesh, Eigen::Matrix3d::Identity(), 1, Vector3d::Zero()),
@@ -86,7 +63,7 @@ TEST(CageFit, IdenticalCanvasReproducesTheSourceCage) {
 }
 
 TEST(CageFit, FollowsSimilarityTransformsExactly) {
-  auto param = heightField(24, bump);
+  auto param = test::heightFieldParameterization(24, bump);
   const Cage cage = buildCage(*param).cage;
   const Eigen::Matrix3d R =
       Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()).toRotationMatrix();
@@ -99,7 +76,7 @@ TEST(CageFit, FollowsSimilarityTransformsExactly) {
 }
 
 TEST(CageFit, ReusedSolverGivesTheSameCage) {
-  auto param = heightField(16, bump);
+  auto param = test::heightFieldParameterization(16, bump);
   const Cage cage = buildCage(*param).cage;
   auto target = moved(*param, Eigen::Matrix3d::Identity(), 1.3, Vector3d(1, 0, 0));
   const CageFitSolver solver(cage, CageFitOptions{}.constraintWeight);
@@ -111,7 +88,7 @@ TEST(CageFit, ReusedSolverGivesTheSameCage) {
 }
 
 TEST(CageFit, BentTargetKeepsTheCageAroundIt) {
-  auto param = heightField(24, bump);
+  auto param = test::heightFieldParameterization(24, bump);
   const Cage cage = buildCage(*param).cage;
   // Wrap the flat canvas onto a cylinder of radius 2 about the y axis: the
   // target's frames turn with x, so the cage must bend with it.
@@ -140,16 +117,7 @@ TEST(CageFit, BentTargetKeepsTheCageAroundIt) {
 }
 
 TEST(CageFit, RealTerrainMovedRigidly) {
-  auto loaded = readMesh(test::meshPath("mountain.obj"));
-  auto canvas = std::make_shared<Canvas>();
-  canvas->surface = loaded.mesh->surface;
-  auto param = std::make_shared<Parameterization>();
-  param->canvas = canvas;
-  for (auto v : canvas->surface.vertices()) {
-    const auto& p = canvas->surface.point(v);
-    param->uv.emplace_back(p[0], -p[2]);
-    param->normal.push_back(Vector3d::UnitY());
-  }
+  auto param = test::terrainParameterization();
   CageBuildOptions options;
   options.resolution = 10;
   const Cage cage = buildCage(*param, options).cage;
@@ -160,7 +128,7 @@ TEST(CageFit, RealTerrainMovedRigidly) {
 }
 
 TEST(CageFit, BadInput) {
-  auto param = heightField(8, bump);
+  auto param = test::heightFieldParameterization(8, bump);
   const Cage cage = buildCage(*param).cage;
   auto target = std::make_shared<Parameterization>(*param);
   target->scale = 0;

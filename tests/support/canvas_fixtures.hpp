@@ -1,0 +1,21 @@
+// Parameterized canvases with known geometry, for the preprocess suites.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include "geobrush/canvas.hpp"
+
+namespace geobrush::test {
+
+// The height field z = height(x, y) over [-1, 1]^2 with n x n quads,
+// parameterized by projection: uv = (x, y), normals +z.
+std::shared_ptr<Parameterization> heightFieldParameterization(
+    int n, const std::function<double(double, double)>& height);
+
+// ../shared/data/meshes/mountain.obj, a height field over the xz plane with
+// +y up, parameterized by projection: uv = (x, -z), so (u, v, normal) is
+// right-handed.
+std::shared_ptr<Parameterization> terrainParameterization();
+
+}  // namespace geobrush::test
