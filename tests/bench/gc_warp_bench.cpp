@@ -8,43 +8,17 @@
 #include <random>
 
 #include "gc_warp.hpp"
+#include "mesh_checks.hpp"
 
 using namespace geobrush;
 
 namespace {
 
 TriMesh bentBoxCage(int n) {
-  TriMesh mesh;
-  std::map<std::array<int, 3>, TriMesh::VertexHandle> lattice;
-  auto vertex = [&](std::array<int, 3> ijk) {
-    auto [it, added] = lattice.try_emplace(ijk);
-    if (added) {
-      const double x = 2.0 * ijk[0] / n - 1, y = 2.0 * ijk[1] / n - 1, z = 2.0 * ijk[2] / n - 1;
-      it->second = mesh.add_vertex({x * (1 + 0.2 * y), y, z + 0.1 * x * x});
-    }
-    return it->second;
-  };
-  for (int axis = 0; axis < 3; ++axis) {
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    for (int side : {0, n})
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-          auto corner = [&](int di, int dj) {
-            std::array<int, 3> ijk{};
-            ijk[std::size_t(axis)] = side;
-            ijk[std::size_t(u)] = i + di;
-            ijk[std::size_t(v)] = j + dj;
-            return vertex(ijk);
-          };
-          const auto c00 = corner(0, 0), c10 = corner(1, 0), c11 = corner(1, 1), c01 = corner(0, 1);
-          if (side == n) {
-            mesh.add_face(c00, c10, c11);
-            mesh.add_face(c00, c11, c01);
-          } else {
-            mesh.add_face(c00, c11, c10);
-            mesh.add_face(c00, c01, c11);
-          }
-        }
+  TriMesh mesh = test::boxCage(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1), n);
+  for (auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    mesh.point(v) = {p[0] * (1 + 0.2 * p[1]), p[1], p[2] + 0.1 * p[0] * p[0]};
   }
   return mesh;
 }

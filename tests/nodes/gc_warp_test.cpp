@@ -31,47 +31,6 @@ std::vector<Eigen::Vector3d> meshPoints(const TriMesh& mesh) {
   return points;
 }
 
-// The box [lo, hi] with every side cut into n x n squares of two triangles, welded, outward.
-TriMesh boxCage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n) {
-  TriMesh mesh;
-  std::map<std::array<int, 3>, TriMesh::VertexHandle> lattice;
-  auto vertex = [&](std::array<int, 3> ijk) {
-    auto [it, added] = lattice.try_emplace(ijk);
-    if (added) {
-      Eigen::Vector3d p;
-      for (int a = 0; a < 3; ++a)
-        p[a] = lo[a] + (hi[a] - lo[a]) * ijk[std::size_t(a)] / n;
-      it->second = mesh.add_vertex({p.x(), p.y(), p.z()});
-    }
-    return it->second;
-  };
-  for (int axis = 0; axis < 3; ++axis) {
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;  // e_u x e_v = e_axis
-    for (int side : {0, n}) {
-      for (int i = 0; i < n; ++i) {
-        for (int j = 0; j < n; ++j) {
-          auto corner = [&](int di, int dj) {
-            std::array<int, 3> ijk{};
-            ijk[std::size_t(axis)] = side;
-            ijk[std::size_t(u)] = i + di;
-            ijk[std::size_t(v)] = j + dj;
-            return vertex(ijk);
-          };
-          const auto c00 = corner(0, 0), c10 = corner(1, 0), c11 = corner(1, 1), c01 = corner(0, 1);
-          if (side == n) {
-            mesh.add_face(c00, c10, c11);
-            mesh.add_face(c00, c11, c01);
-          } else {
-            mesh.add_face(c00, c11, c10);
-            mesh.add_face(c00, c01, c11);
-          }
-        }
-      }
-    }
-  }
-  return mesh;
-}
-
 // An icosahedron with each face split in four, pushed onto the unit sphere: 42 vertices, 80 faces.
 TriMesh icosphere() {
   const double t = (1 + std::sqrt(5.0)) / 2;
@@ -151,7 +110,7 @@ struct NamedCage {
 };
 
 std::vector<NamedCage> cages() {
-  return {{"cube", boxCage({-1, -1, -1}, {1, 1, 1}, 1), 0.95, false},
+  return {{"cube", test::boxCage({-1, -1, -1}, {1, 1, 1}, 1), 0.95, false},
           {"icosphere", icosphere(), 0.85, true}};
 }
 
@@ -203,7 +162,7 @@ TEST(GreenCoordinates, SimilarityOfTheCageMovesThePointsAlike) {
 }
 
 TEST(GreenCoordinates, RefusesBadCages) {
-  const TriMesh cube = boxCage({-1, -1, -1}, {1, 1, 1}, 2);
+  const TriMesh cube = test::boxCage({-1, -1, -1}, {1, 1, 1}, 2);
   const std::vector<Eigen::Vector3d> points = {Eigen::Vector3d::Zero()};
   EXPECT_THROW(computeGreenCoordinates(flipped(cube), points), CageError);
   EXPECT_THROW(computeGreenCoordinatesNaive(flipped(cube), points), CageError);
@@ -219,13 +178,13 @@ TEST(GreenCoordinates, RefusesBadCages) {
   EXPECT_THROW(computeGreenCoordinates(open, points), CageError);
 
   const auto gc = computeGreenCoordinates(cube, points);
-  const TriMesh other = boxCage({-1, -1, -1}, {1, 1, 1}, 3);
+  const TriMesh other = test::boxCage({-1, -1, -1}, {1, 1, 1}, 3);
   EXPECT_THROW(applyGreenCoordinates(gc.phi, gc.psi, cube, other), CageError);
   EXPECT_THROW(applyGreenCoordinates(gc.phi, gc.psi, cube, flipped(cube)), CageError);
 }
 
 TEST(GreenCoordinates, ReportsPointsOutside) {
-  const TriMesh cube = boxCage({-1, -1, -1}, {1, 1, 1}, 1);
+  const TriMesh cube = test::boxCage({-1, -1, -1}, {1, 1, 1}, 1);
   const auto gc = computeGreenCoordinates(cube, {{0, 0, 0}, {3, 0, 0}, {0.5, 0.5, 0.5}});
   EXPECT_EQ(gc.outsidePoints, std::vector<int>{1});
 }
@@ -267,9 +226,10 @@ TEST(GreenCoordinates, PointsNearTheCageStayFiniteAndExact) {
 
 TEST(GreenCoordinates, FastEqualsNaiveAndIgnoresThreadCount) {
   std::mt19937 rng(3);
-  const TriMesh cage = mapCage(boxCage({-1, -1, -1}, {1, 1, 1}, 3), [](const Eigen::Vector3d& x) {
-    return Eigen::Vector3d(x.x() * (1 + 0.2 * x.y()), x.y(), x.z() + 0.1 * x.x() * x.x());
-  });
+  const TriMesh cage =
+      mapCage(test::boxCage({-1, -1, -1}, {1, 1, 1}, 3), [](const Eigen::Vector3d& x) {
+        return Eigen::Vector3d(x.x() * (1 + 0.2 * x.y()), x.y(), x.z() + 0.1 * x.x() * x.x());
+      });
   ASSERT_GT(test::signedVolume(cage), 0);
   const auto points = randomPoints(rng, 300, 0.8, false);
   const auto naive = computeGreenCoordinatesNaive(cage, points);
@@ -305,7 +265,7 @@ TEST(GreenCoordinates, WarpsAPatchOfARealMesh) {
     }
   ASSERT_GT(patch.size(), 100u);
   const Eigen::Vector3d margin = 0.1 * box.sizes() + Eigen::Vector3d::Constant(1e-3);
-  const TriMesh cage = boxCage(box.min() - margin, box.max() + margin, 4);
+  const TriMesh cage = test::boxCage(box.min() - margin, box.max() + margin, 4);
   const auto gc = computeGreenCoordinates(cage, patch);
   EXPECT_TRUE(gc.outsidePoints.empty());
   ASSERT_TRUE(gc.phi.allFinite() && gc.psi.allFinite());
@@ -362,7 +322,7 @@ TEST(GcWarpNode, KeepsTheCoordinatesWhileOnlyTheTargetCageMoves) {
   ASSERT_NE(type, nullptr) << (test::registryLoadErrors().empty() ? ""
                                                                   : test::registryLoadErrors()[0]);
   const auto canvas = gridCanvas(6);
-  const TriMesh box = boxCage({-1, -1, -1}, {1, 1, 1}, 2);
+  const TriMesh box = test::boxCage({-1, -1, -1}, {1, 1, 1}, 2);
   const auto source = cageValue(box);
   const auto node = type->create();
 
@@ -394,7 +354,8 @@ TEST(GcWarpNode, KeepsTheCoordinatesWhileOnlyTheTargetCageMoves) {
   for (auto v : draft->surface.vertices())
     EXPECT_EQ(toEigen(draft->surface.point(v)), expected[std::size_t(v.idx())]);
 
-  const auto [third, unused] = run(canvas, cageValue(boxCage({-1, -1, -1}, {1, 1, 2}, 2)), target);
+  const auto [third, unused] =
+      run(canvas, cageValue(test::boxCage({-1, -1, -1}, {1, 1, 2}, 2)), target);
   EXPECT_NE(third, first);
   const auto [fourth, unused2] = run(gridCanvas(5), source, source);
   EXPECT_NE(fourth, third);
@@ -403,7 +364,7 @@ TEST(GcWarpNode, KeepsTheCoordinatesWhileOnlyTheTargetCageMoves) {
 TEST(GcWarpNode, NamesThePortOfABadCage) {
   const NodeType* type = test::registry().find("geobrush.gc_warp");
   ASSERT_NE(type, nullptr);
-  const TriMesh box = boxCage({-1, -1, -1}, {1, 1, 1}, 2);
+  const TriMesh box = test::boxCage({-1, -1, -1}, {1, 1, 1}, 2);
   auto error = [&](const TriMesh& source, const TriMesh& target) -> std::string {
     DirectContext ctx(*type, {{"canvas", gridCanvas(3)},
                               {"source_cage", cageValue(source)},
@@ -416,8 +377,8 @@ TEST(GcWarpNode, NamesThePortOfABadCage) {
     return "(no error)";
   };
   EXPECT_TRUE(test::contains(error(flipped(box), box), "input 'source_cage': "));
-  EXPECT_TRUE(
-      test::contains(error(box, boxCage({-1, -1, -1}, {1, 1, 1}, 3)), "input 'target_cage': "));
+  EXPECT_TRUE(test::contains(error(box, test::boxCage({-1, -1, -1}, {1, 1, 1}, 3)),
+                             "input 'target_cage': "));
 }
 
 }  // namespace

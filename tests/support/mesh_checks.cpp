@@ -1,5 +1,7 @@
 #include "mesh_checks.hpp"
 
+#include <map>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -38,6 +40,46 @@ Mesh tetrahedron(const std::array<OpenMesh::Vec3d, 4>& corners) {
   mesh.add_face(v[0], v[3], v[2]);
   mesh.add_face(v[1], v[2], v[3]);
   return Mesh(std::move(mesh));
+}
+
+TriMesh boxCage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n) {
+  TriMesh mesh;
+  std::map<std::array<int, 3>, TriMesh::VertexHandle> lattice;
+  auto vertex = [&](std::array<int, 3> ijk) {
+    auto [it, added] = lattice.try_emplace(ijk);
+    if (added) {
+      Eigen::Vector3d p;
+      for (int a = 0; a < 3; ++a)
+        p[a] = lo[a] + (hi[a] - lo[a]) * ijk[std::size_t(a)] / n;
+      it->second = mesh.add_vertex({p.x(), p.y(), p.z()});
+    }
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;  // e_u x e_v = e_axis
+    for (int side : {0, n}) {
+      for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+          auto corner = [&](int di, int dj) {
+            std::array<int, 3> ijk{};
+            ijk[std::size_t(axis)] = side;
+            ijk[std::size_t(u)] = i + di;
+            ijk[std::size_t(v)] = j + dj;
+            return vertex(ijk);
+          };
+          const auto c00 = corner(0, 0), c10 = corner(1, 0), c11 = corner(1, 1), c01 = corner(0, 1);
+          if (side == n) {
+            mesh.add_face(c00, c10, c11);
+            mesh.add_face(c00, c11, c01);
+          } else {
+            mesh.add_face(c00, c11, c10);
+            mesh.add_face(c00, c01, c11);
+          }
+        }
+      }
+    }
+  }
+  return mesh;
 }
 
 double surfaceArea(const TriMesh& mesh) {

@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "geobrush/mesh.hpp"
 
 namespace geobrush::test {
@@ -12,6 +14,10 @@ namespace geobrush::test {
 // A tetrahedron on four corners; its faces point outward when the corners
 // are ordered like (0,0,0), (1,0,0), (0,1,0), (0,0,1).
 Mesh tetrahedron(const std::array<OpenMesh::Vec3d, 4>& corners);
+
+// The box [lo, hi] with every side cut into n x n squares of two triangles,
+// welded, faces outward: a cage for Green-coordinate tests.
+TriMesh boxCage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n);
 
 double surfaceArea(const TriMesh& mesh);
 
