@@ -11,6 +11,7 @@
 
 #include "geobrush/canvas.hpp"
 #include "geobrush/mesh.hpp"
+#include "geobrush/surface_point.hpp"
 
 namespace geobrush {
 
@@ -41,20 +42,6 @@ class CanvasGrowError : public std::invalid_argument {
  private:
   std::string option_;
 };
-
-// The point of a mesh nearest to a query point.
-struct SurfacePoint {
-  int face = -1;
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  double distance = 0;
-};
-
-// Brute force over all faces; ties go to the lowest face index. The mesh must have a face.
-SurfacePoint nearestSurfacePoint(const TriMesh& mesh, const Eigen::Vector3d& query);
-
-// The closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 // Grows the canvas (section 4.2: flood fill from the origin, stopping at the painted region's
 // border) over edge-adjacent painted faces of `source`. The canvas surface keeps the source's

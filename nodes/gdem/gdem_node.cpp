@@ -1,5 +1,5 @@
-#include "gdem.hpp"
 #include "geobrush/canvas.hpp"
+#include "geobrush/exponential_map.hpp"
 #include "geobrush/node.hpp"
 #include "geobrush/registry.hpp"
 

@@ -1,13 +1,18 @@
-// The discrete exponential map of a canvas, original (Schmidt, Grimm, Wyvill 2006: SGW06) and
-// generalized (GeoBrush paper section 4.2), with the reversed-face flags of section 4.5.
+// The discrete exponential map of a canvas (shared by the source and target parameterizations),
+// original (Schmidt, Grimm, Wyvill 2006: SGW06) and generalized (GeoBrush paper section 4.2), with
+// the reversed-face flags of section 4.5.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geobrush/canvas.hpp"
@@ -54,6 +59,10 @@ struct DemResult {
   std::vector<std::uint8_t> reversedFaces;  // per canvas face, after ring growth
 };
 
+// The angle-weighted sum of the face normals around `v` (not normalized; zero where the faces are
+// degenerate or cancel out).
+Eigen::Vector3d angleWeightedNormal(const TriMesh& mesh, TriMesh::VertexHandle v);
+
 // Angle-weighted vertex normals of the source mesh at each canvas vertex, so that boundary
 // vertices see their whole one-ring (the canvas surface itself when it has no source). Throws
 // DemError("canvas") for a vertex whose faces' normals cancel out.
@@ -69,6 +78,11 @@ std::vector<Eigen::Vector3d> interpolatedNormals(const Canvas& canvas,
 // The frame at the origin point: the normal interpolated over the origin face from `normals`,
 // the axes as described for DemOptions::angleDegrees.
 Frame originFrame(const Canvas& canvas, const std::vector<Eigen::Vector3d>& normals,
+                  double angleDegrees);
+
+// The same for a point of the triangle `corners` with per-corner `normals`.
+Frame originFrame(const std::array<Eigen::Vector3d, 3>& corners,
+                  const std::array<Eigen::Vector3d, 3>& normals, const Eigen::Vector3d& point,
                   double angleDegrees);
 
 // For every point, its k nearest other points (all others when there are fewer), sorted by
@@ -87,6 +101,57 @@ std::vector<Eigen::Vector2d> propagate(const Canvas& canvas,
                                        const Frame& origin,
                                        const std::vector<std::vector<int>>& adjacency,
                                        bool rescale);
+
+// The propagation of `propagate` as a resumable process over a graph given by callbacks, so that
+// a region and its map can grow together (section 4.2, the target canvas). Vertices are ids in
+// [0, vertexCount); state is kept only for the vertices reached, so one growth costs about the
+// size of the region, not of the graph.
+class ExponentialMapGrowth {
+ public:
+  struct Graph {
+    std::size_t vertexCount = 0;
+    std::function<Eigen::Vector3d(int)> point;
+    // The unit normal, asked once per vertex, when it is fixed.
+    std::function<Eigen::Vector3d(int)> normal;
+    // Appends the neighbours of a vertex; must be symmetric.
+    std::function<void(int, std::vector<int>&)> neighbours;
+  };
+
+  // `originCorners` count the origin point as a neighbour. `tiny` keeps the weights 1 / |p - q|
+  // finite for coincident points.
+  ExponentialMapGrowth(Graph graph, const Frame& origin, const std::vector<int>& originCorners,
+                       bool rescale, double tiny);
+
+  // Fixes the next vertex in order of Dijkstra distance (ties by id) and returns it; -1 when no
+  // reachable vertex is left.
+  int fixNext();
+
+  bool isFixed(int vertex) const;
+  // Of a fixed vertex.
+  const Eigen::Vector2d& uv(int vertex) const;
+  const Eigen::Vector3d& normal(int vertex) const;
+  // The vertices fixed so far, in order.
+  const std::vector<int>& order() const { return order_; }
+
+ private:
+  int slotOf(int vertex);
+
+  Graph graph_;
+  Frame origin_;
+  bool rescale_;
+  double tiny_;
+  std::vector<int> slot_;  // vertex -> index into the per-reached-vertex arrays, or -1
+  std::vector<int> vertex_;
+  std::vector<double> distance_;
+  std::vector<int> parent_;  // -1: the origin point
+  std::vector<char> fixed_, originCorner_;
+  std::vector<Eigen::Vector3d> point_;
+  std::vector<Frame> frame_;
+  std::vector<Eigen::Vector2d> uv_;
+  std::vector<int> order_;
+  std::vector<int> scratch_;
+  std::vector<std::pair<double, int>> queue_;  // a binary heap, smallest first
+};
 
 // Section 4.5: 1 where a face's unit normal . the normalized mean of its corners' `normals` is
 // below `threshold` (faces of zero area count as 0).

@@ -1,4 +1,4 @@
-#include "gdem.hpp"
+#include "geobrush/exponential_map.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,6 @@
 #include <functional>
 #include <limits>
 #include <numbers>
-#include <queue>
 #include <unordered_map>
 #include <utility>
 
@@ -44,22 +43,6 @@ std::pair<double, double> cosSinDegrees(double degrees) {
   if (std::abs(reduced) == 180) return {-1.0, 0.0};
   const double radians = reduced * std::numbers::pi / 180;
   return {std::cos(radians), std::sin(radians)};
-}
-
-Eigen::Vector3d angleWeightedNormal(const TriMesh& mesh, TriMesh::VertexHandle v) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  const Eigen::Vector3d p = toEigen(mesh.point(v));
-  for (auto h : mesh.voh_range(v)) {
-    if (mesh.is_boundary(h)) continue;
-    const Eigen::Vector3d a = toEigen(mesh.point(mesh.to_vertex_handle(h))) - p;
-    const Eigen::Vector3d b =
-        toEigen(mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)))) - p;
-    const Eigen::Vector3d n = a.cross(b);
-    const double length = n.norm();
-    if (length == 0) continue;
-    sum += std::atan2(length, a.dot(b)) * n / length;
-  }
-  return sum;
 }
 
 // The frame moved to `normal` by the smallest rotation taking frame.normal onto it.
@@ -151,6 +134,22 @@ void checkOptions(const DemOptions& o) {
 
 }  // namespace
 
+Eigen::Vector3d angleWeightedNormal(const TriMesh& mesh, TriMesh::VertexHandle v) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d p = toEigen(mesh.point(v));
+  for (auto h : mesh.voh_range(v)) {
+    if (mesh.is_boundary(h)) continue;
+    const Eigen::Vector3d a = toEigen(mesh.point(mesh.to_vertex_handle(h))) - p;
+    const Eigen::Vector3d b =
+        toEigen(mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)))) - p;
+    const Eigen::Vector3d n = a.cross(b);
+    const double length = n.norm();
+    if (length == 0) continue;
+    sum += std::atan2(length, a.dot(b)) * n / length;
+  }
+  return sum;
+}
+
 std::vector<Eigen::Vector3d> surfaceNormals(const Canvas& canvas) {
   const bool fromSource = canvas.source != nullptr;
   const TriMesh& mesh = fromSource ? canvas.source->surface : canvas.surface;
@@ -201,24 +200,32 @@ std::vector<Eigen::Vector3d> interpolatedNormals(const Canvas& canvas,
 Frame originFrame(const Canvas& canvas, const std::vector<Eigen::Vector3d>& normals,
                   double angleDegrees) {
   const TriMesh& s = canvas.surface;
-  std::array<int, 3> c{};
+  std::array<Eigen::Vector3d, 3> corners, cornerNormals;
   int i = 0;
-  for (auto v : s.fv_range(TriMesh::FaceHandle(canvas.originFace)))
-    c[i++] = v.idx();
-  const Eigen::Vector3d a = toEigen(s.point(TriMesh::VertexHandle(c[0])));
-  const Eigen::Vector3d b = toEigen(s.point(TriMesh::VertexHandle(c[1])));
-  const Eigen::Vector3d d = toEigen(s.point(TriMesh::VertexHandle(c[2])));
+  for (auto v : s.fv_range(TriMesh::FaceHandle(canvas.originFace))) {
+    corners[i] = toEigen(s.point(v));
+    cornerNormals[i++] = normals[v.idx()];
+  }
+  return originFrame(corners, cornerNormals, canvas.originPoint, angleDegrees);
+}
+
+Frame originFrame(const std::array<Eigen::Vector3d, 3>& corners,
+                  const std::array<Eigen::Vector3d, 3>& normals, const Eigen::Vector3d& point,
+                  double angleDegrees) {
+  const Eigen::Vector3d& a = corners[0];
+  const Eigen::Vector3d& b = corners[1];
+  const Eigen::Vector3d& d = corners[2];
   const Eigen::Vector3d faceNormal = (b - a).cross(d - a);
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   const double area2 = faceNormal.squaredNorm();
   if (area2 > 0) {
     // Barycentric weights of the origin point: sub-triangle areas over the face's.
-    const Eigen::Vector3d x = canvas.originPoint;
+    const Eigen::Vector3d& x = point;
     const double wa = (b - x).cross(d - x).dot(faceNormal) / area2;
     const double wb = (d - x).cross(a - x).dot(faceNormal) / area2;
-    n = wa * normals[c[0]] + wb * normals[c[1]] + (1 - wa - wb) * normals[c[2]];
+    n = wa * normals[0] + wb * normals[1] + (1 - wa - wb) * normals[2];
   }
-  if (!(n.norm() > 1e-9)) n = normals[c[0]] + normals[c[1]] + normals[c[2]];
+  if (!(n.norm() > 1e-9)) n = normals[0] + normals[1] + normals[2];
   if (!(n.norm() > 1e-9)) n = faceNormal;
   if (!(n.norm() > 0)) {
     throw DemError("canvas", "the face under the canvas origin has no normal");
@@ -230,7 +237,7 @@ Frame originFrame(const Canvas& canvas, const std::vector<Eigen::Vector3d>& norm
   reference.normalize();
   const auto [cosine, sine] = cosSinDegrees(angleDegrees);
   Frame frame;
-  frame.point = canvas.originPoint;
+  frame.point = point;
   frame.normal = n;
   frame.vAxis = (cosine * reference + sine * n.cross(reference)).normalized();
   frame.uAxis = frame.vAxis.cross(n);
@@ -295,6 +302,92 @@ std::vector<std::vector<int>> nearestNeighbours(const std::vector<Eigen::Vector3
   return result;
 }
 
+ExponentialMapGrowth::ExponentialMapGrowth(Graph graph, const Frame& origin,
+                                           const std::vector<int>& originCorners, bool rescale,
+                                           double tiny)
+    : graph_(std::move(graph)),
+      origin_(origin),
+      rescale_(rescale),
+      tiny_(tiny),
+      slot_(graph_.vertexCount, -1) {
+  for (int v : originCorners) {
+    const int s = slotOf(v);
+    if (originCorner_[s]) continue;
+    originCorner_[s] = 1;
+    distance_[s] = (point_[s] - origin.point).norm();
+    queue_.push_back({distance_[s], v});
+    std::push_heap(queue_.begin(), queue_.end(), Lexicographic());
+  }
+}
+
+int ExponentialMapGrowth::slotOf(int vertex) {
+  if (slot_[vertex] >= 0) return slot_[vertex];
+  slot_[vertex] = static_cast<int>(vertex_.size());
+  vertex_.push_back(vertex);
+  distance_.push_back(std::numeric_limits<double>::infinity());
+  parent_.push_back(-1);
+  fixed_.push_back(0);
+  originCorner_.push_back(0);
+  point_.push_back(graph_.point(vertex));
+  frame_.emplace_back();
+  uv_.push_back(Eigen::Vector2d::Zero());
+  return slot_[vertex];
+}
+
+int ExponentialMapGrowth::fixNext() {
+  while (!queue_.empty()) {
+    std::pop_heap(queue_.begin(), queue_.end(), Lexicographic());
+    const auto [d, v] = queue_.back();
+    queue_.pop_back();
+    const int i = slot_[v];
+    if (fixed_[i] || d > distance_[i]) continue;
+    const Eigen::Vector3d p = point_[i];
+    frame_[i] = transport(parent_[i] < 0 ? origin_ : frame_[parent_[i]], p, graph_.normal(v));
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    double weights = 0;
+    auto average = [&](const Frame& q, const Eigen::Vector2d& uvq) {
+      const double w = 1 / ((p - q.point).norm() + tiny_);
+      sum += w * (uvq + step(q, p, rescale_));
+      weights += w;
+    };
+    if (originCorner_[i]) average(origin_, Eigen::Vector2d::Zero());
+    scratch_.clear();
+    graph_.neighbours(v, scratch_);
+    for (int w : scratch_) {
+      const int j = slot_[w];
+      if (j >= 0 && fixed_[j]) average(frame_[j], uv_[j]);
+    }
+    uv_[i] = sum / weights;
+    fixed_[i] = 1;
+    order_.push_back(v);
+    for (int w : scratch_) {
+      const int j = slotOf(w);
+      if (fixed_[j]) continue;
+      const double through = d + (point_[j] - p).norm();
+      if (through < distance_[j]) {
+        distance_[j] = through;
+        parent_[j] = i;
+        queue_.push_back({through, w});
+        std::push_heap(queue_.begin(), queue_.end(), Lexicographic());
+      }
+    }
+    return v;
+  }
+  return -1;
+}
+
+bool ExponentialMapGrowth::isFixed(int vertex) const {
+  return slot_[vertex] >= 0 && fixed_[slot_[vertex]];
+}
+
+const Eigen::Vector2d& ExponentialMapGrowth::uv(int vertex) const {
+  return uv_[slot_[vertex]];
+}
+
+const Eigen::Vector3d& ExponentialMapGrowth::normal(int vertex) const {
+  return frame_[slot_[vertex]].normal;
+}
+
 std::vector<Eigen::Vector2d> propagate(const Canvas& canvas,
                                        const std::vector<Eigen::Vector3d>& normals,
                                        const Frame& origin,
@@ -302,58 +395,28 @@ std::vector<Eigen::Vector2d> propagate(const Canvas& canvas,
                                        bool rescale) {
   const std::vector<Eigen::Vector3d> p = points(canvas.surface);
   const std::size_t n = p.size();
-  // Weights 1 / |p - q|, kept finite for coincident points.
-  const double tiny = 1e-12 * std::max(boundingDiagonal(p), std::numeric_limits<double>::min());
-  std::vector<char> isOriginCorner(n, 0);
+  std::vector<int> originCorners;
   for (auto v : canvas.surface.fv_range(TriMesh::FaceHandle(canvas.originFace)))
-    isOriginCorner[v.idx()] = 1;
-
-  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
-  // -1: the origin point is the parent.
-  std::vector<int> parent(n, -1);
-  std::vector<char> fixed(n, 0);
-  std::vector<Frame> frames(n);
+    originCorners.push_back(v.idx());
+  ExponentialMapGrowth::Graph graph;
+  graph.vertexCount = n;
+  graph.point = [&](int v) { return p[v]; };
+  graph.normal = [&](int v) { return normals[v]; };
+  graph.neighbours = [&](int v, std::vector<int>& out) {
+    out.insert(out.end(), adjacency[v].begin(), adjacency[v].end());
+  };
+  ExponentialMapGrowth growth(
+      std::move(graph), origin, originCorners, rescale,
+      1e-12 * std::max(boundingDiagonal(p), std::numeric_limits<double>::min()));
+  while (growth.fixNext() >= 0) {
+  }
   std::vector<Eigen::Vector2d> uv(n, Eigen::Vector2d::Zero());
-  std::priority_queue<std::pair<double, int>, std::vector<std::pair<double, int>>, Lexicographic>
-      queue;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!isOriginCorner[i]) continue;
-    distance[i] = (p[i] - origin.point).norm();
-    queue.push({distance[i], static_cast<int>(i)});
-  }
-  std::size_t done = 0;
-  while (!queue.empty()) {
-    const auto [d, i] = queue.top();
-    queue.pop();
-    if (fixed[i] || d > distance[i]) continue;
-    frames[i] = transport(parent[i] < 0 ? origin : frames[parent[i]], p[i], normals[i]);
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    double weights = 0;
-    auto average = [&](const Frame& q, const Eigen::Vector2d& uvq) {
-      const double w = 1 / ((p[i] - q.point).norm() + tiny);
-      sum += w * (uvq + step(q, p[i], rescale));
-      weights += w;
-    };
-    if (isOriginCorner[i]) average(origin, Eigen::Vector2d::Zero());
-    for (int j : adjacency[i])
-      if (fixed[j]) average(frames[j], uv[j]);
-    uv[i] = sum / weights;
-    fixed[i] = 1;
-    ++done;
-    for (int j : adjacency[i]) {
-      if (fixed[j]) continue;
-      const double through = d + (p[j] - p[i]).norm();
-      if (through < distance[j]) {
-        distance[j] = through;
-        parent[j] = i;
-        queue.push({through, j});
-      }
+    if (!growth.isFixed(static_cast<int>(i))) {
+      throw DemError("canvas",
+                     "canvas vertex " + std::to_string(i) + " is not connected to the origin");
     }
-  }
-  if (done != n) {
-    const auto missing = std::find(fixed.begin(), fixed.end(), 0) - fixed.begin();
-    throw DemError("canvas",
-                   "canvas vertex " + std::to_string(missing) + " is not connected to the origin");
+    uv[i] = growth.uv(static_cast<int>(i));
   }
   return uv;
 }
