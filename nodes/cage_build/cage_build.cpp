@@ -284,6 +284,7 @@ std::vector<Column> columns(const Grid& grid, const Domain& domain, const Parame
 }
 
 TriMesh shellMesh(const Domain& domain, const std::vector<Column>& columns, double margin,
+                  const std::vector<double>& raise, const std::vector<double>& lower,
                   std::vector<int>& top, std::vector<int>& bottom) {
   TriMesh mesh;
   const int n = int(domain.positions.size());
@@ -291,8 +292,8 @@ TriMesh shellMesh(const Domain& domain, const std::vector<Column>& columns, doub
   bottom.resize(n);
   for (int d = 0; d < n; ++d) {
     const Column& c = columns[d];
-    const Vector3d up = c.point + (c.high + margin) * c.normal;
-    const Vector3d down = c.point + (c.low - margin) * c.normal;
+    const Vector3d up = c.point + (c.high + margin + raise[d]) * c.normal;
+    const Vector3d down = c.point + (c.low - margin - lower[d]) * c.normal;
     top[d] = mesh.add_vertex({up.x(), up.y(), up.z()}).idx();
     bottom[d] = mesh.add_vertex({down.x(), down.y(), down.z()}).idx();
   }
@@ -442,13 +443,27 @@ CageBuildResult buildCage(const Parameterization& param, const CageBuildOptions&
   const double extent = grid.step * options.resolution;
   const TriMesh& surface = param.canvas->surface;
 
+  // The column each canvas vertex was projected onto.
+  std::map<std::pair<int, int>, int> columnAt;
+  for (int d = 0; d < int(domain.gridIndex.size()); ++d)
+    columnAt[domain.gridIndex[d]] = d;
+  std::vector<int> columnOf(surface.n_vertices());
+  for (std::size_t v = 0; v < columnOf.size(); ++v) {
+    const Vector2d local = (param.uv[v] - grid.corner) / grid.step;
+    columnOf[v] = columnAt.at({int(std::lround(local.x())), int(std::lround(local.y()))});
+  }
+
   CageBuildResult result;
   result.margin = options.margin * extent;
   double weight = options.constraintWeight;
-  for (int attempt = 1; attempt <= options.enlargeAttempts; ++attempt) {
+  // Smoothing pulls the shell inward; where it uncovers canvas vertices, only
+  // the columns there (and their neighbours) are pushed out further, so the
+  // rest of the cage keeps its smoothness.
+  std::vector<double> raise(column.size(), 0.0), lower(column.size(), 0.0);
+  for (int attempt = 1; attempt <= options.attempts; ++attempt) {
     if (options.cancelled && options.cancelled()) throw CageBuildError("cancelled");
     std::vector<int> top, bottom;
-    TriMesh mesh = shellMesh(domain, column, result.margin, top, bottom);
+    TriMesh mesh = shellMesh(domain, column, result.margin, raise, lower, top, bottom);
     optimize(mesh, weight);
     // The frames decide the handedness of (u, v, n); make the shell outward.
     if (signedVolume(mesh) < 0) {
@@ -461,14 +476,12 @@ CageBuildResult buildCage(const Parameterization& param, const CageBuildOptions&
       }
       mesh = std::move(flipped);
     }
-    bool encloses = true;
+    std::vector<int> outside;
     for (auto v : surface.vertices())
-      if (windingNumber(mesh, toEigen(surface.point(v))) < 0.5) {
-        encloses = false;
-        break;
-      }
+      if (windingNumber(mesh, toEigen(surface.point(v))) < 0.5) outside.push_back(v.idx());
     result.attempts = attempt;
-    if (encloses && countSelfIntersections(mesh) == 0) {
+    const bool intersects = countSelfIntersections(mesh) > 0;
+    if (outside.empty() && !intersects) {
       result.cage.mesh = std::move(mesh);
       result.cage.domain = domain.positions;
       result.cage.domainTriangles = domain.triangles;
@@ -485,13 +498,21 @@ CageBuildResult buildCage(const Parameterization& param, const CageBuildOptions&
       }
       return result;
     }
-    // A thicker, stiffer shell next time.
-    result.margin *= 1.6;
-    weight *= 2;
+    for (int v : outside) {
+      const int d = columnOf[v];
+      const Column& c = column[d];
+      const double t = (toEigen(surface.point(TriMesh::VertexHandle(v))) - c.point).dot(c.normal);
+      auto& side = t >= 0.5 * (c.low + c.high) ? raise : lower;
+      side[d] = std::max(side[d], 0.0) + result.margin;
+      for (int n : domain.neighbours[d])
+        side[n] += 0.5 * result.margin;
+    }
+    // Folds are smoothed away by giving the Laplacian more say.
+    if (intersects) weight *= 0.7;
   }
   throw CageBuildError("no cage enclosing the canvas without self-intersections after " +
-                       std::to_string(options.enlargeAttempts) +
-                       " attempts; try a higher resolution or margin");
+                       std::to_string(options.attempts) +
+                       " attempts; try another resolution or a larger margin");
 }
 
 }  // namespace geobrush

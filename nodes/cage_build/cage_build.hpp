@@ -14,21 +14,21 @@ namespace geobrush {
 
 struct CageBuildOptions {
   // Cells of C across the larger side of the parameter domain's bounding box.
-  int resolution = 12;
+  int resolution = 8;
   // Extra thickness on both sides of the canvas, as a fraction of the larger
   // side of the parameter domain.
   double margin = 0.05;
   // Weight of the extremal positions against the Laplacian smoothness.
   double constraintWeight = 1.0;
-  // How often the margin may grow when the smoothed cage fails to enclose
-  // every canvas vertex.
-  int enlargeAttempts = 6;
+  // How many cages may be built, each pushed out where the previous one left
+  // canvas vertices outside, or smoother where it folded.
+  int attempts = 12;
   std::function<bool()> cancelled;
 };
 
 struct CageBuildResult {
   Cage cage;
-  double margin = 0;  // the margin finally used, in model units
+  double margin = 0;  // the base margin, in model units
   int attempts = 0;   // how many cages were built before one enclosed the canvas
 };
 

@@ -15,9 +15,8 @@ void buildCageNode(Context& ctx) {
   try {
     CageBuildResult result = buildCage(*param, options);
     if (result.attempts > 1)
-      ctx.warn("the cage enclosed the canvas only with a margin of " +
-               std::to_string(result.margin) + " (attempt " + std::to_string(result.attempts) +
-               ")");
+      ctx.warn("the cage took " + std::to_string(result.attempts) +
+               " attempts: smoothing uncovered canvas vertices or folded the shell");
     ctx.out("cage", std::make_shared<const Cage>(std::move(result.cage)));
   } catch (const CageBuildError& e) {
     ctx.throwIfCancelled();
@@ -35,7 +34,7 @@ void registerNodes(PluginRegistrar& registrar) {
                "by extremal projections along the normals and smoothed (GeoBrush section 4.3).")
           .input<Parameterization>("parameterization", "The canvas and its (generalized) DEM.")
           .output<Cage>("cage", "The closed, outward-oriented cage enclosing every canvas vertex.")
-          .paramInt("resolution", 12, "Cells of the domain grid across its larger side.")
+          .paramInt("resolution", 8, "Cells of the domain grid across its larger side.")
           .range(2, 200)
           .paramDouble("margin", 0.05,
                        "Extra thickness on both sides, as a fraction of the domain's size.")
