@@ -7,6 +7,8 @@
 #include <limits>
 #include <sstream>
 
+#include "geobrush/submesh.hpp"
+
 namespace geobrush {
 namespace {
 
@@ -335,30 +337,17 @@ Canvas growCanvas(const MeshPtr& source, const CanvasGrowOptions& options) {
 
   Canvas canvas;
   canvas.source = source;
-  std::vector<int> surfaceIndex(mesh.n_vertices(), -1);
-  for (int f : region)
-    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-      surfaceIndex[v.idx()] = 0;
-  for (auto v : mesh.vertices()) {
-    if (surfaceIndex[v.idx()] < 0) continue;
-    surfaceIndex[v.idx()] = static_cast<int>(canvas.sourceVertex.size());
-    canvas.sourceVertex.push_back(v.idx());
-    canvas.surface.add_vertex(mesh.point(v));
+  Submesh sub = extractSubmesh(mesh, region);
+  // Pinched vertices are rejected above, so a manifold source gives a manifold canvas.
+  if (sub.unattachedFace >= 0) {
+    throw CanvasGrowError("mesh", "face " + std::to_string(sub.unattachedFace) +
+                                      " of the painted region cannot be attached to its "
+                                      "neighbours: the mesh is not manifold there");
   }
-  std::vector<TriMesh::VertexHandle> faceCorners;
-  for (int f : region) {
-    faceCorners.clear();
-    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-      faceCorners.emplace_back(surfaceIndex[v.idx()]);
-    // Pinched vertices are rejected above, so a manifold source gives a manifold canvas.
-    if (!canvas.surface.add_face(faceCorners).is_valid()) {
-      throw CanvasGrowError("mesh", "face " + std::to_string(f) +
-                                        " of the painted region cannot be attached to its "
-                                        "neighbours: the mesh is not manifold there");
-    }
-    canvas.sourceFace.push_back(f);
-    if (f == originFace) canvas.originFace = static_cast<int>(canvas.sourceFace.size()) - 1;
-  }
+  canvas.surface = std::move(sub.surface);
+  canvas.sourceVertex = std::move(sub.sourceVertex);
+  canvas.sourceFace = std::move(sub.sourceFace);
+  canvas.originFace = int(std::find(region.begin(), region.end(), originFace) - region.begin());
 
   const std::vector<Loop> loops = boundaryLoops(canvas.surface, mesh, canvas.sourceVertex);
   requireOneLoop(canvas.surface, loops);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "geobrush/exponential_map.hpp"
+#include "geobrush/submesh.hpp"
 #include "geobrush/surface_point.hpp"
 
 namespace geobrush {
@@ -202,35 +203,20 @@ struct Region {
 // The canvas on `faces`; the outer loop is the one whose uv polygon has the largest area (holes
 // in the outer band are small).
 Region buildCanvas(const MeshPtr& target, const std::vector<int>& faces,
-                   const ExponentialMapGrowth& growth, std::vector<int>& surfaceIndex) {
+                   const ExponentialMapGrowth& growth) {
   const TriMesh& mesh = target->surface;
   Region r;
   Canvas& c = r.canvas;
   c.source = target;
-  for (int f : faces)
-    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-      c.sourceVertex.push_back(v.idx());
-  std::sort(c.sourceVertex.begin(), c.sourceVertex.end());
-  c.sourceVertex.erase(std::unique(c.sourceVertex.begin(), c.sourceVertex.end()),
-                       c.sourceVertex.end());
-  for (std::size_t i = 0; i < c.sourceVertex.size(); ++i) {
-    surfaceIndex[c.sourceVertex[i]] = static_cast<int>(i);
-    c.surface.add_vertex(mesh.point(TriMesh::VertexHandle(c.sourceVertex[i])));
+  Submesh sub = extractSubmesh(mesh, faces);
+  if (sub.unattachedFace >= 0) {
+    throw TargetDemError("mesh", "face " + std::to_string(sub.unattachedFace) +
+                                     " of the target canvas cannot be attached to its "
+                                     "neighbours: the target mesh is not manifold there");
   }
-  std::vector<TriMesh::VertexHandle> corners;
-  for (int f : faces) {
-    corners.clear();
-    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-      corners.emplace_back(surfaceIndex[v.idx()]);
-    if (!c.surface.add_face(corners).is_valid()) {
-      throw TargetDemError("mesh", "face " + std::to_string(f) +
-                                       " of the target canvas cannot be attached to its "
-                                       "neighbours: the target mesh is not manifold there");
-    }
-    c.sourceFace.push_back(f);
-  }
-  for (int v : c.sourceVertex)
-    surfaceIndex[v] = -1;
+  c.surface = std::move(sub.surface);
+  c.sourceVertex = std::move(sub.sourceVertex);
+  c.sourceFace = std::move(sub.sourceFace);
 
   std::vector<std::vector<int>> loops;
   std::vector<char> seen(c.surface.n_halfedges(), 0);
@@ -363,14 +349,13 @@ TargetDemResult targetExponentialMap(const MeshPtr& target,
   };
 
   std::vector<char> faceMarks(mesh.n_faces(), 0);
-  std::vector<int> surfaceIndex(mesh.n_vertices(), -1);
   Region region;
   for (;;) {
     grow();
     const std::vector<int> faces = regionFaces(mesh, growth, snapped.face, faceMarks);
     std::vector<int> defects = pinchedVertices(mesh, faces, faceMarks);
     if (defects.empty()) {
-      region = buildCanvas(target, faces, growth, surfaceIndex);
+      region = buildCanvas(target, faces, growth);
       defects = region.holeVertices;
       if (defects.empty()) break;
     }
