@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "canvas_fixtures.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "mesh_checks.hpp"
 #include "test_support.hpp"
@@ -49,69 +50,6 @@ MeshPtr heightGrid(int n, const std::function<double(double, double)>& z,
 
 double flat(double, double) {
   return 0;
-}
-
-// A canvas grown as canvas_grow does, without its checks: the faces with every corner within
-// `radius` of the origin, flood-filled from `face`; the origin is the point of `face` with
-// barycentric weights 0.5, 0.3, 0.2.
-Canvas grow(const MeshPtr& mesh, int face, double radius) {
-  const TriMesh& m = mesh->surface;
-  Canvas canvas;
-  canvas.source = mesh;
-  const double weights[3] = {0.5, 0.3, 0.2};
-  int k = 0;
-  for (auto v : m.fv_range(TriMesh::FaceHandle(face)))
-    canvas.originPoint += weights[k++] * toEigen(m.point(v));
-  auto painted = [&](TriMesh::FaceHandle f) {
-    for (auto v : m.fv_range(f))
-      if ((toEigen(m.point(v)) - canvas.originPoint).norm() > radius) return false;
-    return true;
-  };
-  std::vector<char> reached(m.n_faces(), 0);
-  std::vector<int> region;
-  std::deque<int> queue{face};
-  reached[face] = 1;
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop_front();
-    region.push_back(f);
-    for (auto g : m.ff_range(TriMesh::FaceHandle(f))) {
-      if (reached[g.idx()] || !painted(g)) continue;
-      reached[g.idx()] = 1;
-      queue.push_back(g.idx());
-    }
-  }
-  std::sort(region.begin(), region.end());
-  std::vector<int> index(m.n_vertices(), -1);
-  for (int f : region)
-    for (auto v : m.fv_range(TriMesh::FaceHandle(f)))
-      index[v.idx()] = 0;
-  for (auto v : m.vertices()) {
-    if (index[v.idx()] < 0) continue;
-    index[v.idx()] = static_cast<int>(canvas.sourceVertex.size());
-    canvas.sourceVertex.push_back(v.idx());
-    canvas.surface.add_vertex(m.point(v));
-  }
-  for (int f : region) {
-    std::vector<TriMesh::VertexHandle> corners;
-    for (auto v : m.fv_range(TriMesh::FaceHandle(f)))
-      corners.emplace_back(index[v.idx()]);
-    canvas.surface.add_face(corners);
-    if (f == face) canvas.originFace = static_cast<int>(canvas.sourceFace.size());
-    canvas.sourceFace.push_back(f);
-  }
-  EXPECT_EQ(test::topology(canvas.surface).boundaryLoops, 1u);
-  for (auto h : canvas.surface.halfedges()) {
-    if (!canvas.surface.is_boundary(h)) continue;
-    auto g = h;
-    do {
-      canvas.boundary.push_back(canvas.surface.from_vertex_handle(g).idx());
-      g = canvas.surface.next_halfedge_handle(g);
-    } while (g != h);
-    break;
-  }
-  canvas.originVertex = index[m.cfv_begin(TriMesh::FaceHandle(face))->idx()];
-  return canvas;
 }
 
 // The face of `mesh` nearest to `p` (by centroid).
@@ -197,8 +135,8 @@ TEST(ExponentialMap, PlaneMapsIsometricallyInBothModes) {
   rigid.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()));
   rigid.pretranslate(Eigen::Vector3d(0.3, -1.2, 2));
   const MeshPtr plane = heightGrid(24, flat, rigid);
-  const Canvas canvas =
-      grow(plane, faceNear(plane->surface, rigid * Eigen::Vector3d(0.13, -0.07, 0)), 0.8);
+  const Canvas canvas = test::growDiscCanvas(
+      plane, faceNear(plane->surface, rigid * Eigen::Vector3d(0.13, -0.07, 0)), 0.8);
   for (bool generalized : {false, true}) {
     SCOPED_TRACE(generalized ? "generalized" : "original");
     const DemResult dem = discreteExponentialMap(canvas, mode(generalized));
@@ -225,7 +163,7 @@ TEST(ExponentialMap, PlaneMapsIsometricallyInBothModes) {
 
 TEST(ExponentialMap, AxesFollowGlobalYAndTheAngle) {
   const MeshPtr plane = heightGrid(20, flat);
-  const Canvas canvas = grow(plane, faceNear(plane->surface, {0.12, 0.05, 0}), 0.7);
+  const Canvas canvas = test::growDiscCanvas(plane, faceNear(plane->surface, {0.12, 0.05, 0}), 0.7);
   const Eigen::Vector3d origin = canvas.originPoint;
   const DemResult straight = discreteExponentialMap(canvas, mode(true));
   // At angle 0 the v axis is +y, so u is +x.
@@ -250,7 +188,7 @@ TEST(ExponentialMap, AxesFollowGlobalYAndTheAngle) {
 TEST(ExponentialMap, EquationOneNormals) {
   // A curved cap: boundary normals are the surface normals, inside they are unit blends.
   const MeshPtr sphere = readMesh(test::meshPath("sphere.obj")).mesh;
-  const Canvas canvas = grow(sphere, faceNear(sphere->surface, {0, 0, 1}), 1.0);
+  const Canvas canvas = test::growDiscCanvas(sphere, faceNear(sphere->surface, {0, 0, 1}), 1.0);
   const auto surface = surfaceNormals(canvas);
   const auto eq1 = interpolatedNormals(canvas, surface, 1e-3);
   std::vector<char> onBoundary(eq1.size(), 0);
@@ -284,7 +222,7 @@ TEST(ExponentialMap, EquationOneNormals) {
 TEST(ExponentialMap, OriginalDemOnASphereCapFollowsGeodesicPolarCoordinates) {
   const MeshPtr sphere = readMesh(test::meshPath("sphere.obj")).mesh;
   // A chord of 1 is a cap of about 60 degrees.
-  const Canvas canvas = grow(sphere, faceNear(sphere->surface, {0.3, 0.2, 1}), 1.0);
+  const Canvas canvas = test::growDiscCanvas(sphere, faceNear(sphere->surface, {0.3, 0.2, 1}), 1.0);
   const Eigen::Vector3d o = canvas.originPoint.normalized();
   const auto lengths = test::edgeLengths(sphere->surface);
   const double h = *std::max_element(lengths.begin(), lengths.end());
@@ -314,7 +252,7 @@ double bump(double x, double y) {
 
 TEST(ExponentialMap, GeneralizedMapOfABumpIsOneToOneOnItsBase) {
   const MeshPtr mesh = heightGrid(40, bump);
-  const Canvas canvas = grow(mesh, faceNear(mesh->surface, {-0.62, -0.41, 0}), 10);
+  const Canvas canvas = test::growDiscCanvas(mesh, faceNear(mesh->surface, {-0.62, -0.41, 0}), 10);
   ASSERT_EQ(canvas.surface.n_faces(), mesh->surface.n_faces());
   DemOptions o = mode(true);
   // Steep flanks are flagged with a positive threshold (section 4.5).
@@ -383,7 +321,7 @@ TEST(ExponentialMap, RealMeshesGiveFiniteMapsWithSimpleBoundaries) {
     const int face =
         mesh->surface.face_handle(mesh->surface.halfedge_handle(TriMesh::VertexHandle(vertex)))
             .idx();
-    const Canvas canvas = grow(mesh, face, radius * diagonal);
+    const Canvas canvas = test::growDiscCanvas(mesh, face, radius * diagonal);
     ASSERT_EQ(test::topology(canvas.surface).boundaryLoops, 1u);
     for (bool generalized : {true, false}) {
       const DemResult dem = discreteExponentialMap(canvas, mode(generalized));
@@ -402,7 +340,7 @@ TEST(ExponentialMap, RealMeshesGiveFiniteMapsWithSimpleBoundaries) {
 
 TEST(ExponentialMap, RejectsBadOptionsAndCanvases) {
   const MeshPtr plane = heightGrid(6, flat);
-  const Canvas canvas = grow(plane, 30, 0.8);
+  const Canvas canvas = test::growDiscCanvas(plane, 30, 0.8);
   auto rejected = [&](const DemOptions& o, const Canvas& c) -> std::string {
     try {
       discreteExponentialMap(c, o);

@@ -11,6 +11,7 @@
 #include <limits>
 #include <vector>
 
+#include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
@@ -20,10 +21,6 @@
 
 namespace geobrush {
 namespace {
-
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
 
 // An n x n grid over [-1, 1]^2 with heights z(x, y), mapped by `rigid`.
 MeshPtr heightGrid(int n, const std::function<double(double, double)>& z,
@@ -44,69 +41,6 @@ MeshPtr heightGrid(int n, const std::function<double(double, double)>& z,
     }
   }
   return std::make_shared<const Mesh>(std::move(mesh));
-}
-
-// A canvas grown as canvas_grow does, without its checks: the faces with every corner within
-// `radius` of the origin, flood-filled from `face`; the origin is the point of `face` with
-// barycentric weights 0.5, 0.3, 0.2.
-Canvas grow(const MeshPtr& mesh, int face, double radius) {
-  const TriMesh& m = mesh->surface;
-  Canvas canvas;
-  canvas.source = mesh;
-  const double weights[3] = {0.5, 0.3, 0.2};
-  int k = 0;
-  for (auto v : m.fv_range(TriMesh::FaceHandle(face)))
-    canvas.originPoint += weights[k++] * toEigen(m.point(v));
-  auto painted = [&](TriMesh::FaceHandle f) {
-    for (auto v : m.fv_range(f))
-      if ((toEigen(m.point(v)) - canvas.originPoint).norm() > radius) return false;
-    return true;
-  };
-  std::vector<char> reached(m.n_faces(), 0);
-  std::vector<int> region;
-  std::deque<int> queue{face};
-  reached[face] = 1;
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop_front();
-    region.push_back(f);
-    for (auto g : m.ff_range(TriMesh::FaceHandle(f))) {
-      if (reached[g.idx()] || !painted(g)) continue;
-      reached[g.idx()] = 1;
-      queue.push_back(g.idx());
-    }
-  }
-  std::sort(region.begin(), region.end());
-  std::vector<int> index(m.n_vertices(), -1);
-  for (int f : region)
-    for (auto v : m.fv_range(TriMesh::FaceHandle(f)))
-      index[v.idx()] = 0;
-  for (auto v : m.vertices()) {
-    if (index[v.idx()] < 0) continue;
-    index[v.idx()] = static_cast<int>(canvas.sourceVertex.size());
-    canvas.sourceVertex.push_back(v.idx());
-    canvas.surface.add_vertex(m.point(v));
-  }
-  for (int f : region) {
-    std::vector<TriMesh::VertexHandle> corners;
-    for (auto v : m.fv_range(TriMesh::FaceHandle(f)))
-      corners.emplace_back(index[v.idx()]);
-    canvas.surface.add_face(corners);
-    if (f == face) canvas.originFace = static_cast<int>(canvas.sourceFace.size());
-    canvas.sourceFace.push_back(f);
-  }
-  EXPECT_EQ(test::topology(canvas.surface).boundaryLoops, 1u);
-  for (auto h : canvas.surface.halfedges()) {
-    if (!canvas.surface.is_boundary(h)) continue;
-    auto g = h;
-    do {
-      canvas.boundary.push_back(canvas.surface.from_vertex_handle(g).idx());
-      g = canvas.surface.next_halfedge_handle(g);
-    } while (g != h);
-    break;
-  }
-  canvas.originVertex = index[m.cfv_begin(TriMesh::FaceHandle(face))->idx()];
-  return canvas;
 }
 
 double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -148,7 +82,7 @@ TEST(GdemNode, OutputsTheGeneralizedMap) {
   const NodeType* type = test::registry().find("geobrush.gdem");
   ASSERT_NE(type, nullptr);
   const MeshPtr mesh = heightGrid(30, bump);
-  const auto canvas = std::make_shared<const Canvas>(grow(mesh, 100, 10));
+  const auto canvas = std::make_shared<const Canvas>(test::growDiscCanvas(mesh, 100, 10));
   DirectContext ctx(*type, {{"canvas", canvas}}, {{"angle", 20.0}});
   type->create()->compute(ctx);
   EXPECT_TRUE(ctx.warnings.empty());

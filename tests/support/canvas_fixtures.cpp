@@ -1,6 +1,13 @@
 #include "canvas_fixtures.hpp"
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <deque>
+
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/submesh.hpp"
+#include "mesh_checks.hpp"
 #include "test_support.hpp"
 
 namespace geobrush::test {
@@ -29,6 +36,60 @@ std::shared_ptr<Parameterization> heightFieldParameterization(
     param->normal.push_back(Eigen::Vector3d::UnitZ());
   }
   return param;
+}
+
+Canvas growDiscCanvas(const MeshPtr& mesh, int face, double radius) {
+  const TriMesh& m = mesh->surface;
+  const auto point = [&](TriMesh::VertexHandle v) {
+    return Eigen::Vector3d(m.point(v)[0], m.point(v)[1], m.point(v)[2]);
+  };
+  Canvas canvas;
+  canvas.source = mesh;
+  const double weights[3] = {0.5, 0.3, 0.2};
+  int k = 0;
+  for (auto v : m.fv_range(TriMesh::FaceHandle(face)))
+    canvas.originPoint += weights[k++] * point(v);
+  auto painted = [&](TriMesh::FaceHandle f) {
+    for (auto v : m.fv_range(f))
+      if ((point(v) - canvas.originPoint).norm() > radius) return false;
+    return true;
+  };
+  std::vector<char> reached(m.n_faces(), 0);
+  std::vector<int> region;
+  std::deque<int> queue{face};
+  reached[face] = 1;
+  while (!queue.empty()) {
+    const int f = queue.front();
+    queue.pop_front();
+    region.push_back(f);
+    for (auto g : m.ff_range(TriMesh::FaceHandle(f))) {
+      if (reached[g.idx()] || !painted(g)) continue;
+      reached[g.idx()] = 1;
+      queue.push_back(g.idx());
+    }
+  }
+  std::sort(region.begin(), region.end());
+  Submesh sub = extractSubmesh(m, region);
+  EXPECT_EQ(sub.unattachedFace, -1);
+  canvas.surface = std::move(sub.surface);
+  canvas.sourceVertex = std::move(sub.sourceVertex);
+  canvas.sourceFace = std::move(sub.sourceFace);
+  canvas.originFace = int(std::find(region.begin(), region.end(), face) - region.begin());
+  EXPECT_EQ(topology(canvas.surface).boundaryLoops, 1u);
+  for (auto h : canvas.surface.halfedges()) {
+    if (!canvas.surface.is_boundary(h)) continue;
+    auto g = h;
+    do {
+      canvas.boundary.push_back(canvas.surface.from_vertex_handle(g).idx());
+      g = canvas.surface.next_halfedge_handle(g);
+    } while (g != h);
+    break;
+  }
+  const int originSource = m.cfv_begin(TriMesh::FaceHandle(face))->idx();
+  canvas.originVertex =
+      int(std::lower_bound(canvas.sourceVertex.begin(), canvas.sourceVertex.end(), originSource) -
+          canvas.sourceVertex.begin());
+  return canvas;
 }
 
 std::shared_ptr<Parameterization> terrainParameterization() {

@@ -13,6 +13,11 @@ namespace geobrush::test {
 std::shared_ptr<Parameterization> heightFieldParameterization(
     int n, const std::function<double(double, double)>& height);
 
+// A canvas grown as canvas_grow does, without its checks: the faces with
+// every corner within `radius` of the origin, flood-filled from `face`; the
+// origin is the point of `face` with barycentric weights 0.5, 0.3, 0.2.
+Canvas growDiscCanvas(const MeshPtr& mesh, int face, double radius);
+
 // ../shared/data/meshes/mountain.obj, a height field over the xz plane with
 // +y up, parameterized by projection: uv = (x, -z), so (u, v, normal) is
 // right-handed.
