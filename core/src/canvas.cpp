@@ -20,7 +20,8 @@ void hashFrame(Hasher& hasher, const Frame& frame) {
       hasher.f64((*v)[i]);
 }
 
-void hashMatrix(Hasher& hasher, const Eigen::MatrixXd& m) {
+template <typename Matrix>
+void hashMatrix(Hasher& hasher, const Matrix& m) {
   hasher.u64(std::uint64_t(m.rows())).u64(std::uint64_t(m.cols()));
   for (Eigen::Index i = 0; i < m.size(); ++i)
     hasher.f64(m.data()[i]);

@@ -1,11 +1,14 @@
 #include "gc_warp.hpp"
 
+#include "green_kernel.hpp"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <map>
 #include <mutex>
@@ -166,10 +169,10 @@ double addFace(const FaceGeometry& g, const std::array<int, 3>& vertices, int fa
 }
 
 // Distributes the solid angle left to the faces touching the point, writes its phi row and
-// resets the sums; psi already holds the row's face terms. Returns whether the point lies inside
-// (total solid angle 4 pi, not 0).
-bool finishPoint(PointSums& sums, const std::vector<std::array<int, 3>>& faces, Eigen::Index row,
-                 Eigen::MatrixXd& phi, Eigen::MatrixXd& psi) {
+// resets the sums; psiRow already holds the row's face terms. Returns whether the point lies
+// inside (total solid angle 4 pi, not 0).
+bool finishPoint(PointSums& sums, const std::vector<std::array<int, 3>>& faces, double* phiRow,
+                 double* psiRow) {
   const double fourPi = 4.0 * std::numbers::pi;
   bool inside = std::abs(sums.solidAngle - fourPi) < 2.0 * std::numbers::pi;
   if (!sums.touching.empty()) {
@@ -178,13 +181,13 @@ bool finishPoint(PointSums& sums, const std::vector<std::array<int, 3>>& faces, 
       for (int l = 0; l < 3; ++l)
         sums.phi[std::size_t(faces[std::size_t(face)][std::size_t(l)])] +=
             hat[std::size_t(l)] * share;
-      psi(row, face) -= d * share * kInvFourPi;
+      psiRow[face] -= d * share * kInvFourPi;
     }
     inside = true;
     sums.touching.clear();
   }
   for (std::size_t i = 0; i < sums.phi.size(); ++i) {
-    phi(row, Eigen::Index(i)) = sums.phi[i];
+    phiRow[i] = sums.phi[i];
     sums.phi[i] = 0;
   }
   sums.solidAngle = 0;
@@ -195,7 +198,7 @@ bool finishPoint(PointSums& sums, const std::vector<std::array<int, 3>>& faces, 
 // output depends only on its own indices, so the result does not depend on the thread count.
 template <typename Body>
 void parallelBlocks(std::size_t count, int threads, Body body) {
-  constexpr std::size_t kBlock = 64;
+  constexpr std::size_t kBlock = 64;  // a multiple of 4: see computeGreenCoordinates
   const std::size_t blocks = (count + kBlock - 1) / kBlock;
   std::atomic<std::size_t> next{0};
   std::exception_ptr failure;
@@ -265,24 +268,36 @@ void checkCage(const TriMesh& cage) {
   }
 }
 
-GreenCoordinatesResult computeGreenCoordinates(const TriMesh& cage,
-                                               const std::vector<Eigen::Vector3d>& points,
-                                               const GreenOptions& options) {
-  checkCage(cage);
-  const auto vertices = cagePoints(cage);
-  const auto faces = cageFaces(cage);
-  const double tolerance = options.epsilon * boundingDiagonal(vertices);
+namespace {
 
-  // Every edge's integral of 1/r serves both its faces: computed once per point.
+// The cage's per-face and per-edge data, computed once for all points, in the two forms the
+// scalar path (FaceGeometry) and the vector kernel (flat arrays) read.
+struct PreparedCage {
   struct Edge {
     int a, b;
     Eigen::Vector3d dir;
     double length;
   };
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<int, 3>> faces;
+  std::vector<std::array<int, 3>> faceEdges;  // edge k of a face runs from corner k to k + 1
   std::vector<Edge> edges;
-  std::vector<std::array<int, 3>> faceEdges(faces.size());
-  std::map<std::pair<int, int>, int> edgeIndex;
   std::vector<FaceGeometry> geometry;
+  double tolerance = 0;
+
+  std::vector<double> flatVertex, flatEdgeDir, flatEdgeLength, flatFace;
+  std::vector<int> flatEdgeEnd, flatFaceVertex, flatFaceEdge;
+
+  PreparedCage(const TriMesh& cage, double epsilon);
+  green_kernel::Cage kernelView() const;
+};
+
+PreparedCage::PreparedCage(const TriMesh& cage, double epsilon)
+    : vertices(cagePoints(cage)), faces(cageFaces(cage)) {
+  tolerance = epsilon * boundingDiagonal(vertices);
+  // Every edge's integral of 1/r serves both its faces: computed once per point.
+  std::map<std::pair<int, int>, int> edgeIndex;
+  faceEdges.resize(faces.size());
   geometry.reserve(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const auto& c = faces[f];
@@ -300,49 +315,160 @@ GreenCoordinatesResult computeGreenCoordinates(const TriMesh& cage,
     }
   }
 
+  for (const auto& v : vertices)
+    flatVertex.insert(flatVertex.end(), v.data(), v.data() + 3);
+  for (const auto& e : edges) {
+    flatEdgeEnd.insert(flatEdgeEnd.end(), {e.a, e.b});
+    flatEdgeDir.insert(flatEdgeDir.end(), e.dir.data(), e.dir.data() + 3);
+    flatEdgeLength.push_back(e.length);
+  }
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    flatFaceVertex.insert(flatFaceVertex.end(), faces[f].begin(), faces[f].end());
+    flatFaceEdge.insert(flatFaceEdge.end(), faceEdges[f].begin(), faceEdges[f].end());
+    const FaceGeometry& g = geometry[f];
+    const std::size_t at = flatFace.size();
+    flatFace.resize(at + green_kernel::kFaceStride);
+    double* out = flatFace.data() + at;
+    for (int k = 0; k < 3; ++k) {
+      out[green_kernel::kNormal + k] = g.normal[k];
+      out[green_kernel::kHatWeight + k] = g.hatWeight[std::size_t(k)];
+      for (int j = 0; j < 3; ++j) {
+        out[green_kernel::kEdgeNormal + 3 * k + j] = g.edgeNormal[std::size_t(k)][j];
+        out[green_kernel::kGram + 3 * k + j] = g.edgeNormalGram(k, j);
+      }
+    }
+    out[green_kernel::kTwiceArea] = g.twiceArea;
+  }
+}
+
+green_kernel::Cage PreparedCage::kernelView() const {
+  green_kernel::Cage view;
+  view.vertexCount = int(vertices.size());
+  view.edgeCount = int(edges.size());
+  view.faceCount = int(faces.size());
+  view.vertex = flatVertex.data();
+  view.edgeEnd = flatEdgeEnd.data();
+  view.edgeDir = flatEdgeDir.data();
+  view.edgeLength = flatEdgeLength.data();
+  view.faceVertex = flatFaceVertex.data();
+  view.faceEdge = flatFaceEdge.data();
+  view.face = flatFace.data();
+  view.tolerance = tolerance;
+  return view;
+}
+
+// One point on the scalar path: its phi and psi rows. Returns whether it lies inside the cage.
+class ScalarPoint {
+ public:
+  explicit ScalarPoint(const PreparedCage& cage)
+      : cage_(cage),
+        sums_(cage.vertices.size()),
+        distance_(cage.vertices.size()),
+        logIntegral_(cage.edges.size()) {}
+
+  bool operator()(const Eigen::Vector3d& eta, double* phiRow, double* psiRow) {
+    const auto& vertices = cage_.vertices;
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+      distance_[v] = (vertices[v] - eta).norm();
+    for (std::size_t e = 0; e < cage_.edges.size(); ++e) {
+      const auto& edge = cage_.edges[e];
+      const Eigen::Vector3d toA = vertices[std::size_t(edge.a)] - eta;
+      logIntegral_[e] =
+          edgeLogIntegral(edge.dir.dot(toA), edge.length, distance_[std::size_t(edge.a)],
+                          distance_[std::size_t(edge.b)], edge.dir.cross(toA).squaredNorm());
+    }
+    for (std::size_t f = 0; f < cage_.faces.size(); ++f) {
+      const auto& c = cage_.faces[f];
+      const auto& fe = cage_.faceEdges[f];
+      psiRow[f] = addFace(cage_.geometry[f], c, int(f), eta,
+                          {distance_[std::size_t(c[0])], distance_[std::size_t(c[1])],
+                           distance_[std::size_t(c[2])]},
+                          {logIntegral_[std::size_t(fe[0])], logIntegral_[std::size_t(fe[1])],
+                           logIntegral_[std::size_t(fe[2])]},
+                          cage_.tolerance, sums_);
+    }
+    return finishPoint(sums_, cage_.faces, phiRow, psiRow);
+  }
+
+ private:
+  const PreparedCage& cage_;
+  PointSums sums_;
+  std::vector<double> distance_;
+  std::vector<double> logIntegral_;
+};
+
+bool vectorKernelAvailable() {
+#if defined(__x86_64__)
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+  return false;
+#endif
+}
+
+int threadCount(int requested) {
+  return requested > 0 ? requested : int(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+}  // namespace
+
+GreenCoordinatesResult computeGreenCoordinates(const TriMesh& cage,
+                                               const std::vector<Eigen::Vector3d>& points,
+                                               const GreenOptions& options) {
+  checkCage(cage);
+  const PreparedCage prepared(cage, options.epsilon);
+  const green_kernel::Cage kernelCage = prepared.kernelView();
+  const bool vectorized = vectorKernelAvailable();
+
   GreenCoordinatesResult result;
   const auto n = Eigen::Index(points.size());
-  result.phi.resize(n, Eigen::Index(vertices.size()));
-  result.psi.resize(n, Eigen::Index(faces.size()));
+  result.phi.resize(n, Eigen::Index(prepared.vertices.size()));
+  result.psi.resize(n, Eigen::Index(prepared.faces.size()));
   std::vector<char> inside(points.size(), 1);
-  const int threads = options.threads > 0 ? options.threads
-                                          : int(std::max(1u, std::thread::hardware_concurrency()));
-  parallelBlocks(points.size(), threads, [&](std::size_t first, std::size_t last) {
-    // Rows of a block are assembled here and copied column by column: writing one row
-    // straight into the column-major result would touch one page per face.
-    const auto rows = Eigen::Index(last - first);
-    Eigen::MatrixXd blockPhi = Eigen::MatrixXd::Zero(rows, Eigen::Index(vertices.size()));
-    Eigen::MatrixXd blockPsi(rows, Eigen::Index(faces.size()));
-    PointSums sums(vertices.size());
-    std::vector<double> distance(vertices.size());
-    std::vector<double> logIntegral(edges.size());
-    for (std::size_t i = first; i < last; ++i) {
-      const Eigen::Index row = Eigen::Index(i - first);
-      const Eigen::Vector3d& eta = points[i];
-      for (std::size_t v = 0; v < vertices.size(); ++v)
-        distance[v] = (vertices[v] - eta).norm();
-      for (std::size_t e = 0; e < edges.size(); ++e) {
-        const Edge& edge = edges[e];
-        const Eigen::Vector3d toA = vertices[std::size_t(edge.a)] - eta;
-        logIntegral[e] =
-            edgeLogIntegral(edge.dir.dot(toA), edge.length, distance[std::size_t(edge.a)],
-                            distance[std::size_t(edge.b)], edge.dir.cross(toA).squaredNorm());
-      }
-      for (std::size_t f = 0; f < faces.size(); ++f) {
-        const auto& c = faces[f];
-        const auto& fe = faceEdges[f];
-        blockPsi(row, Eigen::Index(f)) = addFace(
-            geometry[f], c, int(f), eta,
-            {distance[std::size_t(c[0])], distance[std::size_t(c[1])], distance[std::size_t(c[2])]},
-            {logIntegral[std::size_t(fe[0])], logIntegral[std::size_t(fe[1])],
-             logIntegral[std::size_t(fe[2])]},
-            tolerance, sums);
-      }
-      inside[i] = finishPoint(sums, faces, row, blockPhi, blockPsi);
-    }
-    result.phi.middleRows(Eigen::Index(first), rows) = blockPhi;
-    result.psi.middleRows(Eigen::Index(first), rows) = blockPsi;
-  });
+  // Blocks hold a multiple of four points, so that the grouping into vectors, and with it every
+  // bit of the result, is the same for any thread count.
+  parallelBlocks(
+      points.size(), threadCount(options.threads), [&](std::size_t first, std::size_t last) {
+        ScalarPoint scalar(prepared);
+        std::vector<double> scratch(std::size_t(green_kernel::fourPointsScratchSize(kernelCage)) +
+                                    4);
+        double* aligned = scratch.data();
+        while (reinterpret_cast<std::uintptr_t>(aligned) % 32 != 0)
+          ++aligned;
+        for (std::size_t i = first; i < last; i += 4) {
+          const std::size_t count = std::min<std::size_t>(4, last - i);
+          if (vectorized) {
+            // A last group of fewer than four points repeats its last point in the spare lanes and
+            // writes their rows to scratch rows.
+            const double* lanes[4];
+            double* phiRows[4];
+            double* psiRows[4];
+            std::vector<double> spare;
+            if (count < 4)
+              spare.resize(std::size_t(result.phi.cols() + result.psi.cols()) * (4 - count));
+            for (std::size_t k = 0; k < 4; ++k) {
+              const std::size_t p = i + std::min(k, count - 1);
+              lanes[k] = points[p].data();
+              if (k < count) {
+                phiRows[k] = result.phi.row(Eigen::Index(p)).data();
+                psiRows[k] = result.psi.row(Eigen::Index(p)).data();
+              } else {
+                phiRows[k] =
+                    spare.data() + (k - count) * std::size_t(result.phi.cols() + result.psi.cols());
+                psiRows[k] = phiRows[k] + result.phi.cols();
+              }
+            }
+            bool in[4];
+            if (green_kernel::fourPoints(kernelCage, lanes, phiRows, psiRows, in, aligned)) {
+              for (std::size_t k = 0; k < count; ++k)
+                inside[i + k] = in[k];
+              continue;
+            }
+          }
+          for (std::size_t p = i; p < i + count; ++p)
+            inside[p] = scalar(points[p], result.phi.row(Eigen::Index(p)).data(),
+                               result.psi.row(Eigen::Index(p)).data());
+        }
+      });
   for (std::size_t i = 0; i < points.size(); ++i)
     if (!inside[i]) result.outsidePoints.push_back(int(i));
   return result;
@@ -377,7 +503,8 @@ GreenCoordinatesResult computeGreenCoordinatesNaive(const TriMesh& cage,
       result.psi(Eigen::Index(i), Eigen::Index(f)) =
           addFace(g, c, int(f), eta, r, logIntegral, tolerance, sums);
     }
-    if (!finishPoint(sums, faces, Eigen::Index(i), result.phi, result.psi))
+    if (!finishPoint(sums, faces, result.phi.row(Eigen::Index(i)).data(),
+                     result.psi.row(Eigen::Index(i)).data()))
       result.outsidePoints.push_back(int(i));
   }
   return result;
@@ -403,10 +530,10 @@ Eigen::VectorXd greenStretch(const TriMesh& sourceCage, const TriMesh& deformedC
   return stretch;
 }
 
-std::vector<Eigen::Vector3d> applyGreenCoordinates(const Eigen::MatrixXd& phi,
-                                                   const Eigen::MatrixXd& psi,
+std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matrix& phi,
+                                                   const GreenCoordinates::Matrix& psi,
                                                    const TriMesh& sourceCage,
-                                                   const TriMesh& deformedCage) {
+                                                   const TriMesh& deformedCage, int threads) {
   const auto faces = cageFaces(sourceCage);
   if (deformedCage.n_vertices() != sourceCage.n_vertices() || cageFaces(deformedCage) != faces) {
     std::ostringstream message;
@@ -424,26 +551,36 @@ std::vector<Eigen::Vector3d> applyGreenCoordinates(const Eigen::MatrixXd& phi,
             << sourceCage.n_vertices() << " vertices, " << faces.size() << " faces)";
     throw CageError(message.str());
   }
+  // One column per coefficient: v'_i for phi, s_j n(t'_j) for psi, padded to four doubles so
+  // that each multiply-add is whole vector operations.
   const auto deformed = cagePoints(deformedCage);
-  Eigen::MatrixXd cageVertices(Eigen::Index(deformed.size()), 3);
-  for (std::size_t v = 0; v < deformed.size(); ++v)
-    cageVertices.row(Eigen::Index(v)) = deformed[v].transpose();
   const Eigen::VectorXd stretch = greenStretch(sourceCage, deformedCage);
-  Eigen::MatrixXd scaledNormals(Eigen::Index(faces.size()), 3);
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const auto [a, b, c] = faces[f];
+  const auto nv = Eigen::Index(deformed.size()), nf = Eigen::Index(faces.size());
+  Eigen::Matrix<double, 4, Eigen::Dynamic> basis = Eigen::Matrix4Xd::Zero(4, nv + nf);
+  for (Eigen::Index v = 0; v < nv; ++v)
+    basis.col(v).head<3>() = deformed[std::size_t(v)];
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const auto [a, b, c] = faces[std::size_t(f)];
     const Eigen::Vector3d cross = (deformed[std::size_t(b)] - deformed[std::size_t(a)])
                                       .cross(deformed[std::size_t(c)] - deformed[std::size_t(a)]);
     const double norm = cross.norm();
     // A face collapsed to a segment has no normal; its stretch is then 0 as well.
-    scaledNormals.row(Eigen::Index(f)) =
-        norm > 0 ? Eigen::RowVector3d(stretch[Eigen::Index(f)] / norm * cross)
-                 : Eigen::RowVector3d::Zero();
+    if (norm > 0) basis.col(nv + f).head<3>() = stretch[f] / norm * cross;
   }
-  const Eigen::MatrixXd mapped = phi * cageVertices + psi * scaledNormals;
-  std::vector<Eigen::Vector3d> result(std::size_t(mapped.rows()));
-  for (std::size_t i = 0; i < result.size(); ++i)
-    result[i] = mapped.row(Eigen::Index(i)).transpose();
+  // Each row of phi and psi is read once, in order: the product is bound by memory bandwidth.
+  std::vector<Eigen::Vector3d> result(std::size_t(phi.rows()));
+  parallelBlocks(result.size(), threadCount(threads), [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) {
+      const double* phiRow = phi.row(Eigen::Index(i)).data();
+      const double* psiRow = psi.row(Eigen::Index(i)).data();
+      Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+      for (Eigen::Index v = 0; v < nv; ++v)
+        sum += phiRow[v] * basis.col(v);
+      for (Eigen::Index f = 0; f < nf; ++f)
+        sum += psiRow[f] * basis.col(nv + f);
+      result[i] = sum.head<3>();
+    }
+  });
   return result;
 }
 

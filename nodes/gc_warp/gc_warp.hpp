@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "geobrush/canvas.hpp"
 #include "geobrush/mesh.hpp"
 
 namespace geobrush {
@@ -29,8 +30,8 @@ struct GreenOptions {
 };
 
 struct GreenCoordinatesResult {
-  Eigen::MatrixXd phi;  // points x cage vertices
-  Eigen::MatrixXd psi;  // points x cage faces
+  GreenCoordinates::Matrix phi;  // points x cage vertices
+  GreenCoordinates::Matrix psi;  // points x cage faces
   // Points whose total solid angle says they lie outside the cage; their coordinates do not
   // reproduce them (Green coordinates as computed here are defined inside the cage only).
   std::vector<int> outsidePoints;
@@ -45,7 +46,9 @@ void checkCage(const TriMesh& cage);
 // double-layer (phi, linear density) and single-layer (psi) potentials of LLCO08 section 3
 // (what their Algorithm 1 evaluates through GCTriInt), written
 // with a signed solid angle and per-edge log integrals so that points on a face, edge or vertex
-// give their finite interior limits. Rows are independent; parallel over points.
+// give their finite interior limits. Rows are independent; parallel over points, four points at
+// a time in AVX2 vectors where the processor has them (each point near a face's plane on the
+// scalar path that handles it exactly).
 GreenCoordinatesResult computeGreenCoordinates(const TriMesh& cage,
                                                const std::vector<Eigen::Vector3d>& points,
                                                const GreenOptions& options = {});
@@ -63,10 +66,11 @@ Eigen::VectorXd greenStretch(const TriMesh& sourceCage, const TriMesh& deformedC
 
 // x' = sum_i phi_i v'_i + sum_j psi_j s_j n(t'_j) (LLCO08 section 3, with the stretch factors), one
 // point per row of phi and psi. Throws CageError when the deformed cage's connectivity differs
-// from the source cage's or when phi/psi do not fit the cage.
-std::vector<Eigen::Vector3d> applyGreenCoordinates(const Eigen::MatrixXd& phi,
-                                                   const Eigen::MatrixXd& psi,
+// from the source cage's or when phi/psi do not fit the cage. Parallel over points on `threads`
+// threads (0: every hardware thread), bit-identical for any count.
+std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matrix& phi,
+                                                   const GreenCoordinates::Matrix& psi,
                                                    const TriMesh& sourceCage,
-                                                   const TriMesh& deformedCage);
+                                                   const TriMesh& deformedCage, int threads = 0);
 
 }  // namespace geobrush

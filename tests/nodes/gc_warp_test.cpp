@@ -5,7 +5,6 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
-#include <map>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -29,37 +28,6 @@ std::vector<Eigen::Vector3d> meshPoints(const TriMesh& mesh) {
   for (auto v : mesh.vertices())
     points.push_back(toEigen(mesh.point(v)));
   return points;
-}
-
-// An icosahedron with each face split in four, pushed onto the unit sphere: 42 vertices, 80 faces.
-TriMesh icosphere() {
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  std::vector<Eigen::Vector3d> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  const std::vector<std::array<int, 3>> faces = {
-      {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  std::map<std::pair<int, int>, int> midpoints;
-  auto midpoint = [&](int a, int b) {
-    auto [it, added] = midpoints.try_emplace(std::minmax(a, b), int(p.size()));
-    if (added) p.push_back((p[std::size_t(a)] + p[std::size_t(b)]) / 2);
-    return it->second;
-  };
-  std::vector<std::array<int, 3>> fine;
-  for (const auto& [a, b, c] : faces) {
-    const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-    fine.insert(fine.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
-  }
-  TriMesh mesh;
-  for (const auto& q : p) {
-    const Eigen::Vector3d s = q.normalized();
-    mesh.add_vertex({s.x(), s.y(), s.z()});
-  }
-  for (const auto& [a, b, c] : fine)
-    mesh.add_face(TriMesh::VertexHandle(a), TriMesh::VertexHandle(b), TriMesh::VertexHandle(c));
-  return mesh;
 }
 
 TriMesh mapCage(const TriMesh& cage,
@@ -111,7 +79,7 @@ struct NamedCage {
 
 std::vector<NamedCage> cages() {
   return {{"cube", test::boxCage({-1, -1, -1}, {1, 1, 1}, 1), 0.95, false},
-          {"icosphere", icosphere(), 0.85, true}};
+          {"icosphere", test::icosphere(1), 0.85, true}};
 }
 
 TEST(GreenCoordinates, TestCagesAreClosedAndOutward) {

@@ -42,6 +42,41 @@ Mesh tetrahedron(const std::array<OpenMesh::Vec3d, 4>& corners) {
   return Mesh(std::move(mesh));
 }
 
+TriMesh icosphere(int levels) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Eigen::Vector3d> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                    {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                    {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (auto& x : p)
+    x.normalize();
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto middle = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      const auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      p.push_back((p[std::size_t(a)] + p[std::size_t(b)]).normalized());
+      return mid[key] = int(p.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> next;
+    for (const auto& [a, b, c] : f) {
+      const int ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
+      next.insert(next.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
+    }
+    f = std::move(next);
+  }
+  TriMesh mesh;
+  for (const auto& x : p)
+    mesh.add_vertex({x.x(), x.y(), x.z()});
+  for (const auto& [a, b, c] : f)
+    mesh.add_face(TriMesh::VertexHandle(a), TriMesh::VertexHandle(b), TriMesh::VertexHandle(c));
+  return mesh;
+}
+
 TriMesh boxCage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n) {
   TriMesh mesh;
   std::map<std::array<int, 3>, TriMesh::VertexHandle> lattice;

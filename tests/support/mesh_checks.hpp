@@ -19,6 +19,10 @@ Mesh tetrahedron(const std::array<OpenMesh::Vec3d, 4>& corners);
 // welded, faces outward: a cage for Green-coordinate tests.
 TriMesh boxCage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n);
 
+// An icosahedron split `levels` times (4^levels x 20 faces), its vertices pushed onto the unit
+// sphere: a large closed test surface.
+TriMesh icosphere(int levels);
+
 double surfaceArea(const TriMesh& mesh);
 
 // Sum of the signed volumes of the tetrahedra from the origin to each face: the enclosed volume

@@ -92,9 +92,12 @@ class GreenCoordinates final : public Value {
   Hash contentHash() const override;
   std::string summary() const override;
 
-  CagePtr cage;         // the cage they were computed against
-  Eigen::MatrixXd phi;  // points x cage vertices
-  Eigen::MatrixXd psi;  // points x cage faces
+  // One point per row, stored row by row: applying the coordinates streams through each row once.
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+  CagePtr cage;  // the cage they were computed against
+  Matrix phi;    // points x cage vertices
+  Matrix psi;    // points x cage faces
 };
 using GreenCoordinatesPtr = std::shared_ptr<const GreenCoordinates>;
 
