@@ -36,8 +36,7 @@ std::string formatPoint(const Eigen::Vector3d& p) {
   return s.str();
 }
 
-void checkInput(const MeshPtr& target, const std::vector<Eigen::Vector2d>& sourceUv,
-                const TargetDemOptions& o) {
+void checkInput(const std::vector<Eigen::Vector2d>& sourceUv, const TargetDemOptions& o) {
   if (!std::isfinite(o.scale) || o.scale <= 0) {
     throw TargetDemError("scale",
                          "must be a finite number > 0 (target distance = scale x "
@@ -53,9 +52,6 @@ void checkInput(const MeshPtr& target, const std::vector<Eigen::Vector2d>& sourc
   }
   if (!std::isfinite(o.originTolerance) || o.originTolerance < 0) {
     throw TargetDemError("origin", "the tolerance must be a finite number >= 0");
-  }
-  if (!target || target->surface.n_faces() == 0) {
-    throw TargetDemError("mesh", "the target mesh has no faces");
   }
   if (sourceUv.empty()) throw TargetDemError("source", "the source map has no vertices");
   for (std::size_t i = 0; i < sourceUv.size(); ++i) {
@@ -260,14 +256,45 @@ Region buildCanvas(const MeshPtr& target, const std::vector<int>& faces,
   return r;
 }
 
+MeshPtr checkedMesh(MeshPtr mesh) {
+  if (!mesh || mesh->surface.n_faces() == 0) {
+    throw TargetDemError("mesh", "the target mesh has no faces");
+  }
+  return mesh;
+}
+
+std::vector<Eigen::Vector3d> unitNormals(const TriMesh& mesh) {
+  std::vector<Eigen::Vector3d> normals;
+  normals.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices()) {
+    const Eigen::Vector3d n = angleWeightedNormal(mesh, v);
+    normals.push_back(n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero());
+  }
+  return normals;
+}
+
 }  // namespace
+
+PreparedTarget::PreparedTarget(MeshPtr mesh)
+    : mesh_(checkedMesh(std::move(mesh))),
+      diagonal_(boundingDiagonal(mesh_->surface)),
+      normals_(unitNormals(mesh_->surface)),
+      locator_(mesh_->surface) {}
 
 TargetDemResult targetExponentialMap(const MeshPtr& target,
                                      const std::vector<Eigen::Vector2d>& sourceUv,
                                      const TargetDemOptions& options) {
-  checkInput(target, sourceUv, options);
+  checkInput(sourceUv, options);
+  return targetExponentialMap(PreparedTarget(target), sourceUv, options);
+}
+
+TargetDemResult targetExponentialMap(const PreparedTarget& prepared,
+                                     const std::vector<Eigen::Vector2d>& sourceUv,
+                                     const TargetDemOptions& options) {
+  checkInput(sourceUv, options);
+  const MeshPtr& target = prepared.mesh();
   const TriMesh& mesh = target->surface;
-  const double diagonal = boundingDiagonal(mesh);
+  const double diagonal = prepared.diagonal();
   const double lambda = options.scale;
 
   double sourceRadius = 0;
@@ -278,7 +305,7 @@ TargetDemResult targetExponentialMap(const MeshPtr& target,
   }
   const double required = (1 + options.margin) * sourceRadius;
 
-  const SurfacePoint snapped = nearestSurfacePoint(mesh, options.origin);
+  const SurfacePoint snapped = prepared.nearest(options.origin);
   const double tolerance = options.originTolerance * diagonal;
   if (snapped.distance > tolerance) {
     throw TargetDemError("origin", "the origin " + formatPoint(options.origin) + " is " +
@@ -290,12 +317,12 @@ TargetDemResult targetExponentialMap(const MeshPtr& target,
   rejectOriginOnBoundary(mesh, snapped.face, snapped.point, diagonal);
 
   auto surfaceNormal = [&](int v) -> Eigen::Vector3d {
-    const Eigen::Vector3d n = angleWeightedNormal(mesh, TriMesh::VertexHandle(v));
-    if (!(n.norm() > 0)) {
+    const Eigen::Vector3d& n = prepared.normal(v);
+    if (n.isZero()) {
       throw TargetDemError("mesh", "target vertex " + std::to_string(v) +
                                        " has no surface normal (its faces are degenerate)");
     }
-    return n.normalized();
+    return n;
   };
   std::array<Eigen::Vector3d, 3> corners, cornerNormals;
   std::vector<int> originCorners;

@@ -11,6 +11,7 @@
 
 #include "geobrush/canvas.hpp"
 #include "geobrush/mesh.hpp"
+#include "geobrush/surface_point.hpp"
 
 namespace geobrush {
 
@@ -41,6 +42,28 @@ class TargetDemError : public std::invalid_argument {
   std::string option_;
 };
 
+// The target surface with what every target DEM on it reads: computed once and kept while the
+// canvas is dragged across it (its vertex normals and nearest-point search would otherwise cost
+// as much as the DEM itself on a large target).
+class PreparedTarget {
+ public:
+  // Throws TargetDemError("mesh") for a missing mesh, one without faces or with a non-finite
+  // coordinate.
+  explicit PreparedTarget(MeshPtr mesh);
+
+  const MeshPtr& mesh() const { return mesh_; }
+  double diagonal() const { return diagonal_; }
+  // Angle-weighted unit normal; zero where the vertex's faces are degenerate.
+  const Eigen::Vector3d& normal(int vertex) const { return normals_[std::size_t(vertex)]; }
+  SurfacePoint nearest(const Eigen::Vector3d& point) const { return locator_.nearest(point); }
+
+ private:
+  MeshPtr mesh_;
+  double diagonal_ = 0;
+  std::vector<Eigen::Vector3d> normals_;
+  SurfaceLocator locator_;
+};
+
 struct TargetDemResult {
   Canvas canvas;                        // P_t on the target mesh
   std::vector<Eigen::Vector2d> uv;      // per canvas vertex, in the shared domain: E_t / lambda
@@ -65,6 +88,11 @@ struct TargetDemResult {
 // vertex on a boundary of the target (the domain runs off the target), and a region that would
 // take more than half of the target's vertices or exhaust its component (on a closed surface it
 // would wrap around: use a smaller scale or source canvas).
+TargetDemResult targetExponentialMap(const PreparedTarget& target,
+                                     const std::vector<Eigen::Vector2d>& sourceUv,
+                                     const TargetDemOptions& options);
+
+// The same for a target used once.
 TargetDemResult targetExponentialMap(const MeshPtr& target,
                                      const std::vector<Eigen::Vector2d>& sourceUv,
                                      const TargetDemOptions& options);

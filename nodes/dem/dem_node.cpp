@@ -1,3 +1,4 @@
+#include <memory>
 #include <numbers>
 
 #include "dem.hpp"
@@ -13,6 +14,9 @@ using geobrush::Mesh;
 using geobrush::NodeError;
 using geobrush::Parameterization;
 
+// Dragging the target canvas re-evaluates this node with the same target mesh value: the node
+// keeps that mesh's PreparedTarget (normals, nearest-point search) for as long as the input is
+// the same value.
 class DemNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -25,7 +29,11 @@ class DemNode final : public geobrush::Node {
     options.scale = ctx.param<double>("scale");
     options.margin = ctx.param<double>("margin");
     try {
-      geobrush::TargetDemResult dem = geobrush::targetExponentialMap(mesh, source->uv, options);
+      if (!target_ || target_->mesh() != mesh) {
+        target_.reset();
+        target_ = std::make_shared<const geobrush::PreparedTarget>(mesh);
+      }
+      geobrush::TargetDemResult dem = geobrush::targetExponentialMap(*target_, source->uv, options);
       auto out = std::make_shared<Parameterization>();
       out->canvas = std::make_shared<const geobrush::Canvas>(std::move(dem.canvas));
       out->uv = std::move(dem.uv);
@@ -40,6 +48,9 @@ class DemNode final : public geobrush::Node {
       throw NodeError::param(e.option(), e.what());
     }
   }
+
+ private:
+  std::shared_ptr<const geobrush::PreparedTarget> target_;
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {
