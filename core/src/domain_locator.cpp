@@ -47,20 +47,33 @@ DomainLocator::DomainLocator(const Parameterization& param) : param_(param) {
   cellsX_ = std::clamp(int((hi.x() - lo.x()) / step_) + 1, 1, 4096);
   cellsY_ = std::clamp(int((hi.y() - lo.y()) / step_) + 1, 1, 4096);
   step_ = std::max((hi.x() - lo.x()) / cellsX_, (hi.y() - lo.y()) / cellsY_) * (1 + 1e-12) + 1e-300;
-  buckets_.resize(std::size_t(cellsX_) * cellsY_);
+  // The buckets as one array (counted, then filled in face order, so each bucket is ascending).
+  std::vector<std::array<int, 4>> cellRanges(faces_.size());
+  bucketStart_.assign(std::size_t(cellsX_) * cellsY_ + 1, 0);
   for (int f = 0; f < int(faces_.size()); ++f) {
     Vector2d a = param.uv[faces_[f][0]], b = a;
     for (int k = 1; k < 3; ++k) {
       a = a.cwiseMin(param.uv[faces_[f][k]]);
       b = b.cwiseMax(param.uv[faces_[f][k]]);
     }
-    const int i0 = std::clamp(int((a.x() - corner_.x()) / step_), 0, cellsX_ - 1);
-    const int i1 = std::clamp(int((b.x() - corner_.x()) / step_), 0, cellsX_ - 1);
-    const int j0 = std::clamp(int((a.y() - corner_.y()) / step_), 0, cellsY_ - 1);
-    const int j1 = std::clamp(int((b.y() - corner_.y()) / step_), 0, cellsY_ - 1);
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i)
-        buckets_[std::size_t(j) * cellsX_ + i].push_back(f);
+    auto& r = cellRanges[std::size_t(f)];
+    r[0] = std::clamp(int((a.x() - corner_.x()) / step_), 0, cellsX_ - 1);
+    r[1] = std::clamp(int((b.x() - corner_.x()) / step_), 0, cellsX_ - 1);
+    r[2] = std::clamp(int((a.y() - corner_.y()) / step_), 0, cellsY_ - 1);
+    r[3] = std::clamp(int((b.y() - corner_.y()) / step_), 0, cellsY_ - 1);
+    for (int j = r[2]; j <= r[3]; ++j)
+      for (int i = r[0]; i <= r[1]; ++i)
+        ++bucketStart_[std::size_t(j) * cellsX_ + i + 1];
+  }
+  for (std::size_t c = 1; c < bucketStart_.size(); ++c)
+    bucketStart_[c] += bucketStart_[c - 1];
+  bucketFaces_.resize(std::size_t(bucketStart_.back()));
+  std::vector<int> fill(bucketStart_.begin(), bucketStart_.end() - 1);
+  for (int f = 0; f < int(faces_.size()); ++f) {
+    const auto& r = cellRanges[std::size_t(f)];
+    for (int j = r[2]; j <= r[3]; ++j)
+      for (int i = r[0]; i <= r[1]; ++i)
+        bucketFaces_[std::size_t(fill[std::size_t(j) * cellsX_ + i]++)] = f;
   }
 }
 
@@ -105,18 +118,24 @@ DomainHit DomainLocator::hit(int face, const Vector3d& bary, bool inside) const 
   return h;
 }
 
+std::span<const int> DomainLocator::bucket(int i, int j) const {
+  const std::size_t cell = std::size_t(j) * std::size_t(cellsX_) + std::size_t(i);
+  return {bucketFaces_.data() + bucketStart_[cell],
+          std::size_t(bucketStart_[cell + 1] - bucketStart_[cell])};
+}
+
 DomainHit DomainLocator::locate(const Vector2d& u) const {
-  const int i = std::clamp(int(std::floor((u.x() - corner_.x()) / step_)), 0, cellsX_ - 1);
-  const int j = std::clamp(int(std::floor((u.y() - corner_.y()) / step_)), 0, cellsY_ - 1);
-  const bool inGrid = (u - corner_).minCoeff() >= 0 && u.x() <= corner_.x() + step_ * cellsX_ &&
-                      u.y() <= corner_.y() + step_ * cellsY_;
+  // The cell of u in the unbounded grid, and its clamped version.
+  const double ci = std::floor((u.x() - corner_.x()) / step_);
+  const double cj = std::floor((u.y() - corner_.y()) / step_);
+  const bool inGrid = ci >= 0 && cj >= 0 && ci < cellsX_ && cj < cellsY_;
   const auto reversed = [&](int f) {
     return !param_.reversedFaces.empty() && param_.reversedFaces[f] != 0;
   };
   if (inGrid) {
     int firstAny = -1;
     Vector3d firstAnyBary;
-    for (int f : buckets_[std::size_t(j) * cellsX_ + i]) {  // ascending face order
+    for (int f : bucket(int(ci), int(cj))) {  // ascending face order
       const Vector3d b = barycentricOf(f, u);
       if (b.minCoeff() < -1e-12) continue;
       if (!reversed(f)) return hit(f, b, true);
@@ -127,23 +146,56 @@ DomainHit DomainLocator::locate(const Vector2d& u) const {
     }
     if (firstAny >= 0) return hit(firstAny, firstAnyBary, true);
   }
-  // Outside every triangle: the one whose nearest point is closest.
+  return nearestOutside(u, ci, cj);
+}
+
+// Outside every triangle: the one whose clamped barycentric point is closest to u (ties: the
+// lowest face index). Cells are searched in rings around u's cell; every point of a triangle
+// first met in ring r is at least (r - 1) steps from u, so the search stops once that bound
+// exceeds the best distance found.
+DomainHit DomainLocator::nearestOutside(const Vector2d& u, double ci, double cj) const {
+  const double limit = 2.0 * (cellsX_ + cellsY_);  // rings beyond reach no cell
+  const long i0 = long(std::clamp(ci, -limit, limit));
+  const long j0 = long(std::clamp(cj, -limit, limit));
   int best = -1;
   double bestDistance = std::numeric_limits<double>::infinity();
   Vector3d bestBary;
-  for (int f = 0; f < int(faces_.size()); ++f) {
-    const Vector3d b = barycentricOf(f, u);
-    Vector3d clamped = b.cwiseMax(0.0);
-    clamped /= clamped.sum();
-    Vector2d q = Vector2d::Zero();
-    for (int k = 0; k < 3; ++k)
-      q += clamped[k] * param_.uv[faces_[f][k]];
-    const double d = (q - u).squaredNorm();
-    if (d < bestDistance) {
-      bestDistance = d;
-      best = f;
-      bestBary = b;
+  auto consider = [&](long i, long j) {
+    for (int f : bucket(int(i), int(j))) {
+      const Vector3d b = barycentricOf(f, u);
+      Vector3d clamped = b.cwiseMax(0.0);
+      clamped /= clamped.sum();
+      Vector2d q = Vector2d::Zero();
+      for (int k = 0; k < 3; ++k)
+        q += clamped[k] * param_.uv[faces_[f][k]];
+      const double d = (q - u).squaredNorm();
+      if (d < bestDistance || (d == bestDistance && f < best)) {
+        bestDistance = d;
+        best = f;
+        bestBary = b;
+      }
     }
+  };
+  // Ring r: rows j0 +- r and columns i0 +- r, each cut to the grid.
+  auto row = [&](long j, long r) {
+    if (j < 0 || j >= cellsY_) return;
+    for (long i = std::max(i0 - r, 0L); i <= std::min(i0 + r, long(cellsX_) - 1); ++i)
+      consider(i, j);
+  };
+  auto column = [&](long i, long r) {
+    if (i < 0 || i >= cellsX_) return;
+    for (long j = std::max(j0 - r + 1, 0L); j <= std::min(j0 + r - 1, long(cellsY_) - 1); ++j)
+      consider(i, j);
+  };
+  const long rings = long(2 * limit) + 2;
+  for (long r = 0; r <= rings; ++r) {
+    const double bound = double(std::max(r - 1, 0L)) * step_;
+    if (best >= 0 && bound * bound > bestDistance) break;
+    row(j0 - r, r);
+    if (r == 0) continue;
+    row(j0 + r, r);
+    column(i0 - r, r);
+    column(i0 + r, r);
   }
   return hit(best, bestBary, false);
 }

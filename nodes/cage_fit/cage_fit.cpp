@@ -85,9 +85,20 @@ Eigen::MatrixX3d CageFitSolver::solve(const Eigen::MatrixX3d& deltas,
   return factor_.solve(rhs);
 }
 
+SourceColumns::SourceColumns(const Cage& sourceCage, const Parameterization& source) {
+  const DomainLocator locator(source);
+  point.reserve(sourceCage.domain.size());
+  frame.reserve(sourceCage.domain.size());
+  for (const auto& u : sourceCage.domain) {
+    const DomainHit hit = locator.locate(u);
+    point.push_back(hit.point);
+    frame.push_back(frameMatrix(hit.frame()));
+  }
+}
+
 CageFitResult fitCage(const Cage& sourceCage, const Parameterization& source,
                       const Parameterization& target, const CageFitOptions& options,
-                      const CageFitSolver* solver) {
+                      const CageFitSolver* solver, const SourceColumns* columns) {
   if (!(options.constraintWeight > 0)) throw CageFitError("the constraint weight must be > 0");
   if (!(source.scale > 0) || !(target.scale > 0))
     throw CageFitError("the parameterizations' scales must be > 0");
@@ -96,7 +107,13 @@ CageFitResult fitCage(const Cage& sourceCage, const Parameterization& source,
     own = std::make_unique<CageFitSolver>(sourceCage, options.constraintWeight);
     solver = own.get();
   }
-  const DomainLocator sourceLocator(source);
+  std::unique_ptr<SourceColumns> ownColumns;
+  if (!columns) {
+    ownColumns = std::make_unique<SourceColumns>(sourceCage, source);
+    columns = ownColumns.get();
+  }
+  if (columns->point.size() != sourceCage.domain.size())
+    throw CageFitError("the source columns were found for another cage");
   const DomainLocator targetLocator(target);
   const double lambda = target.scale / source.scale;
   const int n = int(sourceCage.mesh.n_vertices());
@@ -108,20 +125,19 @@ CageFitResult fitCage(const Cage& sourceCage, const Parameterization& source,
   const Eigen::MatrixX3d sourceLaplacians = solver->laplacian() * positions;
 
   // Per column: T maps the source frame onto the target frame at the same u.
-  const std::size_t columns = sourceCage.domain.size();
-  std::vector<Matrix3d> change(columns);
-  std::vector<DomainHit> sourceHits(columns), targetHits(columns);
-  std::vector<Frame> targetFrames(columns);
-  for (std::size_t d = 0; d < columns; ++d) {
-    sourceHits[d] = sourceLocator.locate(sourceCage.domain[d]);
+  const std::size_t columnCount = sourceCage.domain.size();
+  std::vector<Matrix3d> change(columnCount);
+  std::vector<DomainHit> targetHits(columnCount);
+  std::vector<Frame> targetFrames(columnCount);
+  for (std::size_t d = 0; d < columnCount; ++d) {
     targetHits[d] = targetLocator.locate(sourceCage.domain[d]);
     result.columnsOutsideTarget += !targetHits[d].inside;
     targetFrames[d] = targetHits[d].frame();
-    change[d] = frameMatrix(targetFrames[d]) * frameMatrix(sourceHits[d].frame()).transpose();
+    change[d] = frameMatrix(targetFrames[d]) * columns->frame[d].transpose();
   }
 
   Eigen::MatrixX3d deltas(n, 3);
-  for (std::size_t d = 0; d < columns; ++d)
+  for (std::size_t d = 0; d < columnCount; ++d)
     for (int v : {sourceCage.top[d], sourceCage.bottom[d]})
       deltas.row(v) = (lambda * change[d] * sourceLaplacians.row(v).transpose()).transpose();
 
@@ -134,7 +150,7 @@ CageFitResult fitCage(const Cage& sourceCage, const Parameterization& source,
     const Vector3d mid =
         0.5 * (positions.row(sourceCage.top[d]) + positions.row(sourceCage.bottom[d])).transpose();
     midpoints.row(r) =
-        (targetHits[d].point + lambda * change[d] * (mid - sourceHits[d].point)).transpose();
+        (targetHits[d].point + lambda * change[d] * (mid - columns->point[d])).transpose();
   }
 
   const Eigen::MatrixX3d fitted = solver->solve(deltas, midpoints);

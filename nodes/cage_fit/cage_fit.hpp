@@ -44,6 +44,14 @@ class CageFitSolver {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor_;
 };
 
+// E_s^-1(u) and the source frame at each cage column's u: they depend only on the source cage and
+// parameterization, so they are found once and reused while the target canvas moves.
+struct SourceColumns {
+  SourceColumns(const Cage& sourceCage, const Parameterization& source);
+  std::vector<Eigen::Vector3d> point;
+  std::vector<Eigen::Matrix3d> frame;  // columns: u axis, v axis, normal
+};
+
 struct CageFitResult {
   Cage cage;
   // Domain vertices of C that lie outside the target parameterization's
@@ -53,9 +61,11 @@ struct CageFitResult {
 
 // `source` is the parameterization the source cage was built on; `target`
 // lives in the same parameter domain. A reusable `solver` (made for this
-// cage and weight) skips the factorization.
+// cage and weight) skips the factorization, and `columns` (made for this cage
+// and source) the search of the source canvas.
 CageFitResult fitCage(const Cage& sourceCage, const Parameterization& source,
                       const Parameterization& target, const CageFitOptions& options = {},
-                      const CageFitSolver* solver = nullptr);
+                      const CageFitSolver* solver = nullptr,
+                      const SourceColumns* columns = nullptr);
 
 }  // namespace geobrush

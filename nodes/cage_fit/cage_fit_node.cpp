@@ -5,8 +5,8 @@
 namespace geobrush {
 namespace {
 
-// Keeps the factorization of the last source cage: dragging the target canvas
-// changes only the right-hand side.
+// Keeps the factorization of the last source cage and the source columns of the last source
+// cage and parameterization: dragging the target canvas changes only the right-hand side.
 class CageFitNode final : public Node {
  public:
   void compute(Context& ctx) override {
@@ -18,7 +18,14 @@ class CageFitNode final : public Node {
     try {
       if (!solver_ || !solver_->fits(*cage, options.constraintWeight))
         solver_ = std::make_unique<CageFitSolver>(*cage, options.constraintWeight);
-      CageFitResult result = fitCage(*cage, *source, *target, options, solver_.get());
+      if (!columns_ || columnsCage_ != cage || columnsSource_ != source) {
+        columns_.reset();
+        columns_ = std::make_unique<SourceColumns>(*cage, *source);
+        columnsCage_ = cage;
+        columnsSource_ = source;
+      }
+      CageFitResult result =
+          fitCage(*cage, *source, *target, options, solver_.get(), columns_.get());
       if (result.columnsOutsideTarget > 0)
         ctx.warn(std::to_string(result.columnsOutsideTarget) +
                  " cage columns lie outside the target canvas' parameter domain; grow the target "
@@ -31,6 +38,9 @@ class CageFitNode final : public Node {
 
  private:
   std::unique_ptr<CageFitSolver> solver_;
+  std::unique_ptr<SourceColumns> columns_;
+  std::shared_ptr<const Cage> columnsCage_;  // the inputs columns_ was found for
+  std::shared_ptr<const Parameterization> columnsSource_;
 };
 
 void registerNodes(PluginRegistrar& registrar) {

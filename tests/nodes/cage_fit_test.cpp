@@ -75,16 +75,26 @@ TEST(CageFit, FollowsSimilarityTransformsExactly) {
   }
 }
 
-TEST(CageFit, ReusedSolverGivesTheSameCage) {
+TEST(CageFit, ReusedSolverAndColumnsGiveTheSameCage) {
   auto param = test::heightFieldParameterization(16, bump);
   const Cage cage = buildCage(*param).cage;
   auto target = moved(*param, Eigen::Matrix3d::Identity(), 1.3, Vector3d(1, 0, 0));
   const CageFitSolver solver(cage, CageFitOptions{}.constraintWeight);
+  const SourceColumns columns(cage, *param);
   const auto fresh = fitCage(cage, *param, *target);
-  const auto reused = fitCage(cage, *param, *target, {}, &solver);
+  const auto reused = fitCage(cage, *param, *target, {}, &solver, &columns);
   EXPECT_EQ(fresh.cage.contentHash(), reused.cage.contentHash());
   EXPECT_TRUE(solver.fits(cage, 10.0));
   EXPECT_FALSE(solver.fits(cage, 11.0));
+}
+
+TEST(CageFit, RefusesColumnsFoundForAnotherCage) {
+  auto param = test::heightFieldParameterization(16, bump);
+  const Cage cage = buildCage(*param).cage;
+  CageBuildOptions finer;
+  finer.resolution = 12;
+  const SourceColumns otherColumns(buildCage(*param, finer).cage, *param);
+  EXPECT_THROW(fitCage(cage, *param, *param, {}, nullptr, &otherColumns), CageFitError);
 }
 
 TEST(CageFit, BentTargetKeepsTheCageAroundIt) {

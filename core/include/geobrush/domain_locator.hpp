@@ -3,6 +3,8 @@
 #pragma once
 
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "geobrush/canvas.hpp"
 
@@ -31,6 +33,8 @@ class DomainLocator {
 
  private:
   DomainHit hit(int face, const Eigen::Vector3d& barycentric, bool inside) const;
+  DomainHit nearestOutside(const Eigen::Vector2d& u, double cellX, double cellY) const;
+  std::span<const int> bucket(int i, int j) const;
   Eigen::Vector3d barycentricOf(int face, const Eigen::Vector2d& u) const;
 
   const Parameterization& param_;
@@ -38,7 +42,8 @@ class DomainLocator {
   Eigen::Vector2d corner_;
   double step_ = 1;
   int cellsX_ = 1, cellsY_ = 1;
-  std::vector<std::vector<int>> buckets_;
+  std::vector<int> bucketStart_;  // per cell, its first entry in bucketFaces_; one past the end
+  std::vector<int> bucketFaces_;
 };
 
 }  // namespace geobrush
