@@ -4,12 +4,16 @@
 // The surface is a 224 x 224 height field with relief, the whole of it painted.
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
 
 #include "cage_build.hpp"
+#include "cage_fit.hpp"
 #include "canvas_grow.hpp"
+#include "dem.hpp"
 #include "gc_warp.hpp"
 #include "geobrush/exponential_map.hpp"
+#include "mesh_checks.hpp"
 
 using namespace geobrush;
 
@@ -104,8 +108,68 @@ void BM_WholeSourcePreprocess(benchmark::State& state) {
   }
 }
 
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// Dragging the target canvas with the source preprocess cached: per move, the target DEM, the
+// cage fit (factorization and source columns kept) and applying the Green coordinates to every
+// canvas vertex. The target is a 163,842-vertex sphere whose PreparedTarget is kept between moves,
+// as the dem node keeps it. Counters give each stage's mean time per move.
+void BM_TargetMove(benchmark::State& state) {
+  Stages stages;
+  auto canvas = stages.canvas();
+  auto source = stages.map(canvas);
+  const Cage cage = buildCage(*source).cage;
+  const auto gc = computeGreenCoordinates(cage.mesh, points(canvas->surface));
+  const PreparedTarget target(std::make_shared<const Mesh>(test::icosphere(7)));
+  const CageFitOptions fitOptions;
+  const CageFitSolver solver(cage, fitOptions.constraintWeight);
+  const SourceColumns columns(cage, *source);
+  TargetDemOptions demOptions;
+  demOptions.scale = 0.3;
+  double demMs = 0, fitMs = 0, applyMs = 0;
+  std::size_t targetVertices = 0;
+  int move = 0;
+  for (auto _ : state) {
+    // Small steps along the sphere, as a drag makes them.
+    const double angle = 0.01 * (move++ % 20);
+    demOptions.origin = Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.3).normalized();
+    auto start = std::chrono::steady_clock::now();
+    TargetDemResult dem = targetExponentialMap(target, source->uv, demOptions);
+    Parameterization targetParam;
+    targetParam.canvas = std::make_shared<const Canvas>(std::move(dem.canvas));
+    targetParam.uv = std::move(dem.uv);
+    targetParam.normal = std::move(dem.normal);
+    targetParam.origin = dem.origin;
+    targetParam.scale = demOptions.scale;
+    targetVertices = targetParam.uv.size();
+    demMs += millisecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    const CageFitResult fitted = fitCage(cage, *source, targetParam, fitOptions, &solver, &columns);
+    fitMs += millisecondsSince(start);
+    start = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(
+        applyGreenCoordinates(gc.phi, gc.psi, cage.mesh, fitted.cage.mesh).data());
+    applyMs += millisecondsSince(start);
+  }
+  const auto perMove = benchmark::Counter::kAvgIterations;
+  state.counters["dem_ms"] = benchmark::Counter(demMs, perMove);
+  state.counters["fit_ms"] = benchmark::Counter(fitMs, perMove);
+  state.counters["apply_ms"] = benchmark::Counter(applyMs, perMove);
+  state.counters["source_points"] = double(canvas->surface.n_vertices());
+  state.counters["target_canvas"] = double(targetVertices);
+  state.counters["cage_faces"] = double(cage.mesh.n_faces());
+}
+
 }  // namespace
 
+BENCHMARK(BM_TargetMove)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Repetitions(5)
+    ->ReportAggregatesOnly();
 BENCHMARK(BM_CanvasGrow)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK(BM_GeneralizedDem)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK(BM_CageBuild)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
