@@ -1,0 +1,89 @@
+// Values of the GeoBrush real-time stage (paper sections 3.2, 4.4): brush strokes in the shared
+// parameter domain, the region of interest Q they paint, and fields on a regular grid over it.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "geobrush/value.hpp"
+
+namespace geobrush {
+
+// One brush dab in the parameter domain: a disc that adds to Q or, subtracting, removes from it.
+struct Dab {
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  double radius = 0;
+  bool subtract = false;
+  bool operator==(const Dab&) const = default;
+};
+
+// The dabs painted so far, in painting order: a later dab overrides the earlier ones where they
+// overlap, as a paint brush and an eraser do.
+class Strokes final : public Value {
+ public:
+  static constexpr std::string_view kTypeId = "geobrush.Strokes";
+  std::string_view typeId() const override { return kTypeId; }
+  Hash contentHash() const override;
+  std::string summary() const override;
+
+  // Whether u is painted: inside the last dab that covers it, that dab adding.
+  bool contains(const Eigen::Vector2d& u) const;
+
+  std::vector<Dab> dabs;
+};
+using StrokesPtr = std::shared_ptr<const Strokes>;
+
+// A regular grid of nodes over the parameter domain: node (i, j), 0 <= i < width,
+// 0 <= j < height, sits at origin + spacing (i, j) and is stored at index j * width + i.
+struct DomainGrid {
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+  double spacing = 1;
+  int width = 0;
+  int height = 0;
+
+  std::size_t nodeCount() const { return std::size_t(width) * std::size_t(height); }
+  std::size_t index(int i, int j) const { return std::size_t(j) * std::size_t(width) + i; }
+  Eigen::Vector2d position(int i, int j) const { return origin + spacing * Eigen::Vector2d(i, j); }
+  bool operator==(const DomainGrid&) const = default;
+};
+
+// The region of interest Q (paper section 3.2) rasterized on a grid, with the canvas vertices it
+// selects: R_in on the source canvas, and on the target canvas the vertices it covers (the
+// complement of R_out there).
+class Region2D final : public Value {
+ public:
+  static constexpr std::string_view kTypeId = "geobrush.Region2D";
+  std::string_view typeId() const override { return kTypeId; }
+  Hash contentHash() const override;
+  std::string summary() const override;
+
+  bool empty() const { return sourceVertices.empty(); }
+
+  DomainGrid grid;
+  std::vector<std::uint8_t> inside;  // per grid node: 1 in Q
+  std::vector<int> sourceVertices;   // R_in: source canvas vertices u with E_s(u) in Q, ascending
+  std::vector<int> targetVertices;   // target canvas vertices with E_t in Q, ascending
+};
+using Region2DPtr = std::shared_ptr<const Region2D>;
+
+// A function from the parameter domain to R^3 sampled at the nodes of a grid, e.g. the offset
+// membrane x~ of Eq. 4. Nodes it does not define hold zero and are marked so.
+class Field2D final : public Value {
+ public:
+  static constexpr std::string_view kTypeId = "geobrush.Field2D";
+  std::string_view typeId() const override { return kTypeId; }
+  Hash contentHash() const override;
+  std::string summary() const override;
+
+  // Bilinear interpolation at u; nodes outside the grid count as undefined. Returns false where
+  // one of the four nodes around u is undefined.
+  bool sample(const Eigen::Vector2d& u, Eigen::Vector3d& value) const;
+
+  DomainGrid grid;
+  std::vector<Eigen::Vector3d> values;  // per grid node
+  std::vector<std::uint8_t> defined;    // per grid node: 1 where values holds the field
+};
+using Field2DPtr = std::shared_ptr<const Field2D>;
+
+}  // namespace geobrush

@@ -1,0 +1,103 @@
+#include "geobrush/region.hpp"
+
+#include <cmath>
+#include <span>
+
+namespace geobrush {
+namespace {
+
+void hashGrid(Hasher& hasher, const DomainGrid& grid) {
+  hasher.f64(grid.origin.x()).f64(grid.origin.y()).f64(grid.spacing);
+  hasher.u64(std::uint64_t(grid.width)).u64(std::uint64_t(grid.height));
+}
+
+std::string gridText(const DomainGrid& grid) {
+  std::string text = std::to_string(grid.width);
+  text += " x ";
+  text += std::to_string(grid.height);
+  text += " grid";
+  return text;
+}
+
+}  // namespace
+
+Hash Strokes::contentHash() const {
+  Hasher hasher;
+  hasher.str(kTypeId).u64(dabs.size());
+  for (const Dab& dab : dabs)
+    hasher.f64(dab.center.x()).f64(dab.center.y()).f64(dab.radius).u64(dab.subtract);
+  return hasher.digest();
+}
+
+std::string Strokes::summary() const {
+  std::string text = "strokes: ";
+  text += std::to_string(dabs.size());
+  text += " dabs";
+  return text;
+}
+
+bool Strokes::contains(const Eigen::Vector2d& u) const {
+  for (auto dab = dabs.rbegin(); dab != dabs.rend(); ++dab)
+    if ((u - dab->center).squaredNorm() <= dab->radius * dab->radius) return !dab->subtract;
+  return false;
+}
+
+Hash Region2D::contentHash() const {
+  Hasher hasher;
+  hasher.str(kTypeId);
+  hashGrid(hasher, grid);
+  hasher.span(std::span<const std::uint8_t>(inside));
+  hasher.span(std::span<const int>(sourceVertices));
+  hasher.span(std::span<const int>(targetVertices));
+  return hasher.digest();
+}
+
+std::string Region2D::summary() const {
+  std::size_t nodes = 0;
+  for (auto in : inside)
+    nodes += in;
+  std::string text = "region: ";
+  text += std::to_string(nodes);
+  text += " nodes of a ";
+  text += gridText(grid);
+  text += ", ";
+  text += std::to_string(sourceVertices.size());
+  text += " source and ";
+  text += std::to_string(targetVertices.size());
+  text += " target vertices";
+  return text;
+}
+
+Hash Field2D::contentHash() const {
+  Hasher hasher;
+  hasher.str(kTypeId);
+  hashGrid(hasher, grid);
+  hasher.u64(values.size());
+  for (const auto& v : values)
+    hasher.f64(v.x()).f64(v.y()).f64(v.z());
+  hasher.span(std::span<const std::uint8_t>(defined));
+  return hasher.digest();
+}
+
+std::string Field2D::summary() const {
+  std::string text = "field on a ";
+  text += gridText(grid);
+  return text;
+}
+
+bool Field2D::sample(const Eigen::Vector2d& u, Eigen::Vector3d& value) const {
+  const Eigen::Vector2d g = (u - grid.origin) / grid.spacing;
+  const double fi = std::floor(g.x()), fj = std::floor(g.y());
+  if (!(fi >= 0 && fj >= 0 && fi + 1 < grid.width && fj + 1 < grid.height)) return false;
+  const int i = int(fi), j = int(fj);
+  const double s = g.x() - fi, t = g.y() - fj;
+  const std::size_t corners[4] = {grid.index(i, j), grid.index(i + 1, j), grid.index(i, j + 1),
+                                  grid.index(i + 1, j + 1)};
+  for (std::size_t c : corners)
+    if (!defined[c]) return false;
+  value = (1 - t) * ((1 - s) * values[corners[0]] + s * values[corners[1]]) +
+          t * ((1 - s) * values[corners[2]] + s * values[corners[3]]);
+  return true;
+}
+
+}  // namespace geobrush

@@ -1,0 +1,136 @@
+#include "roi.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace geobrush {
+namespace {
+
+struct Box {
+  Eigen::Vector2d lo, hi;
+};
+
+Box uvBox(const std::vector<Eigen::Vector2d>& uv) {
+  Box box{uv.front(), uv.front()};
+  for (const auto& u : uv) {
+    box.lo = box.lo.cwiseMin(u);
+    box.hi = box.hi.cwiseMax(u);
+  }
+  return box;
+}
+
+// Grid indices whose nodes may lie in [lo, hi], clamped to the grid.
+void nodeRange(const DomainGrid& grid, const Box& box, int& i0, int& i1, int& j0, int& j1) {
+  const Eigen::Vector2d a = (box.lo - grid.origin) / grid.spacing;
+  const Eigen::Vector2d b = (box.hi - grid.origin) / grid.spacing;
+  i0 = std::max(0, int(std::ceil(a.x())));
+  j0 = std::max(0, int(std::ceil(a.y())));
+  i1 = std::min(grid.width - 1, int(std::floor(b.x())));
+  j1 = std::min(grid.height - 1, int(std::floor(b.y())));
+}
+
+}  // namespace
+
+DomainGrid roiGrid(const Parameterization& source, int resolution) {
+  if (resolution < 16) throw RoiError("the grid resolution must be at least 16 nodes");
+  if (source.uv.empty()) throw RoiError("the source parameterization has no vertices");
+  const Box box = uvBox(source.uv);
+  const Eigen::Vector2d extent = box.hi - box.lo;
+  if (!(extent.maxCoeff() > 0) || !extent.allFinite())
+    throw RoiError("the source domain has no extent");
+  DomainGrid grid;
+  grid.spacing = extent.maxCoeff() / (resolution - 1 - 2 * kRoiBorder);
+  grid.width = int(std::ceil(extent.x() / grid.spacing)) + 1 + 2 * kRoiBorder;
+  grid.height = int(std::ceil(extent.y() / grid.spacing)) + 1 + 2 * kRoiBorder;
+  grid.origin = box.lo - kRoiBorder * grid.spacing * Eigen::Vector2d::Ones();
+  return grid;
+}
+
+std::vector<std::uint8_t> domainCoverage(const Parameterization& param, const DomainGrid& grid) {
+  std::vector<std::uint8_t> covered(grid.nodeCount(), 0);
+  const TriMesh& surface = param.canvas->surface;
+  for (auto f : surface.faces()) {
+    std::array<Eigen::Vector2d, 3> c;
+    int k = 0;
+    for (auto v : surface.fv_range(f))
+      c[std::size_t(k++)] = param.uv[std::size_t(v.idx())];
+    const double area =
+        (c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x();
+    if (area == 0) continue;
+    Box box{c[0].cwiseMin(c[1]).cwiseMin(c[2]), c[0].cwiseMax(c[1]).cwiseMax(c[2])};
+    int i0, i1, j0, j1;
+    nodeRange(grid, box, i0, i1, j0, j1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const Eigen::Vector2d p = grid.position(i, j);
+        // Signed areas of the sub-triangles, relative to the face's: all >= 0 inside (either
+        // orientation, so that fold-overs count as covering too).
+        bool inside = true;
+        for (int e = 0; e < 3 && inside; ++e) {
+          const Eigen::Vector2d& a = c[std::size_t(e)];
+          const Eigen::Vector2d& b = c[std::size_t((e + 1) % 3)];
+          const double sub = (b - a).x() * (p - a).y() - (b - a).y() * (p - a).x();
+          inside = sub / area >= -1e-12;
+        }
+        if (inside) covered[grid.index(i, j)] = 1;
+      }
+  }
+  return covered;
+}
+
+RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& target,
+                        const RoiOptions& options) {
+  RoiCoverage coverage;
+  coverage.grid = roiGrid(source, options.resolution);
+  coverage.source = domainCoverage(source, coverage.grid);
+  coverage.target = domainCoverage(target, coverage.grid);
+  coverage.sourceLocator = std::make_shared<const DomainLocator>(source);
+  coverage.targetLocator = std::make_shared<const DomainLocator>(target);
+  return coverage;
+}
+
+RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
+                      const Parameterization& target, const RoiCoverage& coverage) {
+  RoiResult result;
+  Region2D& region = result.region;
+  region.grid = coverage.grid;
+  const DomainGrid& grid = region.grid;
+  region.inside.assign(grid.nodeCount(), 0);
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i) {
+      const std::size_t n = grid.index(i, j);
+      region.inside[n] =
+          coverage.source[n] && coverage.target[n] && strokes.contains(grid.position(i, j));
+    }
+
+  for (std::size_t v = 0; v < source.uv.size(); ++v)
+    if (strokes.contains(source.uv[v]) && coverage.targetLocator->locate(source.uv[v]).inside)
+      region.sourceVertices.push_back(int(v));
+  for (std::size_t v = 0; v < target.uv.size(); ++v)
+    if (strokes.contains(target.uv[v]) && coverage.sourceLocator->locate(target.uv[v]).inside)
+      region.targetVertices.push_back(int(v));
+
+  for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
+    const Dab& dab = strokes.dabs[d];
+    if (dab.subtract) continue;
+    const Eigen::Vector2d reach = Eigen::Vector2d::Constant(dab.radius);
+    int i0, i1, j0, j1;
+    nodeRange(grid, {dab.center - reach, dab.center + reach}, i0, i1, j0, j1);
+    bool paints = false;
+    for (int j = j0; j <= j1 && !paints; ++j)
+      for (int i = i0; i <= i1 && !paints; ++i) {
+        const std::size_t n = grid.index(i, j);
+        paints = coverage.source[n] && coverage.target[n] &&
+                 (grid.position(i, j) - dab.center).squaredNorm() <= dab.radius * dab.radius;
+      }
+    if (!paints) result.dabsOutside.push_back(int(d));
+  }
+  return result;
+}
+
+RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
+                      const Parameterization& target, const RoiOptions& options) {
+  return paintRegion(strokes, source, target, roiCoverage(source, target, options));
+}
+
+}  // namespace geobrush

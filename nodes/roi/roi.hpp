@@ -1,0 +1,65 @@
+// The region of interest (GeoBrush paper section 3.2, Fig. 6): the part Q of the shared parameter
+// domain painted by the strokes, rasterized on a grid over the source domain, with the vertices it
+// selects on both canvases: R_in = {v in P_s : E_s(v) in Q} and the target vertices with E_t in Q
+// (the complement of R_out on the target canvas).
+#pragma once
+
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "geobrush/canvas.hpp"
+#include "geobrush/domain_locator.hpp"
+#include "geobrush/region.hpp"
+
+namespace geobrush {
+
+class RoiError : public std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+struct RoiOptions {
+  // Grid nodes along the longer side of the source domain's bounding box, border included.
+  int resolution = 256;
+};
+
+// Nodes between the source domain's bounding box and the grid's edge: Q stays at least this far
+// from the edge, which leaves room for the membrane's two fixed rings (section 4.4).
+constexpr int kRoiBorder = 4;
+
+// The grid over E_s(P_s) that the ROI, the membrane and the stitch share. It depends only on the
+// source parameterization, so it stays put while the user paints. Throws RoiError for a
+// resolution below 16 or a source domain of zero extent.
+DomainGrid roiGrid(const Parameterization& source, int resolution);
+
+// Per grid node: 1 where a uv triangle of the parameterization holds it (the canvas covers it).
+std::vector<std::uint8_t> domainCoverage(const Parameterization& param, const DomainGrid& grid);
+
+// What stays the same while only the strokes change: the grid, both canvases' coverage of its
+// nodes and a locator on each parameterization. The locators refer to the parameterizations,
+// which must outlive it.
+struct RoiCoverage {
+  DomainGrid grid;
+  std::vector<std::uint8_t> source;
+  std::vector<std::uint8_t> target;
+  std::shared_ptr<const DomainLocator> sourceLocator;
+  std::shared_ptr<const DomainLocator> targetLocator;
+};
+RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& target,
+                        const RoiOptions& options = {});
+
+struct RoiResult {
+  Region2D region;
+  // Dabs that paint no point covered by both canvases (they change nothing).
+  std::vector<int> dabsOutside;
+};
+
+// Q = the painted points covered by both canvases. A node of the grid is in Q when the strokes
+// paint it and both canvases cover it; a canvas vertex when the strokes paint its uv and the
+// other canvas covers that uv (its own covers it by definition).
+RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
+                      const Parameterization& target, const RoiCoverage& coverage);
+RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
+                      const Parameterization& target, const RoiOptions& options = {});
+
+}  // namespace geobrush

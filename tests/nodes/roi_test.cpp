@@ -1,0 +1,172 @@
+// geobrush.roi: the painted region Q on its grid and the canvas vertices it selects.
+#include <gtest/gtest.h>
+
+#include "canvas_fixtures.hpp"
+#include "direct_context.hpp"
+#include "roi.hpp"
+#include "test_support.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+std::shared_ptr<Parameterization> flatSquare(int n) {
+  return test::heightFieldParameterization(n, [](double, double) { return 0.0; });
+}
+
+// The same square canvas with its uv moved by `shift`: a target that covers part of the source.
+std::shared_ptr<Parameterization> shifted(const Parameterization& param, Eigen::Vector2d shift) {
+  auto moved = std::make_shared<Parameterization>(param);
+  for (auto& u : moved->uv)
+    u += shift;
+  return moved;
+}
+
+Strokes strokes(std::vector<Dab> dabs) {
+  Strokes s;
+  s.dabs = std::move(dabs);
+  return s;
+}
+
+std::vector<int> verticesWithin(const Parameterization& param, const Strokes& s,
+                                const std::function<bool(const Eigen::Vector2d&)>& covered) {
+  std::vector<int> result;
+  for (std::size_t v = 0; v < param.uv.size(); ++v)
+    if (s.contains(param.uv[v]) && covered(param.uv[v])) result.push_back(int(v));
+  return result;
+}
+
+bool inSquare(const Eigen::Vector2d& u, const Eigen::Vector2d& shift = Eigen::Vector2d::Zero()) {
+  return ((u - shift).array().abs() <= 1 + 1e-12).all();
+}
+
+}  // namespace
+
+TEST(RoiGrid, CoversTheSourceDomainWithABorder) {
+  auto param = flatSquare(10);
+  const DomainGrid grid = roiGrid(*param, 64);
+  EXPECT_EQ(grid.width, 64);
+  EXPECT_EQ(grid.height, 64);
+  EXPECT_DOUBLE_EQ(grid.spacing, 2.0 / (64 - 1 - 2 * kRoiBorder));
+  EXPECT_TRUE(grid.origin.isApprox(Eigen::Vector2d::Constant(-1 - kRoiBorder * grid.spacing)));
+  EXPECT_GE(grid.position(grid.width - 1, grid.height - 1).x(),
+            1 + (kRoiBorder - 1e-9) * grid.spacing);
+  EXPECT_THROW(roiGrid(*param, 8), RoiError);
+}
+
+TEST(RoiGrid, CoverageIsTheCanvasDomain) {
+  auto param = flatSquare(10);
+  const DomainGrid grid = roiGrid(*param, 40);
+  const auto covered = domainCoverage(*param, grid);
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i)
+      EXPECT_EQ(covered[grid.index(i, j)] != 0, inSquare(grid.position(i, j))) << i << " " << j;
+}
+
+TEST(Roi, ADiscSelectsTheVerticesAndNodesInside) {
+  auto param = flatSquare(20);
+  const Strokes s = strokes({{{0.1, -0.2}, 0.45, false}});
+  const RoiResult result = paintRegion(s, *param, *param, RoiOptions{64});
+  const auto all = [](const Eigen::Vector2d&) { return true; };
+  EXPECT_EQ(result.region.sourceVertices, verticesWithin(*param, s, all));
+  EXPECT_EQ(result.region.targetVertices, verticesWithin(*param, s, all));
+  EXPECT_FALSE(result.region.sourceVertices.empty());
+  const DomainGrid& grid = result.region.grid;
+  std::size_t nodes = 0;
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i) {
+      const bool in = (grid.position(i, j) - Eigen::Vector2d(0.1, -0.2)).norm() <= 0.45;
+      EXPECT_EQ(result.region.inside[grid.index(i, j)] != 0, in);
+      nodes += in;
+    }
+  // About pi r^2 / h^2 nodes.
+  EXPECT_NEAR(double(nodes), M_PI * 0.45 * 0.45 / (grid.spacing * grid.spacing), 0.1 * nodes);
+  EXPECT_TRUE(result.dabsOutside.empty());
+}
+
+TEST(Roi, KeepsToWhatBothCanvasesCover) {
+  auto source = flatSquare(20);
+  const Eigen::Vector2d shift(1.2, 0);
+  auto target = shifted(*source, shift);  // covers u in [0.2, 2.2]
+  const Strokes s = strokes({{{0.5, 0}, 0.6, false}});
+  const RoiResult result = paintRegion(s, *source, *target, RoiOptions{64});
+  EXPECT_EQ(result.region.sourceVertices, verticesWithin(*source, s, [&](const Eigen::Vector2d& u) {
+              return inSquare(u, shift);
+            }));
+  EXPECT_EQ(result.region.targetVertices,
+            verticesWithin(*target, s, [&](const Eigen::Vector2d& u) { return inSquare(u); }));
+  const DomainGrid& grid = result.region.grid;
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i)
+      if (result.region.inside[grid.index(i, j)]) {
+        EXPECT_GE(grid.position(i, j).x(), 0.2 - 1e-12);
+        EXPECT_LE(grid.position(i, j).x(), 1 + 1e-12);
+      }
+}
+
+TEST(Roi, AnEraserDabRemovesWhatItCovers) {
+  auto param = flatSquare(20);
+  const RoiResult painted =
+      paintRegion(strokes({{{0, 0}, 0.5, false}}), *param, *param, RoiOptions{64});
+  const RoiResult erased = paintRegion(strokes({{{0, 0}, 0.5, false}, {{0.25, 0}, 0.2, true}}),
+                                       *param, *param, RoiOptions{64});
+  EXPECT_LT(erased.region.sourceVertices.size(), painted.region.sourceVertices.size());
+  for (int v : erased.region.sourceVertices)
+    EXPECT_GT((param->uv[std::size_t(v)] - Eigen::Vector2d(0.25, 0)).norm(), 0.2);
+}
+
+TEST(Roi, DabsOutsideTheCanvasesAreReportedAndChangeNothing) {
+  auto param = flatSquare(20);
+  const RoiResult result =
+      paintRegion(strokes({{{5, 5}, 0.5, false}, {{0, 0}, 0.3, false}, {{-3, 0}, 0.2, false}}),
+                  *param, *param, RoiOptions{64});
+  EXPECT_EQ(result.dabsOutside, (std::vector<int>{0, 2}));
+  const RoiResult inside =
+      paintRegion(strokes({{{0, 0}, 0.3, false}}), *param, *param, RoiOptions{64});
+  EXPECT_EQ(result.region.contentHash(), inside.region.contentHash());
+}
+
+TEST(Roi, NoStrokesGiveAnEmptyRegion) {
+  auto param = flatSquare(8);
+  const RoiResult result = paintRegion(Strokes(), *param, *param, RoiOptions{32});
+  EXPECT_TRUE(result.region.empty());
+  EXPECT_TRUE(result.region.targetVertices.empty());
+  EXPECT_EQ(std::count(result.region.inside.begin(), result.region.inside.end(), 1), 0);
+}
+
+TEST(Roi, SelectsVerticesOfARealTerrain) {
+  auto param = test::terrainParameterization();
+  Eigen::Vector2d lo = param->uv.front(), hi = lo;
+  for (const auto& u : param->uv) {
+    lo = lo.cwiseMin(u);
+    hi = hi.cwiseMax(u);
+  }
+  const Eigen::Vector2d centre = (lo + hi) / 2;
+  const double radius = 0.2 * (hi - lo).minCoeff();
+  const Strokes s =
+      strokes({{centre, radius, false}, {centre + Eigen::Vector2d(radius, 0), radius / 2, false}});
+  const RoiResult result = paintRegion(s, *param, *param);
+  const auto all = [](const Eigen::Vector2d&) { return true; };
+  EXPECT_EQ(result.region.sourceVertices, verticesWithin(*param, s, all));
+  EXPECT_GT(result.region.sourceVertices.size(), 100u);
+  EXPECT_EQ(result.region.grid.width, 256);
+}
+
+TEST(RoiNode, WarnsAboutDabsOutsideAndAnEmptyRegion) {
+  const NodeType* type = test::registry().find("geobrush.roi");
+  ASSERT_TRUE(type);
+  auto param = flatSquare(8);
+  auto outside = std::make_shared<Strokes>(strokes({{{9, 9}, 0.5, false}}));
+  ParamMap params;
+  params["resolution"] = 32;
+  test::DirectContext ctx(*type, {{"strokes", outside}, {"source", param}, {"target", param}},
+                          params);
+  auto node = type->create();
+  node->compute(ctx);
+  ASSERT_EQ(ctx.warnings.size(), 2u);
+  EXPECT_TRUE(test::contains(ctx.warnings[0], "1 dabs (1) paint no point"));
+  EXPECT_TRUE(test::contains(ctx.warnings[1], "target stays unchanged"));
+  auto region = std::dynamic_pointer_cast<const Region2D>(ctx.outputs["region"]);
+  ASSERT_TRUE(region);
+  EXPECT_TRUE(region->empty());
+}
