@@ -1,0 +1,35 @@
+// Stitching (GeoBrush paper section 4.4, Fig. 6d): the source ROI R_in, each vertex v moved to
+// x~(E_s(v)) + G(v), replaces the target faces inside Q, and the gap between the two boundaries
+// is triangulated in the parameter domain, so that the result is one manifold mesh whose seam
+// shares vertices.
+#pragma once
+
+#include <stdexcept>
+
+#include "geobrush/canvas.hpp"
+#include "geobrush/region.hpp"
+
+namespace geobrush {
+
+class StitchError : public std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct StitchResult {
+  TriMesh mesh;                   // the whole target with the paste
+  std::size_t patchVertices = 0;  // vertices taken from R_in
+  std::size_t removedFaces = 0;   // target faces replaced
+  std::size_t gapTriangles = 0;   // triangles of the seam strips
+  std::size_t seamLoops = 0;      // boundary loops of R_in, each zipped to one of the target
+};
+
+// `draft` is G(P_s): the source canvas surface with its vertices warped (same connectivity).
+// `offset` is the membrane x~ on the region's grid, or null to paste G alone (x~ = 0). An empty
+// region gives the target mesh unchanged. Throws StitchError when the draft does not match the
+// source canvas, the offset is undefined at a vertex of R_in, the region reaches the edge of the
+// target canvas, or the two boundaries cannot be paired loop by loop.
+StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
+                         const TriMesh& draft, const Field2D* offset,
+                         const Parameterization& target);
+
+}  // namespace geobrush

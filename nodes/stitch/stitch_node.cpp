@@ -1,0 +1,60 @@
+#include <memory>
+#include <string>
+
+#include "geobrush/node.hpp"
+#include "geobrush/registry.hpp"
+#include "stitch.hpp"
+
+namespace {
+
+using geobrush::Context;
+using geobrush::Field2D;
+using geobrush::Mesh;
+using geobrush::NodeError;
+using geobrush::Parameterization;
+using geobrush::Region2D;
+
+class StitchNode final : public geobrush::Node {
+ public:
+  void compute(Context& ctx) override {
+    const auto region = ctx.in<Region2D>("region");
+    const auto source = ctx.in<Parameterization>("source");
+    const auto draft = ctx.in<Mesh>("draft");
+    const auto target = ctx.in<Parameterization>("target");
+    const auto offset = ctx.hasInput("offset") ? ctx.in<Field2D>("offset") : nullptr;
+    if (offset && offset->grid != region->grid)
+      throw NodeError::input("offset", "the membrane was solved on another grid than the region's");
+    if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
+    try {
+      geobrush::StitchResult result =
+          geobrush::stitchPaste(*region, *source, draft->surface, offset.get(), *target);
+      ctx.out("mesh", std::make_shared<const Mesh>(std::move(result.mesh)));
+    } catch (const geobrush::StitchError& e) {
+      throw NodeError::input("region", e.what());
+    }
+  }
+};
+
+void registerNodes(geobrush::PluginRegistrar& r) {
+  r.add(geobrush::NodeTypeBuilder("geobrush.stitch", 1)
+            .label("Stitch")
+            .category("Real-time")
+            .doc("Pastes R_in into the target (paper section 4.4, Fig. 6d): each source vertex v "
+                 "goes to x~(E_s(v)) + G(v), the target faces inside Q are removed, and the gap "
+                 "between the two outlines is triangulated in the parameter domain. The result is "
+                 "one manifold mesh whose seam shares vertices; handles in R_in raise its genus.")
+            .input<Region2D>("region", "Q with R_in and the covered target vertices.")
+            .input<Parameterization>("source", "E_s: the source canvas and its map.")
+            .input<Mesh>("draft", "G(P_s): the source canvas warped by the cages.")
+            .input<Parameterization>("target", "E_t: the target canvas, on the target mesh.")
+            .optionalInput<Field2D>("offset",
+                                    "The offset membrane x~ on the region's grid; without it the "
+                                    "draft is pasted as it is.")
+            .output<Mesh>("mesh", "The target mesh with the paste stitched in.")
+            .node<StitchNode>()
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)

@@ -1,0 +1,181 @@
+// geobrush.stitch: R_in pasted into the target as one manifold mesh.
+#include <gtest/gtest.h>
+
+#include "canvas_fixtures.hpp"
+#include "direct_context.hpp"
+#include "geobrush/mesh_io.hpp"
+#include "mesh_checks.hpp"
+#include "roi.hpp"
+#include "stitch.hpp"
+#include "test_support.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+std::shared_ptr<Parameterization> flatSquare(int n) {
+  return test::heightFieldParameterization(n, [](double, double) { return 0.0; });
+}
+
+Strokes strokes(std::vector<Dab> dabs) {
+  Strokes s;
+  s.dabs = std::move(dabs);
+  return s;
+}
+
+// Twice the signed area of each face projected on the xy plane.
+std::vector<double> projectedAreas(const TriMesh& mesh) {
+  std::vector<double> areas;
+  for (auto f : mesh.faces()) {
+    std::vector<Eigen::Vector2d> c;
+    for (auto v : mesh.fv_range(f))
+      c.emplace_back(mesh.point(v)[0], mesh.point(v)[1]);
+    const Eigen::Vector2d a = c[1] - c[0], b = c[2] - c[0];
+    areas.push_back(a.x() * b.y() - a.y() * b.x());
+  }
+  return areas;
+}
+
+void expectOneManifoldDisc(const TriMesh& mesh) {
+  const MeshStats stats = meshStats(mesh);
+  EXPECT_EQ(stats.boundaryLoops, 1u);
+  EXPECT_EQ(stats.components, 1u);
+  EXPECT_EQ(stats.isolatedVertices, 0u);
+  EXPECT_EQ(stats.nonFiniteVertices, 0u);
+  EXPECT_EQ(stats.eulerCharacteristic, 1);
+  EXPECT_EQ(test::topology(mesh).nonManifoldVertices, 0u);
+}
+
+}  // namespace
+
+// A flat source pasted flat into a flat target of another resolution: the result is the target
+// disc again, and every face, seam strip included, keeps its orientation.
+TEST(Stitch, FlatPasteIsOneManifoldDiscWithoutFolds) {
+  auto source = flatSquare(24);
+  auto target = flatSquare(17);
+  const RoiResult roi =
+      paintRegion(strokes({{{0.1, 0.05}, 0.55, false}}), *source, *target, RoiOptions{64});
+  const StitchResult result =
+      stitchPaste(roi.region, *source, source->canvas->surface, nullptr, *target);
+  expectOneManifoldDisc(result.mesh);
+  EXPECT_EQ(result.seamLoops, 1u);
+  EXPECT_EQ(result.patchVertices, roi.region.sourceVertices.size());
+  EXPECT_GT(result.gapTriangles, 0u);
+  for (double area : projectedAreas(result.mesh))
+    EXPECT_GT(area, 0);
+  EXPECT_NEAR(test::surfaceArea(result.mesh), 4.0, 1e-9);
+}
+
+TEST(Stitch, PatchVerticesGoToTheDraftPlusTheOffset) {
+  auto source = flatSquare(20);
+  auto target = flatSquare(20);
+  const RoiResult roi =
+      paintRegion(strokes({{{0, 0}, 0.5, false}}), *source, *target, RoiOptions{48});
+  TriMesh draft = source->canvas->surface;
+  for (auto v : draft.vertices())
+    draft.point(v)[2] = 0.3 * draft.point(v)[0];
+  Field2D offset;
+  offset.grid = roi.region.grid;
+  offset.values.assign(offset.grid.nodeCount(), Eigen::Vector3d(0, 0, 0.1));
+  offset.defined.assign(offset.grid.nodeCount(), 1);
+  const StitchResult result = stitchPaste(roi.region, *source, draft, &offset, *target);
+  expectOneManifoldDisc(result.mesh);
+  const std::size_t first = result.mesh.n_vertices() - result.patchVertices;
+  for (std::size_t k = 0; k < result.patchVertices; ++k) {
+    const auto& p = result.mesh.point(TriMesh::VertexHandle(int(first + k)));
+    EXPECT_NEAR(p[2], 0.3 * p[0] + 0.1, 1e-12);
+  }
+}
+
+// An annulus: R_in has two boundary loops, and the target keeps an island inside it.
+TEST(Stitch, AnAnnulusIsZippedAlongBothLoops) {
+  auto source = flatSquare(30);
+  auto target = flatSquare(22);
+  const RoiResult roi = paintRegion(strokes({{{0, 0}, 0.7, false}, {{0.05, 0}, 0.3, true}}),
+                                    *source, *target, RoiOptions{64});
+  const StitchResult result =
+      stitchPaste(roi.region, *source, source->canvas->surface, nullptr, *target);
+  EXPECT_EQ(result.seamLoops, 2u);
+  expectOneManifoldDisc(result.mesh);
+  for (double area : projectedAreas(result.mesh))
+    EXPECT_GT(area, 0);
+}
+
+TEST(Stitch, DisjointDabsArePastedEach) {
+  auto source = flatSquare(24);
+  auto target = flatSquare(24);
+  const RoiResult roi =
+      paintRegion(strokes({{{-0.5, -0.5}, 0.3, false}, {{0.5, 0.4}, 0.25, false}}), *source,
+                  *target, RoiOptions{64});
+  const StitchResult result =
+      stitchPaste(roi.region, *source, source->canvas->surface, nullptr, *target);
+  EXPECT_EQ(result.seamLoops, 2u);
+  expectOneManifoldDisc(result.mesh);
+}
+
+TEST(Stitch, AnEmptyRegionLeavesTheTargetUnchanged) {
+  auto source = flatSquare(8);
+  auto target = flatSquare(9);
+  const RoiResult roi = paintRegion(Strokes(), *source, *target, RoiOptions{32});
+  const StitchResult result =
+      stitchPaste(roi.region, *source, source->canvas->surface, nullptr, *target);
+  EXPECT_TRUE(test::bitIdentical(result.mesh, target->canvas->surface));
+}
+
+TEST(Stitch, RefusesADraftOfAnotherCanvas) {
+  auto source = flatSquare(8);
+  const RoiResult roi =
+      paintRegion(strokes({{{0, 0}, 0.5, false}}), *source, *source, RoiOptions{32});
+  EXPECT_THROW(stitchPaste(roi.region, *source, flatSquare(9)->canvas->surface, nullptr, *source),
+               StitchError);
+}
+
+TEST(StitchNode, RefusesAnOffsetOnAnotherGrid) {
+  const NodeType* type = test::registry().find("geobrush.stitch");
+  ASSERT_TRUE(type);
+  auto param = flatSquare(8);
+  auto region = std::make_shared<Region2D>(
+      paintRegion(strokes({{{0, 0}, 0.5, false}}), *param, *param, RoiOptions{32}).region);
+  auto offset = std::make_shared<Field2D>();
+  offset->grid = roiGrid(*param, 40);
+  test::DirectContext ctx(*type, {{"region", region},
+                                  {"source", param},
+                                  {"draft", std::make_shared<const Mesh>(param->canvas->surface)},
+                                  {"target", param},
+                                  {"offset", offset}});
+  try {
+    type->create()->compute(ctx);
+    FAIL() << "no error";
+  } catch (const NodeError& e) {
+    EXPECT_EQ(e.where(), "input 'offset'");
+  }
+}
+
+// The mountain's relief, lifted, pasted back into itself: the seam joins two irregular outlines.
+TEST(Stitch, PastesIntoARealTerrain) {
+  auto terrain = test::terrainParameterization();
+  Eigen::Vector2d lo = terrain->uv.front(), hi = lo;
+  for (const auto& u : terrain->uv) {
+    lo = lo.cwiseMin(u);
+    hi = hi.cwiseMax(u);
+  }
+  const Eigen::Vector2d centre = (lo + hi) / 2;
+  const double radius = 0.25 * (hi - lo).minCoeff();
+  const RoiResult roi = paintRegion(
+      strokes({{centre, radius, false}, {centre + Eigen::Vector2d(radius, 0), radius / 2, false}}),
+      *terrain, *terrain);
+  TriMesh draft = terrain->canvas->surface;
+  for (auto v : draft.vertices())
+    draft.point(v)[1] += 0.05 * (hi - lo).minCoeff();
+  const StitchResult result = stitchPaste(roi.region, *terrain, draft, nullptr, *terrain);
+  const TriMesh& original = terrain->canvas->surface;
+  const MeshStats before = meshStats(original), after = meshStats(result.mesh);
+  EXPECT_EQ(after.boundaryLoops, before.boundaryLoops);
+  EXPECT_EQ(after.components, before.components);
+  EXPECT_EQ(after.eulerCharacteristic, before.eulerCharacteristic);
+  EXPECT_EQ(after.nonFiniteVertices, 0u);
+  EXPECT_EQ(after.isolatedVertices, 0u);
+  EXPECT_EQ(test::topology(result.mesh).nonManifoldVertices, 0u);
+  EXPECT_EQ(result.seamLoops, 1u);
+  EXPECT_GT(result.removedFaces, 100u);
+}
