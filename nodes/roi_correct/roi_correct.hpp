@@ -1,0 +1,46 @@
+// Automatic ROI correction (GeoBrush paper section 4.5, Fig. 9): the outline of Q must not cut
+// through faces that the source map folds over (they have no one-to-one image to stitch along).
+// Flagged faces crossed by the outline are grown through adjacent flagged faces, and a region
+// slightly larger than their image is added to Q. With protrusions included, faces that merely
+// turn steeply away from the DEM normal are flagged too, so painting part of a spike takes all of
+// it.
+#pragma once
+
+#include <stdexcept>
+#include <vector>
+
+#include "geobrush/canvas.hpp"
+#include "geobrush/region.hpp"
+
+namespace geobrush {
+
+class RoiCorrectError : public std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+struct RoiCorrectOptions {
+  // Off: the parameterization's reversed flags are used as they are. On: faces whose unit normal
+  // . DEM normal is below protrusionThreshold are flagged, grown by `ring` rings (k = 3 in the
+  // paper).
+  bool includeProtrusions = false;
+  double protrusionThreshold = 0.5;
+  int ring = 3;
+  // Each added disc reaches this fraction of its radius beyond the flagged faces' image.
+  double margin = 0.1;
+  // Adding a disc can cut other flagged faces; corrections repeat at most this often.
+  int maxRounds = 8;
+};
+
+struct RoiCorrectResult {
+  Strokes strokes;                // the input dabs, then one added dab per corrected feature
+  std::vector<int> addedFaces;    // F_r: the flagged faces the added dabs take in, ascending
+  std::size_t featuresAdded = 0;  // components of F_r
+  bool settled = true;            // false when maxRounds were not enough to leave no cut
+};
+
+// Throws RoiCorrectError when the parameterization has no canvas or flags of the wrong size, or
+// an option is out of range.
+RoiCorrectResult correctRoi(const Strokes& strokes, const Parameterization& source,
+                            const RoiCorrectOptions& options = {});
+
+}  // namespace geobrush

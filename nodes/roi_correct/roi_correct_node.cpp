@@ -1,0 +1,67 @@
+#include <memory>
+#include <string>
+
+#include "geobrush/node.hpp"
+#include "geobrush/registry.hpp"
+#include "roi_correct.hpp"
+
+namespace {
+
+using geobrush::Context;
+using geobrush::NodeError;
+using geobrush::Parameterization;
+using geobrush::Strokes;
+
+class RoiCorrectNode final : public geobrush::Node {
+ public:
+  void compute(Context& ctx) override {
+    const auto strokes = ctx.in<Strokes>("strokes");
+    const auto source = ctx.in<Parameterization>("source");
+    geobrush::RoiCorrectOptions options;
+    options.includeProtrusions = ctx.param<bool>("include_protrusions");
+    options.protrusionThreshold = ctx.param<double>("protrusion_threshold");
+    options.ring = ctx.param<int>("ring");
+    options.margin = ctx.param<double>("margin");
+    geobrush::RoiCorrectResult result;
+    try {
+      result = geobrush::correctRoi(*strokes, *source, options);
+    } catch (const geobrush::RoiCorrectError& e) {
+      throw NodeError::input("source", e.what());
+    }
+    if (!result.settled)
+      ctx.warn("the outline still cuts folded faces after the correction rounds; paint wider");
+    ctx.out("strokes", std::make_shared<const Strokes>(std::move(result.strokes)));
+  }
+};
+
+void registerNodes(geobrush::PluginRegistrar& r) {
+  r.add(geobrush::NodeTypeBuilder("geobrush.roi_correct", 1)
+            .label("ROI Correction")
+            .category("Real-time")
+            .doc("Section 4.5 of the paper: where the outline of the painted region cuts faces "
+                 "that the source map folds over, those faces and the flagged faces next to them "
+                 "are taken in whole, by a dab slightly larger than their image appended to the "
+                 "strokes. Optionally steep protruding features are flagged as well, so that "
+                 "painting part of one takes all of it.")
+            .input<Strokes>("strokes", "The painted dabs.")
+            .input<Parameterization>("source", "E_s with its reversed-face flags.")
+            .output<Strokes>("strokes", "The dabs, with one more per feature taken in.")
+            .paramBool("include_protrusions", false,
+                       "Flag faces turning away from the DEM normal (below the threshold), grown "
+                       "by the ring, instead of using the map's reversed flags.")
+            .paramDouble("protrusion_threshold", 0.5,
+                         "Face normal . DEM normal below which a face counts as protruding.")
+            .range(-1, 1)
+            .paramInt("ring", 3, "Rings of neighbouring faces a protruding face flags (k).")
+            .range(0, 20)
+            .paramDouble("margin", 0.1,
+                         "How far an added dab reaches beyond the taken faces, relative to its "
+                         "radius.")
+            .range(0, 10)
+            .node<RoiCorrectNode>()
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)
