@@ -1,12 +1,18 @@
 #include "geobrush/exponential_map.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
+#include <exception>
 #include <functional>
 #include <limits>
+#include <mutex>
 #include <numbers>
-#include <unordered_map>
+#include <numeric>
+#include <system_error>
+#include <thread>
 #include <utility>
 
 namespace geobrush {
@@ -32,6 +38,58 @@ double boundingDiagonal(const std::vector<Eigen::Vector3d>& p) {
     hi = hi.cwiseMax(x);
   }
   return (hi - lo).norm();
+}
+
+// Runs body(first, last) over fixed blocks of [0, count) on up to `threads` threads (0: one per
+// hardware thread). Callers compute each item from its own inputs alone, so the results are the
+// same for any number of threads.
+template <typename Body>
+void parallelBlocks(std::size_t count, std::size_t blockSize, int threads, const Body& body) {
+  const std::size_t blocks = (count + blockSize - 1) / blockSize;
+  const std::size_t wanted =
+      threads > 0 ? std::size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t workers = std::min(wanted, blocks);
+  if (workers <= 1) {
+    body(std::size_t(0), count);
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failureMutex;
+  auto work = [&] {
+    try {
+      for (std::size_t b = next++; b < blocks; b = next++)
+        body(b * blockSize, std::min(count, (b + 1) * blockSize));
+    } catch (...) {
+      const std::lock_guard lock(failureMutex);
+      if (!failure) failure = std::current_exception();
+      next = blocks;
+    }
+  };
+  std::vector<std::thread> pool;
+  try {
+    for (std::size_t t = 1; t < workers; ++t)
+      pool.emplace_back(work);
+  } catch (const std::system_error&) {
+    // Fewer threads do the same blocks.
+  }
+  work();
+  for (auto& t : pool)
+    t.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+// The corner vertices of every face, read once so that face loops avoid OpenMesh circulators.
+std::vector<std::array<int, 3>> faceCorners(const TriMesh& mesh) {
+  std::vector<std::array<int, 3>> corners(mesh.n_faces());
+  for (auto f : mesh.faces()) {
+    auto h = mesh.halfedge_handle(f);
+    for (int& corner : corners[f.idx()]) {
+      corner = mesh.to_vertex_handle(h).idx();
+      h = mesh.next_halfedge_handle(h);
+    }
+  }
+  return corners;
 }
 
 // Exact at whole quarter turns, so that turning the axes by 90 degrees swaps u and v exactly.
@@ -78,18 +136,398 @@ Eigen::Vector2d step(const Frame& q, const Eigen::Vector3d& p, bool rescale) {
   return s;
 }
 
-struct Lexicographic {
-  bool operator()(const std::pair<double, int>& a, const std::pair<double, int>& b) const {
-    return a > b;
-  }
+// A symmetric graph in compressed rows: the neighbours of v are
+// neighbour[first[v]] .. neighbour[first[v + 1] - 1].
+struct Adjacency {
+  std::vector<int> first;
+  std::vector<int> neighbour;
 };
 
-std::vector<std::vector<int>> meshAdjacency(const TriMesh& mesh) {
-  std::vector<std::vector<int>> adjacency(mesh.n_vertices());
-  for (auto v : mesh.vertices())
-    for (auto w : mesh.vv_range(v))
-      adjacency[v.idx()].push_back(w.idx());
-  return adjacency;
+// The graph with an edge each way for every pair that forEachPair(add) passes to add(a, b), each
+// row in the order of the first mention of its entries. forEachPair runs twice: once to count the
+// rows, once to fill them.
+template <typename ForEachPair>
+Adjacency symmetricAdjacency(std::size_t vertexCount, int threads, const ForEachPair& forEachPair) {
+  Adjacency graph;
+  graph.first.assign(vertexCount + 1, 0);
+  forEachPair([&](int a, int b) {
+    ++graph.first[a + 1];
+    ++graph.first[b + 1];
+  });
+  std::partial_sum(graph.first.begin(), graph.first.end(), graph.first.begin());
+  std::vector<int> end(graph.first.begin(), graph.first.end() - 1);
+  graph.neighbour.resize(graph.first.back());
+  forEachPair([&](int a, int b) {
+    graph.neighbour[end[a]++] = b;
+    graph.neighbour[end[b]++] = a;
+  });
+  // Each row keeps the first of its repeats, found by stamping its entries with the row (cheaper
+  // than sorting the short rows); then the rows move together.
+  parallelBlocks(vertexCount, 8192, threads, [&](std::size_t first, std::size_t last) {
+    std::vector<int> stamp(vertexCount, -1);
+    for (std::size_t v = first; v < last; ++v) {
+      int kept = graph.first[v];
+      for (int e = graph.first[v]; e < end[v]; ++e) {
+        const int w = graph.neighbour[e];
+        if (stamp[w] == int(v)) continue;
+        stamp[w] = int(v);
+        graph.neighbour[kept++] = w;
+      }
+      end[v] = kept;
+    }
+  });
+  int kept = 0;
+  for (std::size_t v = 0; v < vertexCount; ++v) {
+    const int begin = graph.first[v];
+    graph.first[v] = kept;
+    for (int e = begin; e < end[v]; ++e)
+      graph.neighbour[std::size_t(kept++)] = graph.neighbour[std::size_t(e)];
+  }
+  graph.first[vertexCount] = kept;
+  graph.neighbour.resize(std::size_t(kept));
+  return graph;
+}
+
+template <typename Add>
+void forEachMeshEdge(const TriMesh& mesh, const Add& add) {
+  for (auto e : mesh.edges()) {
+    const auto h = mesh.halfedge_handle(e, 0);
+    add(mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx());
+  }
+}
+
+// The boundary samples of Eq. 1 as a structure of arrays, so that its sum runs over whole lanes.
+// The padding up to a whole lane lies at infinity with a zero normal: its weight and term are
+// exactly 0.
+struct BoundaryNormals {
+  static constexpr int kLanes = 4;
+  Eigen::ArrayXd x, y, z, nx, ny, nz;
+};
+
+BoundaryNormals boundaryNormals(const std::vector<Eigen::Vector3d>& p,
+                                const std::vector<int>& boundary,
+                                const std::vector<Eigen::Vector3d>& normals) {
+  const auto count = Eigen::Index(boundary.size());
+  const Eigen::Index padded =
+      (count + BoundaryNormals::kLanes - 1) / BoundaryNormals::kLanes * BoundaryNormals::kLanes;
+  const double far = std::numeric_limits<double>::infinity();
+  BoundaryNormals b;
+  for (Eigen::ArrayXd* a : {&b.x, &b.y, &b.z})
+    a->setConstant(padded, far);
+  for (Eigen::ArrayXd* a : {&b.nx, &b.ny, &b.nz})
+    a->setZero(padded);
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const Eigen::Vector3d& w = p[boundary[i]];
+    const Eigen::Vector3d& n = normals[boundary[i]];
+    b.x[i] = w.x();
+    b.y[i] = w.y();
+    b.z[i] = w.z();
+    b.nx[i] = n.x();
+    b.ny[i] = n.y();
+    b.nz[i] = n.z();
+  }
+  return b;
+}
+
+struct WeightedSum {
+  Eigen::Vector3d normal;
+  double weight = 0;
+};
+
+// Eq. 1 at v: the sum of n(w) / (|w - v|^2 + eps) over the boundary samples w, and the sum of
+// the weights. Lane j sums the samples j, j + 4, ...; the lanes are added in a fixed order, so
+// the result depends on v alone.
+WeightedSum equationOneSum(const BoundaryNormals& b, const Eigen::Vector3d& v, double eps) {
+  constexpr int kLanes = BoundaryNormals::kLanes;
+  using Lanes = Eigen::Array<double, kLanes, 1>;
+  Lanes sumX = Lanes::Zero(), sumY = Lanes::Zero(), sumZ = Lanes::Zero(), sumW = Lanes::Zero();
+  for (Eigen::Index i = 0; i < b.x.size(); i += kLanes) {
+    const Lanes dx = b.x.segment<kLanes>(i) - v.x();
+    const Lanes dy = b.y.segment<kLanes>(i) - v.y();
+    const Lanes dz = b.z.segment<kLanes>(i) - v.z();
+    const Lanes w = (dx * dx + dy * dy + dz * dz + eps).inverse();
+    sumX += w * b.nx.segment<kLanes>(i);
+    sumY += w * b.ny.segment<kLanes>(i);
+    sumZ += w * b.nz.segment<kLanes>(i);
+    sumW += w;
+  }
+  auto total = [](const Lanes& l) { return (l[0] + l[1]) + (l[2] + l[3]); };
+  return {{total(sumX), total(sumY), total(sumZ)}, total(sumW)};
+}
+
+using EquationOneSum = WeightedSum (*)(const BoundaryNormals&, const Eigen::Vector3d&, double);
+
+#if defined(__GNUC__) && defined(__x86_64__)
+// The build targets plain x86-64, so Eigen's packets hold two lanes. Where the CPU has AVX2, the
+// four lanes fit one register: the same operations on the same lanes, without fused
+// multiply-adds, so the sums are bit-identical to equationOneSum's.
+using FourLanes = double __attribute__((vector_size(4 * sizeof(double))));
+
+__attribute__((target("avx2"))) WeightedSum equationOneSumAvx2(const BoundaryNormals& b,
+                                                               const Eigen::Vector3d& v,
+                                                               double eps) {
+  static_assert(BoundaryNormals::kLanes == 4);
+  FourLanes sumX = {}, sumY = {}, sumZ = {}, sumW = {};
+  FourLanes x, y, z, nx, ny, nz;
+  for (Eigen::Index i = 0; i < b.x.size(); i += 4) {
+    std::memcpy(&x, b.x.data() + i, sizeof x);
+    std::memcpy(&y, b.y.data() + i, sizeof y);
+    std::memcpy(&z, b.z.data() + i, sizeof z);
+    std::memcpy(&nx, b.nx.data() + i, sizeof nx);
+    std::memcpy(&ny, b.ny.data() + i, sizeof ny);
+    std::memcpy(&nz, b.nz.data() + i, sizeof nz);
+    const FourLanes dx = x - v.x(), dy = y - v.y(), dz = z - v.z();
+    const FourLanes w = 1.0 / (dx * dx + dy * dy + dz * dz + eps);
+    sumX += w * nx;
+    sumY += w * ny;
+    sumZ += w * nz;
+    sumW += w;
+  }
+  auto total = [](const double* l) { return (l[0] + l[1]) + (l[2] + l[3]); };
+  double lanes[4][4];
+  std::memcpy(lanes[0], &sumX, sizeof sumX);
+  std::memcpy(lanes[1], &sumY, sizeof sumY);
+  std::memcpy(lanes[2], &sumZ, sizeof sumZ);
+  std::memcpy(lanes[3], &sumW, sizeof sumW);
+  return {{total(lanes[0]), total(lanes[1]), total(lanes[2])}, total(lanes[3])};
+}
+
+EquationOneSum fastestEquationOneSum() {
+  return __builtin_cpu_supports("avx2") ? equationOneSumAvx2 : equationOneSum;
+}
+#else
+EquationOneSum fastestEquationOneSum() {
+  return equationOneSum;
+}
+#endif
+
+// `items` sorted stably by key(item) in [0, keyCount), and where each key's run starts
+// (keyCount + 1 entries).
+template <typename Key>
+std::pair<std::vector<int>, std::vector<int>> countingSort(const std::vector<int>& items,
+                                                           int keyCount, const Key& key) {
+  std::vector<int> start(std::size_t(keyCount) + 1, 0);
+  for (int item : items)
+    ++start[std::size_t(key(item)) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<int> sorted(items.size());
+  std::vector<int> next(start.begin(), start.end() - 1);
+  for (int item : items)
+    sorted[std::size_t(next[std::size_t(key(item))]++)] = item;
+  return {std::move(sorted), std::move(start)};
+}
+
+// A uniform grid of cubic cells over points, stored column by column: the points of each (x, y)
+// column sorted by z cell, then by index, so that the cells z0..z1 of a column are one run.
+class PointGrid {
+ public:
+  PointGrid(const std::vector<Eigen::Vector3d>& p, double cellSize) : cellSize_(cellSize) {
+    Eigen::Vector3d hi = p.front();
+    lo_ = p.front();
+    for (const auto& x : p) {
+      lo_ = lo_.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+    }
+    dims_ = ((hi - lo_) / cellSize_).array().floor().cast<int>() + 1;
+    std::vector<int> column(p.size()), zCell(p.size()), all(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const Eigen::Array3i c = cellOf(p[i]);
+      column[i] = c.x() * dims_.y() + c.y();
+      zCell[i] = c.z();
+      all[i] = int(i);
+    }
+    // Two stable passes (z cell, then column) order the points by (column, z cell, index).
+    const auto byZ = countingSort(all, dims_.z(), [&](int i) { return zCell[i]; }).first;
+    std::tie(point_, columnStart_) =
+        countingSort(byZ, dims_.x() * dims_.y(), [&](int i) { return column[i]; });
+    zCell_.resize(p.size());
+    for (std::size_t e = 0; e < point_.size(); ++e)
+      zCell_[e] = zCell[point_[e]];
+  }
+
+  double cellSize() const { return cellSize_; }
+  const Eigen::Array3i& dims() const { return dims_; }
+  Eigen::Array3i cellOf(const Eigen::Vector3d& x) const {
+    return ((x - lo_) / cellSize_).array().floor().cast<int>().min(dims_ - 1).max(0);
+  }
+
+  // A non-empty cell: its grid index and the run of entries holding its points.
+  struct Cell {
+    Eigen::Array3i index;
+    int begin, end;
+  };
+  std::vector<Cell> cells() const {
+    std::vector<Cell> cells;
+    for (int column = 0; column + 1 < int(columnStart_.size()); ++column) {
+      for (int e = columnStart_[column]; e < columnStart_[column + 1]; ++e) {
+        if (e > columnStart_[column] && zCell_[e] == zCell_[e - 1]) continue;
+        cells.push_back({{column / dims_.y(), column % dims_.y(), zCell_[e]}, e, e});
+      }
+    }
+    // The entries run on from cell to cell.
+    for (std::size_t c = 0; c < cells.size(); ++c)
+      cells[c].end = c + 1 < cells.size() ? cells[c + 1].begin : int(point_.size());
+    return cells;
+  }
+  int pointOfEntry(int e) const { return point_[e]; }
+
+  // Calls visit(j) for every point j in the cells (x, y, z0..z1), clipped to the grid.
+  template <typename Visit>
+  void visitColumn(int x, int y, int z0, int z1, const Visit& visit) const {
+    if (x < 0 || y < 0 || x >= dims_.x() || y >= dims_.y()) return;
+    const std::size_t column = std::size_t(x) * std::size_t(dims_.y()) + std::size_t(y);
+    const auto begin = zCell_.begin() + columnStart_[column];
+    const auto end = zCell_.begin() + columnStart_[column + 1];
+    for (auto e = std::lower_bound(begin, end, z0); e != end && *e <= z1; ++e)
+      visit(point_[std::size_t(e - zCell_.begin())]);
+  }
+
+ private:
+  double cellSize_;
+  Eigen::Vector3d lo_;
+  Eigen::Array3i dims_;
+  std::vector<int> point_, zCell_;  // grid entries, column by column
+  std::vector<int> columnStart_;    // per column (x * dims.y + y), its first entry
+};
+
+// Calls visit(j) for every point j in the cells at Chebyshev distance exactly r from `home`.
+template <typename Visit>
+void visitShell(const PointGrid& grid, const Eigen::Array3i& home, int r, const Visit& visit) {
+  for (int x = home.x() - r; x <= home.x() + r; ++x) {
+    for (int y = home.y() - r; y <= home.y() + r; ++y) {
+      if (std::abs(x - home.x()) == r || std::abs(y - home.y()) == r) {
+        grid.visitColumn(x, y, home.z() - r, home.z() + r, visit);
+      } else {
+        grid.visitColumn(x, y, home.z() - r, home.z() - r, visit);
+        grid.visitColumn(x, y, home.z() + r, home.z() + r, visit);
+      }
+    }
+  }
+}
+
+// The k nearest other points of every point, perPoint = min(k, n - 1) in a row each.
+struct NeighbourTable {
+  std::size_t perPoint = 0;
+  std::vector<int> index;
+};
+
+// The `want` nearest of the points offered, as (squared distance, index) pairs in increasing
+// order: a strict order, so the result does not depend on the order of the offers.
+class NearestList {
+ public:
+  explicit NearestList(std::size_t want) : want_(want) { best_.reserve(want + 1); }
+  void clear() { best_.clear(); }
+  void offer(double squaredDistance, int index) {
+    const std::pair<double, int> candidate{squaredDistance, index};
+    if (full() && !(candidate < best_.back())) return;
+    best_.insert(std::upper_bound(best_.begin(), best_.end(), candidate), candidate);
+    if (best_.size() > want_) best_.pop_back();
+  }
+  bool full() const { return best_.size() == want_; }
+  // Whether every point farther than `distance` from the query is surely not among the nearest.
+  bool settledWithin(double distance) const {
+    return full() && best_.back().first <= distance * distance;
+  }
+  void write(int* out) const {
+    for (const auto& [d, j] : best_)
+      *out++ = j;
+  }
+
+ private:
+  std::size_t want_;
+  std::vector<std::pair<double, int>> best_;
+};
+
+// Offers `nearest` the points of the shells from `firstShell` on around point i's cell `home`,
+// until its k-th nearest is nearer than every shell not searched.
+void searchShells(const PointGrid& grid, const std::vector<Eigen::Vector3d>& p, int i,
+                  const Eigen::Array3i& home, int firstShell, NearestList& nearest) {
+  const int maxRing = grid.dims().maxCoeff();
+  for (int r = firstShell; r <= maxRing; ++r) {
+    // Points beyond shell r - 1 are at least (r - 1) * h away.
+    if (r > 0 && nearest.settledWithin((r - 1) * grid.cellSize())) return;
+    visitShell(grid, home, r, [&](int j) {
+      if (j != i) nearest.offer((p[j] - p[i]).squaredNorm(), j);
+    });
+  }
+}
+
+// The points of one grid cell share the first search, of the 27 cells around it, which settles
+// nearly all of them; the others search on alone. Cells are independent, so threads share them.
+NeighbourTable nearestNeighbourTable(const std::vector<Eigen::Vector3d>& p, int k, int threads) {
+  const std::size_t n = p.size();
+  NeighbourTable table;
+  if (n < 2 || k < 1) return table;
+  table.perPoint = std::min<std::size_t>(static_cast<std::size_t>(k), n - 1);
+  table.index.resize(n * table.perPoint);
+  // About a few points per cell for points spread over a surface.
+  const double diagonal = boundingDiagonal(p);
+  const PointGrid grid(p, diagonal > 0 ? 2 * diagonal / std::sqrt(static_cast<double>(n)) : 1.0);
+  const auto cells = grid.cells();
+  parallelBlocks(cells.size(), 64, threads, [&](std::size_t first, std::size_t last) {
+    NearestList nearest(table.perPoint);
+    std::vector<Eigen::Vector3d> blockPoint;
+    std::vector<int> blockIndex;
+    for (std::size_t c = first; c < last; ++c) {
+      const Eigen::Array3i& home = cells[c].index;
+      blockPoint.clear();
+      blockIndex.clear();
+      for (int r = 0; r <= 1; ++r) {
+        visitShell(grid, home, r, [&](int j) {
+          blockPoint.push_back(p[j]);
+          blockIndex.push_back(j);
+        });
+      }
+      for (int e = cells[c].begin; e < cells[c].end; ++e) {
+        const int i = grid.pointOfEntry(e);
+        nearest.clear();
+        for (std::size_t m = 0; m < blockIndex.size(); ++m)
+          if (blockIndex[m] != i)
+            nearest.offer((blockPoint[m] - p[i]).squaredNorm(), blockIndex[m]);
+        searchShells(grid, p, i, home, 2, nearest);
+        nearest.write(&table.index[std::size_t(i) * table.perPoint]);
+      }
+    }
+  });
+  return table;
+}
+
+// Whether slot a comes before slot b in the propagation: by distance, ties by vertex id.
+bool nearer(int a, int b, const std::vector<double>& distance, const std::vector<int>& vertex) {
+  return distance[a] < distance[b] || (distance[a] == distance[b] && vertex[a] < vertex[b]);
+}
+
+// The DEM propagation (see `propagate`) over the canvas vertices `p`, with neighbours(v, out)
+// appending the neighbours of v.
+std::vector<Eigen::Vector2d> propagateOver(const Canvas& canvas,
+                                           const std::vector<Eigen::Vector3d>& p,
+                                           const std::vector<Eigen::Vector3d>& normals,
+                                           const Frame& origin,
+                                           std::function<void(int, std::vector<int>&)> neighbours,
+                                           bool rescale) {
+  const std::size_t n = p.size();
+  std::vector<int> originCorners;
+  for (auto v : canvas.surface.fv_range(TriMesh::FaceHandle(canvas.originFace)))
+    originCorners.push_back(v.idx());
+  ExponentialMapGrowth::Graph graph;
+  graph.vertexCount = n;
+  graph.point = [&](int v) { return p[v]; };
+  graph.normal = [&](int v) { return normals[v]; };
+  graph.neighbours = std::move(neighbours);
+  ExponentialMapGrowth growth(
+      std::move(graph), origin, originCorners, rescale,
+      1e-12 * std::max(boundingDiagonal(p), std::numeric_limits<double>::min()));
+  while (growth.fixNext() >= 0) {
+  }
+  std::vector<Eigen::Vector2d> uv(n, Eigen::Vector2d::Zero());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!growth.isFixed(static_cast<int>(i))) {
+      throw DemError("canvas",
+                     "canvas vertex " + std::to_string(i) + " is not connected to the origin");
+    }
+    uv[i] = growth.uv(static_cast<int>(i));
+  }
+  return uv;
 }
 
 void checkCanvas(const Canvas& canvas) {
@@ -130,6 +568,101 @@ void checkOptions(const DemOptions& o) {
     throw DemError("reversed_threshold", "must be a finite number");
   }
   if (o.reversedRing < 0) throw DemError("reversed_ring", "must be 0 or more");
+  if (o.threads < 0) throw DemError("threads", "must be 0 (one per hardware thread) or more");
+}
+
+// The unit surface normals (see surfaceNormals) at the canvas vertices `at`, zero elsewhere.
+// Throws DemError("canvas") for the first of them that has none.
+std::vector<Eigen::Vector3d> surfaceNormalsAt(const Canvas& canvas, const std::vector<int>& at,
+                                              int threads) {
+  const bool fromSource = canvas.source != nullptr;
+  const TriMesh& mesh = fromSource ? canvas.source->surface : canvas.surface;
+  std::vector<Eigen::Vector3d> normals(canvas.surface.n_vertices(), Eigen::Vector3d::Zero());
+  std::vector<char> missing(at.size(), 0);
+  parallelBlocks(at.size(), 1024, threads, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k) {
+      const int i = at[k];
+      const int v = fromSource ? canvas.sourceVertex[i] : i;
+      const Eigen::Vector3d n = angleWeightedNormal(mesh, TriMesh::VertexHandle(v));
+      missing[k] = !(n.norm() > 0);
+      if (!missing[k]) normals[i] = n.normalized();
+    }
+  });
+  const auto bad = std::find(missing.begin(), missing.end(), 1);
+  if (bad != missing.end()) {
+    throw DemError("canvas", "canvas vertex " + std::to_string(at[bad - missing.begin()]) +
+                                 " has no surface normal (its faces are degenerate or cancel "
+                                 "out)");
+  }
+  return normals;
+}
+
+// Section 4.5's flags (see reversedFaces) over the faces' `corners` on the points `p`.
+std::vector<std::uint8_t> reversedFlags(const std::vector<std::array<int, 3>>& corners,
+                                        const std::vector<Eigen::Vector3d>& p,
+                                        const std::vector<Eigen::Vector3d>& normals,
+                                        double threshold) {
+  std::vector<std::uint8_t> flags(corners.size(), 0);
+  for (std::size_t f = 0; f < corners.size(); ++f) {
+    const auto& [a, b, c] = corners[f];
+    const Eigen::Vector3d dem = normals[a] + normals[b] + normals[c];
+    const Eigen::Vector3d face = (p[b] - p[a]).cross(p[c] - p[a]);
+    const double dot =
+        face.norm() > 0 && dem.norm() > 0 ? face.normalized().dot(dem.normalized()) : 0.0;
+    flags[f] = dot < threshold;
+  }
+  return flags;
+}
+
+// growFaceRing over the faces' `corners` on `vertexCount` vertices.
+std::vector<std::uint8_t> grownFlags(const std::vector<std::array<int, 3>>& corners,
+                                     std::size_t vertexCount, std::vector<std::uint8_t> flags,
+                                     int rings) {
+  std::vector<char> marked(vertexCount);
+  for (int r = 0; r < rings; ++r) {
+    std::fill(marked.begin(), marked.end(), 0);
+    for (std::size_t f = 0; f < corners.size(); ++f)
+      if (flags[f])
+        for (int v : corners[f])
+          marked[v] = 1;
+    for (std::size_t f = 0; f < corners.size(); ++f)
+      for (int v : corners[f])
+        if (marked[v]) flags[f] = 1;
+  }
+  return flags;
+}
+
+// Eq. 1 (see interpolatedNormals) on the canvas points `p`.
+std::vector<Eigen::Vector3d> equationOneNormals(const std::vector<Eigen::Vector3d>& p,
+                                                const std::vector<int>& boundaryLoop,
+                                                const std::vector<Eigen::Vector3d>& surface,
+                                                double epsilon, int threads) {
+  const double diagonal = boundingDiagonal(p);
+  const double eps = epsilon * diagonal * diagonal;
+  const BoundaryNormals boundary = boundaryNormals(p, boundaryLoop, surface);
+  std::vector<char> onBoundary(p.size(), 0);
+  for (int b : boundaryLoop)
+    onBoundary[b] = 1;
+  std::vector<Eigen::Vector3d> normals = surface;
+  std::vector<char> cancelled(p.size(), 0);
+  const EquationOneSum boundarySum = fastestEquationOneSum();
+  // Each vertex sums over the whole boundary: blocks of 64 keep the threads evenly loaded.
+  parallelBlocks(p.size(), 64, threads, [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) {
+      if (onBoundary[i]) continue;
+      const WeightedSum sum = boundarySum(boundary, p[i], eps);
+      cancelled[i] = !(sum.normal.norm() > 1e-9 * sum.weight);
+      if (!cancelled[i]) normals[i] = sum.normal.normalized();
+    }
+  });
+  const auto bad = std::find(cancelled.begin(), cancelled.end(), 1);
+  if (bad != cancelled.end()) {
+    throw DemError("canvas", "the canvas boundary's normals cancel out at canvas vertex " +
+                                 std::to_string(bad - cancelled.begin()) +
+                                 ": the canvas wraps too far around the surface for Eq. 1; "
+                                 "paint a flatter canvas or use the original DEM");
+  }
+  return normals;
 }
 
 }  // namespace
@@ -150,51 +683,16 @@ Eigen::Vector3d angleWeightedNormal(const TriMesh& mesh, TriMesh::VertexHandle v
   return sum;
 }
 
-std::vector<Eigen::Vector3d> surfaceNormals(const Canvas& canvas) {
-  const bool fromSource = canvas.source != nullptr;
-  const TriMesh& mesh = fromSource ? canvas.source->surface : canvas.surface;
-  std::vector<Eigen::Vector3d> normals(canvas.surface.n_vertices());
-  for (std::size_t i = 0; i < normals.size(); ++i) {
-    const int v = fromSource ? canvas.sourceVertex[i] : static_cast<int>(i);
-    const Eigen::Vector3d n = angleWeightedNormal(mesh, TriMesh::VertexHandle(v));
-    if (!(n.norm() > 0)) {
-      throw DemError("canvas", "canvas vertex " + std::to_string(i) +
-                                   " has no surface normal (its faces are degenerate or cancel "
-                                   "out)");
-    }
-    normals[i] = n.normalized();
-  }
-  return normals;
+std::vector<Eigen::Vector3d> surfaceNormals(const Canvas& canvas, int threads) {
+  std::vector<int> all(canvas.surface.n_vertices());
+  std::iota(all.begin(), all.end(), 0);
+  return surfaceNormalsAt(canvas, all, threads);
 }
 
 std::vector<Eigen::Vector3d> interpolatedNormals(const Canvas& canvas,
                                                  const std::vector<Eigen::Vector3d>& surface,
-                                                 double epsilon) {
-  const std::vector<Eigen::Vector3d> p = points(canvas.surface);
-  const double diagonal = boundingDiagonal(p);
-  const double eps = epsilon * diagonal * diagonal;
-  std::vector<char> onBoundary(p.size(), 0);
-  for (int b : canvas.boundary)
-    onBoundary[b] = 1;
-  std::vector<Eigen::Vector3d> normals = surface;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (onBoundary[i]) continue;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    double weights = 0;
-    for (int b : canvas.boundary) {
-      const double w = 1 / ((p[b] - p[i]).squaredNorm() + eps);
-      sum += w * surface[b];
-      weights += w;
-    }
-    if (!(sum.norm() > 1e-9 * weights)) {
-      throw DemError("canvas", "the canvas boundary's normals cancel out at canvas vertex " +
-                                   std::to_string(i) +
-                                   ": the canvas wraps too far around the surface for Eq. 1; "
-                                   "paint a flatter canvas or use the original DEM");
-    }
-    normals[i] = sum.normalized();
-  }
-  return normals;
+                                                 double epsilon, int threads) {
+  return equationOneNormals(points(canvas.surface), canvas.boundary, surface, epsilon, threads);
 }
 
 Frame originFrame(const Canvas& canvas, const std::vector<Eigen::Vector3d>& normals,
@@ -244,62 +742,48 @@ Frame originFrame(const std::array<Eigen::Vector3d, 3>& corners,
   return frame;
 }
 
-std::vector<std::vector<int>> nearestNeighbours(const std::vector<Eigen::Vector3d>& p, int k) {
-  const std::size_t n = p.size();
-  std::vector<std::vector<int>> result(n);
-  if (n < 2 || k < 1) return result;
-  const std::size_t want = std::min<std::size_t>(static_cast<std::size_t>(k), n - 1);
-  Eigen::Vector3d lo = p.front(), hi = p.front();
-  for (const auto& x : p) {
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  // About a few points per cell for points spread over a surface.
-  const double diagonal = (hi - lo).norm();
-  const double h = diagonal > 0 ? 2 * diagonal / std::sqrt(static_cast<double>(n)) : 1.0;
-  const Eigen::Array3i dims = (((hi - lo) / h).array().floor().cast<int>() + 1).matrix();
-  auto cellOf = [&](const Eigen::Vector3d& x) -> Eigen::Array3i {
-    return (((x - lo) / h).array().floor().cast<int>()).min(dims - 1).max(0);
-  };
-  auto key = [&](const Eigen::Array3i& c) {
-    return (static_cast<std::int64_t>(c.x()) * dims.y() + c.y()) * dims.z() + c.z();
-  };
-  std::unordered_map<std::int64_t, std::vector<int>> cells;
-  for (std::size_t i = 0; i < n; ++i)
-    cells[key(cellOf(p[i]))].push_back(static_cast<int>(i));
-
-  const int maxRing = dims.maxCoeff();
-  std::vector<std::pair<double, int>> best;
-  for (std::size_t i = 0; i < n; ++i) {
-    best.clear();
-    const Eigen::Array3i home = cellOf(p[i]);
-    auto consider = [&](int j) {
-      if (j == static_cast<int>(i)) return;
-      const std::pair<double, int> candidate{(p[j] - p[i]).squaredNorm(), j};
-      if (best.size() == want && !(candidate < best.back())) return;
-      best.insert(std::upper_bound(best.begin(), best.end(), candidate), candidate);
-      if (best.size() > want) best.pop_back();
-    };
-    for (int r = 0; r <= maxRing; ++r) {
-      for (int x = home.x() - r; x <= home.x() + r; ++x) {
-        for (int y = home.y() - r; y <= home.y() + r; ++y) {
-          for (int z = home.z() - r; z <= home.z() + r; ++z) {
-            const Eigen::Array3i c(x, y, z);
-            if ((c - home).abs().maxCoeff() != r || (c < 0).any() || (c >= dims).any()) continue;
-            const auto it = cells.find(key(c));
-            if (it == cells.end()) continue;
-            for (int j : it->second)
-              consider(j);
-          }
-        }
-      }
-      // Points in ring r + 1 or beyond are at least r * h away.
-      if (best.size() == want && best.back().first <= (r * h) * (r * h)) break;
-    }
-    for (const auto& [d, j] : best)
-      result[i].push_back(j);
+std::vector<std::vector<int>> nearestNeighbours(const std::vector<Eigen::Vector3d>& p, int k,
+                                                int threads) {
+  const NeighbourTable table = nearestNeighbourTable(p, k, threads);
+  std::vector<std::vector<int>> result(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto row = table.index.begin() + std::ptrdiff_t(i * table.perPoint);
+    result[i].assign(row, row + std::ptrdiff_t(table.perPoint));
   }
   return result;
+}
+
+void ExponentialMapGrowth::SlotQueue::moveUp(int slot, const std::vector<double>& distance,
+                                             const std::vector<int>& vertex) {
+  std::size_t at = place[slot] >= 0 ? std::size_t(place[slot]) : heap.size();
+  if (at == heap.size()) heap.push_back(slot);
+  for (; at > 0 && nearer(slot, heap[(at - 1) / 2], distance, vertex); at = (at - 1) / 2) {
+    heap[at] = heap[(at - 1) / 2];
+    place[heap[at]] = int(at);
+  }
+  heap[at] = slot;
+  place[slot] = int(at);
+}
+
+int ExponentialMapGrowth::SlotQueue::popNearest(const std::vector<double>& distance,
+                                                const std::vector<int>& vertex) {
+  const int nearest = heap.front();
+  place[nearest] = -1;
+  const int last = heap.back();
+  heap.pop_back();
+  if (heap.empty()) return nearest;
+  // The last slot sinks from the root.
+  std::size_t at = 0;
+  for (std::size_t child = 1; child < heap.size(); child = 2 * at + 1) {
+    if (child + 1 < heap.size() && nearer(heap[child + 1], heap[child], distance, vertex)) ++child;
+    if (!nearer(heap[child], last, distance, vertex)) break;
+    heap[at] = heap[child];
+    place[heap[at]] = int(at);
+    at = child;
+  }
+  heap[at] = last;
+  place[last] = int(at);
+  return nearest;
 }
 
 ExponentialMapGrowth::ExponentialMapGrowth(Graph graph, const Frame& origin,
@@ -315,8 +799,7 @@ ExponentialMapGrowth::ExponentialMapGrowth(Graph graph, const Frame& origin,
     if (originCorner_[s]) continue;
     originCorner_[s] = 1;
     distance_[s] = (point_[s] - origin.point).norm();
-    queue_.push_back({distance_[s], v});
-    std::push_heap(queue_.begin(), queue_.end(), Lexicographic());
+    queue_.moveUp(s, distance_, vertex_);
   }
 }
 
@@ -331,49 +814,45 @@ int ExponentialMapGrowth::slotOf(int vertex) {
   point_.push_back(graph_.point(vertex));
   frame_.emplace_back();
   uv_.push_back(Eigen::Vector2d::Zero());
+  queue_.place.push_back(-1);
   return slot_[vertex];
 }
 
 int ExponentialMapGrowth::fixNext() {
-  while (!queue_.empty()) {
-    std::pop_heap(queue_.begin(), queue_.end(), Lexicographic());
-    const auto [d, v] = queue_.back();
-    queue_.pop_back();
-    const int i = slot_[v];
-    if (fixed_[i] || d > distance_[i]) continue;
-    const Eigen::Vector3d p = point_[i];
-    frame_[i] = transport(parent_[i] < 0 ? origin_ : frame_[parent_[i]], p, graph_.normal(v));
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    double weights = 0;
-    auto average = [&](const Frame& q, const Eigen::Vector2d& uvq) {
-      const double w = 1 / ((p - q.point).norm() + tiny_);
-      sum += w * (uvq + step(q, p, rescale_));
-      weights += w;
-    };
-    if (originCorner_[i]) average(origin_, Eigen::Vector2d::Zero());
-    scratch_.clear();
-    graph_.neighbours(v, scratch_);
-    for (int w : scratch_) {
-      const int j = slot_[w];
-      if (j >= 0 && fixed_[j]) average(frame_[j], uv_[j]);
-    }
-    uv_[i] = sum / weights;
-    fixed_[i] = 1;
-    order_.push_back(v);
-    for (int w : scratch_) {
-      const int j = slotOf(w);
-      if (fixed_[j]) continue;
-      const double through = d + (point_[j] - p).norm();
-      if (through < distance_[j]) {
-        distance_[j] = through;
-        parent_[j] = i;
-        queue_.push_back({through, w});
-        std::push_heap(queue_.begin(), queue_.end(), Lexicographic());
-      }
-    }
-    return v;
+  if (queue_.heap.empty()) return -1;
+  const int i = queue_.popNearest(distance_, vertex_);
+  const int v = vertex_[i];
+  const double d = distance_[i];
+  const Eigen::Vector3d p = point_[i];
+  frame_[i] = transport(parent_[i] < 0 ? origin_ : frame_[parent_[i]], p, graph_.normal(v));
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  double weights = 0;
+  auto average = [&](const Frame& q, const Eigen::Vector2d& uvq) {
+    const double w = 1 / ((p - q.point).norm() + tiny_);
+    sum += w * (uvq + step(q, p, rescale_));
+    weights += w;
+  };
+  if (originCorner_[i]) average(origin_, Eigen::Vector2d::Zero());
+  scratch_.clear();
+  graph_.neighbours(v, scratch_);
+  for (int w : scratch_) {
+    const int j = slot_[w];
+    if (j >= 0 && fixed_[j]) average(frame_[j], uv_[j]);
   }
-  return -1;
+  uv_[i] = sum / weights;
+  fixed_[i] = 1;
+  order_.push_back(v);
+  for (int w : scratch_) {
+    const int j = slotOf(w);
+    if (fixed_[j]) continue;
+    const double through = d + (point_[j] - p).norm();
+    if (through < distance_[j]) {
+      distance_[j] = through;
+      parent_[j] = i;
+      queue_.moveUp(j, distance_, vertex_);
+    }
+  }
+  return v;
 }
 
 bool ExponentialMapGrowth::isFixed(int vertex) const {
@@ -393,104 +872,65 @@ std::vector<Eigen::Vector2d> propagate(const Canvas& canvas,
                                        const Frame& origin,
                                        const std::vector<std::vector<int>>& adjacency,
                                        bool rescale) {
-  const std::vector<Eigen::Vector3d> p = points(canvas.surface);
-  const std::size_t n = p.size();
-  std::vector<int> originCorners;
-  for (auto v : canvas.surface.fv_range(TriMesh::FaceHandle(canvas.originFace)))
-    originCorners.push_back(v.idx());
-  ExponentialMapGrowth::Graph graph;
-  graph.vertexCount = n;
-  graph.point = [&](int v) { return p[v]; };
-  graph.normal = [&](int v) { return normals[v]; };
-  graph.neighbours = [&](int v, std::vector<int>& out) {
-    out.insert(out.end(), adjacency[v].begin(), adjacency[v].end());
-  };
-  ExponentialMapGrowth growth(
-      std::move(graph), origin, originCorners, rescale,
-      1e-12 * std::max(boundingDiagonal(p), std::numeric_limits<double>::min()));
-  while (growth.fixNext() >= 0) {
-  }
-  std::vector<Eigen::Vector2d> uv(n, Eigen::Vector2d::Zero());
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!growth.isFixed(static_cast<int>(i))) {
-      throw DemError("canvas",
-                     "canvas vertex " + std::to_string(i) + " is not connected to the origin");
-    }
-    uv[i] = growth.uv(static_cast<int>(i));
-  }
-  return uv;
+  return propagateOver(
+      canvas, points(canvas.surface), normals, origin,
+      [&](int v, std::vector<int>& out) {
+        out.insert(out.end(), adjacency[v].begin(), adjacency[v].end());
+      },
+      rescale);
 }
 
 std::vector<std::uint8_t> reversedFaces(const TriMesh& mesh,
                                         const std::vector<Eigen::Vector3d>& normals,
                                         double threshold) {
-  std::vector<std::uint8_t> flags(mesh.n_faces(), 0);
-  for (auto f : mesh.faces()) {
-    std::array<Eigen::Vector3d, 3> c;
-    Eigen::Vector3d dem = Eigen::Vector3d::Zero();
-    int i = 0;
-    for (auto v : mesh.fv_range(f)) {
-      c[i++] = toEigen(mesh.point(v));
-      dem += normals[v.idx()];
-    }
-    Eigen::Vector3d face = (c[1] - c[0]).cross(c[2] - c[0]);
-    const double dot =
-        face.norm() > 0 && dem.norm() > 0 ? face.normalized().dot(dem.normalized()) : 0.0;
-    flags[f.idx()] = dot < threshold;
-  }
-  return flags;
+  return reversedFlags(faceCorners(mesh), points(mesh), normals, threshold);
 }
 
 std::vector<std::uint8_t> growFaceRing(const TriMesh& mesh, std::vector<std::uint8_t> flags,
                                        int rings) {
-  std::vector<char> marked(mesh.n_vertices());
-  for (int r = 0; r < rings; ++r) {
-    std::fill(marked.begin(), marked.end(), 0);
-    for (auto f : mesh.faces())
-      if (flags[f.idx()])
-        for (auto v : mesh.fv_range(f))
-          marked[v.idx()] = 1;
-    for (auto f : mesh.faces())
-      for (auto v : mesh.fv_range(f))
-        if (marked[v.idx()]) flags[f.idx()] = 1;
-  }
-  return flags;
+  if (rings <= 0) return flags;
+  return grownFlags(faceCorners(mesh), mesh.n_vertices(), std::move(flags), rings);
 }
 
 DemResult discreteExponentialMap(const Canvas& canvas, const DemOptions& options) {
   checkOptions(options);
   checkCanvas(canvas);
   DemResult result;
-  const std::vector<Eigen::Vector3d> surface = surfaceNormals(canvas);
+  const std::vector<Eigen::Vector3d> p = points(canvas.surface);
+  // Eq. 1 reads the surface normals only on the boundary.
   result.normal =
-      options.generalized ? interpolatedNormals(canvas, surface, options.epsilon) : surface;
+      options.generalized
+          ? equationOneNormals(p, canvas.boundary,
+                               surfaceNormalsAt(canvas, canvas.boundary, options.threads),
+                               options.epsilon, options.threads)
+          : surfaceNormals(canvas, options.threads);
   result.origin = originFrame(canvas, result.normal, options.angleDegrees);
 
-  std::vector<std::vector<int>> adjacency = meshAdjacency(canvas.surface);
-  if (options.generalized) {
-    // Section 4.2 propagates over k nearest neighbours; the mesh edges stay in so that every
-    // vertex is reached even where the k-nearest-neighbour graph falls apart into clusters.
-    const auto knn = nearestNeighbours(points(canvas.surface), options.neighbours);
-    for (std::size_t i = 0; i < knn.size(); ++i) {
-      for (int j : knn[i]) {
-        adjacency[i].push_back(j);
-        adjacency[j].push_back(static_cast<int>(i));
-      }
-    }
-  }
-  for (auto& list : adjacency) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
-  result.uv = propagate(canvas, result.normal, result.origin, adjacency, !options.generalized);
+  NeighbourTable knn;
+  // Section 4.2 propagates over k nearest neighbours; the mesh edges stay in so that every
+  // vertex is reached even where the k-nearest-neighbour graph falls apart into clusters.
+  if (options.generalized) knn = nearestNeighbourTable(p, options.neighbours, options.threads);
+  const Adjacency adjacency = symmetricAdjacency(p.size(), options.threads, [&](const auto& add) {
+    forEachMeshEdge(canvas.surface, add);
+    for (std::size_t i = 0; i < knn.index.size(); ++i)
+      add(int(i / knn.perPoint), knn.index[i]);
+  });
+  result.uv = propagateOver(
+      canvas, p, result.normal, result.origin,
+      [&](int v, std::vector<int>& out) {
+        out.insert(out.end(), adjacency.neighbour.begin() + adjacency.first[v],
+                   adjacency.neighbour.begin() + adjacency.first[v + 1]);
+      },
+      !options.generalized);
   for (std::size_t i = 0; i < result.uv.size(); ++i) {
     if (!result.uv[i].allFinite()) {
       throw DemError("canvas", "the map of canvas vertex " + std::to_string(i) +
                                    " is not finite (coincident vertices?)");
     }
   }
-  result.reversedFaces = growFaceRing(
-      canvas.surface, reversedFaces(canvas.surface, result.normal, options.reversedThreshold),
+  const auto corners = faceCorners(canvas.surface);
+  result.reversedFaces = grownFlags(
+      corners, p.size(), reversedFlags(corners, p, result.normal, options.reversedThreshold),
       options.reversedRing);
   return result;
 }

@@ -1,9 +1,9 @@
 #include "canvas_grow.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
-#include <deque>
 #include <limits>
 #include <sstream>
 
@@ -33,12 +33,31 @@ std::string formatNumber(double x) {
   return s.str();
 }
 
-std::array<Eigen::Vector3d, 3> corners(const TriMesh& mesh, TriMesh::FaceHandle f) {
-  std::array<Eigen::Vector3d, 3> c;
-  int i = 0;
-  for (auto v : mesh.fv_range(f))
-    c[i++] = toEigen(mesh.point(v));
-  return c;
+// The halfedges of a face in the order of its fv_range corners (their to-vertices), read directly
+// because OpenMesh's circulators cost more than the work done per face in the loops below.
+std::array<TriMesh::HalfedgeHandle, 3> faceHalfedges(const TriMesh& mesh, int f) {
+  const auto h0 = mesh.halfedge_handle(TriMesh::FaceHandle(f));
+  const auto h1 = mesh.next_halfedge_handle(h0);
+  return {h0, h1, mesh.next_halfedge_handle(h1)};
+}
+
+// The corner vertices of every face.
+std::vector<std::array<int, 3>> faceCorners(const TriMesh& mesh) {
+  std::vector<std::array<int, 3>> corners(mesh.n_faces());
+  for (std::size_t f = 0; f < corners.size(); ++f) {
+    const auto h = faceHalfedges(mesh, int(f));
+    for (int i = 0; i < 3; ++i)
+      corners[f][i] = mesh.to_vertex_handle(h[i]).idx();
+  }
+  return corners;
+}
+
+std::vector<Eigen::Vector3d> points(const TriMesh& mesh) {
+  std::vector<Eigen::Vector3d> p;
+  p.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices())
+    p.push_back(toEigen(mesh.point(v)));
+  return p;
 }
 
 double distanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
@@ -86,13 +105,12 @@ bool insideSomeDab(const Eigen::Vector3d& p, const std::vector<Dab>& dabs) {
   });
 }
 
-double boundingDiagonal(const TriMesh& mesh) {
+double boundingDiagonal(const std::vector<Eigen::Vector3d>& p) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
-  for (auto v : mesh.vertices()) {
-    const Eigen::Vector3d p = toEigen(mesh.point(v));
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
+  for (const auto& x : p) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
   }
   return (hi - lo).norm();
 }
@@ -144,32 +162,36 @@ void rejectOriginOnBoundary(const TriMesh& mesh, const std::vector<int>& faces,
   }
 }
 
+// The painted faces edge-connected to `start`, in increasing order.
 std::vector<int> floodFill(const TriMesh& mesh, int start, const std::vector<char>& painted) {
   std::vector<char> reached(mesh.n_faces(), 0);
-  std::vector<int> region;
-  std::deque<int> queue{start};
+  // Breadth first; the queue ends up holding every face reached.
+  std::vector<int> queue{start};
   reached[start] = 1;
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop_front();
-    region.push_back(f);
-    for (auto h : mesh.fh_range(TriMesh::FaceHandle(f))) {
+  for (std::size_t next = 0; next < queue.size(); ++next) {
+    for (auto h : faceHalfedges(mesh, queue[next])) {
       const auto g = mesh.face_handle(mesh.opposite_halfedge_handle(h));
       if (!g.is_valid() || reached[g.idx()] || !painted[g.idx()]) continue;
       reached[g.idx()] = 1;
       queue.push_back(g.idx());
     }
   }
-  std::sort(region.begin(), region.end());
+  // Reading the marks in order costs less than sorting the queue.
+  std::vector<int> region;
+  region.reserve(queue.size());
+  for (std::size_t f = 0; f < reached.size(); ++f)
+    if (reached[f]) region.push_back(int(f));
   return region;
 }
 
-void rejectDegenerateFaces(const TriMesh& mesh, const std::vector<int>& region, double diagonal) {
+void rejectDegenerateFaces(const std::vector<Eigen::Vector3d>& p,
+                           const std::vector<std::array<int, 3>>& corners,
+                           const std::vector<int>& region, double diagonal) {
   std::size_t count = 0;
   int first = -1;
   for (int f : region) {
-    const auto c = corners(mesh, TriMesh::FaceHandle(f));
-    if ((c[1] - c[0]).cross(c[2] - c[0]).norm() <= 1e-12 * diagonal * diagonal) {
+    const auto& [a, b, c] = corners[f];
+    if ((p[b] - p[a]).cross(p[c] - p[a]).norm() <= 1e-12 * diagonal * diagonal) {
       if (count++ == 0) first = f;
     }
   }
@@ -187,7 +209,7 @@ void rejectPinchedVertices(const TriMesh& mesh, const std::vector<int>& region) 
     inRegion[f] = 1;
   std::vector<int> borderOut(mesh.n_vertices(), 0);
   for (int f : region) {
-    for (auto h : mesh.fh_range(TriMesh::FaceHandle(f))) {
+    for (auto h : faceHalfedges(mesh, f)) {
       const auto g = mesh.face_handle(mesh.opposite_halfedge_handle(h));
       if (g.is_valid() && inRegion[g.idx()]) continue;
       const auto v = mesh.from_vertex_handle(h);
@@ -282,26 +304,29 @@ void requireOneLoop(const TriMesh& surface, const std::vector<Loop>& loops) {
 Canvas growCanvas(const MeshPtr& source, const CanvasGrowOptions& options) {
   checkInput(source, options);
   const TriMesh& mesh = source->surface;
-  const double diagonal = boundingDiagonal(mesh);
+  const std::vector<Eigen::Vector3d> p = points(mesh);
+  const std::vector<std::array<int, 3>> corners = faceCorners(mesh);
+  const double diagonal = boundingDiagonal(p);
 
-  std::vector<char> paintedVertex(mesh.n_vertices(), 0);
-  for (auto v : mesh.vertices())
-    paintedVertex[v.idx()] = insideSomeDab(toEigen(mesh.point(v)), options.dabs);
-  std::vector<char> painted(mesh.n_faces(), 0);
-  for (auto f : mesh.faces()) {
-    painted[f.idx()] = std::all_of(mesh.cfv_begin(f), mesh.cfv_end(f),
-                                   [&](auto v) { return paintedVertex[v.idx()] != 0; });
+  std::vector<char> paintedVertex(p.size(), 0);
+  for (std::size_t v = 0; v < p.size(); ++v)
+    paintedVertex[v] = insideSomeDab(p[v], options.dabs);
+  std::vector<char> painted(corners.size(), 0);
+  for (std::size_t f = 0; f < corners.size(); ++f) {
+    painted[f] = std::all_of(corners[f].begin(), corners[f].end(),
+                             [&](int v) { return paintedVertex[v] != 0; });
   }
 
   // Faces tied for nearest (the origin on a shared edge or vertex) prefer a painted one.
-  std::vector<double> distance(mesh.n_faces());
-  std::vector<Eigen::Vector3d> closest(mesh.n_faces());
+  auto closestOnFace = [&](std::size_t f) {
+    const auto& [a, b, c] = corners[f];
+    return closestPointOnTriangle(options.origin, p[a], p[b], p[c]);
+  };
+  std::vector<double> distance(corners.size());
   double nearest = std::numeric_limits<double>::infinity();
-  for (auto f : mesh.faces()) {
-    const auto c = corners(mesh, f);
-    closest[f.idx()] = closestPointOnTriangle(options.origin, c[0], c[1], c[2]);
-    distance[f.idx()] = (closest[f.idx()] - options.origin).norm();
-    nearest = std::min(nearest, distance[f.idx()]);
+  for (std::size_t f = 0; f < corners.size(); ++f) {
+    distance[f] = (closestOnFace(f) - options.origin).norm();
+    nearest = std::min(nearest, distance[f]);
   }
   const double tolerance = options.originTolerance * diagonal;
   if (nearest > tolerance) {
@@ -313,12 +338,12 @@ Canvas growCanvas(const MeshPtr& source, const CanvasGrowOptions& options) {
                       "on the surface");
   }
   std::vector<int> tied;
-  for (auto f : mesh.faces())
-    if (distance[f.idx()] <= nearest + kRoundoff * diagonal) tied.push_back(f.idx());
+  for (std::size_t f = 0; f < corners.size(); ++f)
+    if (distance[f] <= nearest + kRoundoff * diagonal) tied.push_back(int(f));
   const auto paintedTie =
       std::find_if(tied.begin(), tied.end(), [&](int f) { return painted[f] != 0; });
   const int originFace = paintedTie != tied.end() ? *paintedTie : tied.front();
-  const Eigen::Vector3d originPoint = closest[originFace];
+  const Eigen::Vector3d originPoint = closestOnFace(std::size_t(originFace));
 
   rejectOriginOnBoundary(mesh, tied, originPoint, diagonal);
   if (!insideSomeDab(originPoint, options.dabs)) {
@@ -332,7 +357,7 @@ Canvas growCanvas(const MeshPtr& source, const CanvasGrowOptions& options) {
   }
 
   const std::vector<int> region = floodFill(mesh, originFace, painted);
-  rejectDegenerateFaces(mesh, region, diagonal);
+  rejectDegenerateFaces(p, corners, region, diagonal);
   rejectPinchedVertices(mesh, region);
 
   Canvas canvas;
@@ -347,7 +372,8 @@ Canvas growCanvas(const MeshPtr& source, const CanvasGrowOptions& options) {
   canvas.surface = std::move(sub.surface);
   canvas.sourceVertex = std::move(sub.sourceVertex);
   canvas.sourceFace = std::move(sub.sourceFace);
-  canvas.originFace = int(std::find(region.begin(), region.end(), originFace) - region.begin());
+  canvas.originFace =
+      int(std::lower_bound(region.begin(), region.end(), originFace) - region.begin());
 
   const std::vector<Loop> loops = boundaryLoops(canvas.surface, mesh, canvas.sourceVertex);
   requireOneLoop(canvas.surface, loops);

@@ -130,6 +130,42 @@ TEST(ExponentialMap, NearestNeighboursAreExact) {
             (std::vector<std::vector<int>>{{1}, {0}}));
 }
 
+// The brute-force k nearest, by (squared distance, index).
+std::vector<std::vector<int>> bruteForceNeighbours(const std::vector<Eigen::Vector3d>& points,
+                                                   int k) {
+  std::vector<std::vector<int>> result(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::vector<std::pair<double, int>> all;
+    for (std::size_t j = 0; j < points.size(); ++j)
+      if (j != i) all.push_back({(points[j] - points[i]).squaredNorm(), static_cast<int>(j)});
+    std::sort(all.begin(), all.end());
+    for (int m = 0; m < std::min<int>(k, static_cast<int>(all.size())); ++m)
+      result[i].push_back(all[m].second);
+  }
+  return result;
+}
+
+TEST(ExponentialMap, NearestNeighboursAreExactForClustersAndOutliers) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> coordinate(-1, 1);
+  // A dense blob, a sparse cloud around it and a far line of outliers: the grid's cells then hold
+  // very different numbers of points, and the outliers must search many shells.
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 400; ++i)
+    points.push_back(0.01 * Eigen::Vector3d(coordinate(random), coordinate(random), 0));
+  for (int i = 0; i < 200; ++i)
+    points.emplace_back(coordinate(random), coordinate(random), coordinate(random));
+  for (int i = 0; i < 12; ++i)
+    points.emplace_back(30 + i, -20, 5);
+  for (int k : {1, 8, 25}) {
+    SCOPED_TRACE(k);
+    const auto expected = bruteForceNeighbours(points, k);
+    for (int threads : {1, 3}) {
+      EXPECT_EQ(nearestNeighbours(points, k, threads), expected) << threads << " threads";
+    }
+  }
+}
+
 TEST(ExponentialMap, PlaneMapsIsometricallyInBothModes) {
   Eigen::Isometry3d rigid = Eigen::Isometry3d::Identity();
   rigid.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()));
@@ -210,6 +246,57 @@ TEST(ExponentialMap, EquationOneNormals) {
   EXPECT_EQ(discreteExponentialMap(canvas, mode(true)).normal,
             interpolatedNormals(canvas, surface, DemOptions{}.epsilon));
   EXPECT_EQ(discreteExponentialMap(canvas, mode(false)).normal, surface);
+}
+
+TEST(ExponentialMap, EquationOneMatchesTheDirectSum) {
+  const MeshPtr sphere = readMesh(test::meshPath("sphere.obj")).mesh;
+  // Boundaries of 38 and 41 vertices: the sum's last lanes are partly padding.
+  for (double radius : {1.0, 1.1}) {
+    const Canvas canvas =
+        test::growDiscCanvas(sphere, faceNear(sphere->surface, {0.2, 0, 1}), radius);
+    const auto surface = surfaceNormals(canvas);
+    Eigen::Vector3d low = point(canvas, 0), high = low;
+    for (auto v : canvas.surface.vertices()) {
+      low = low.cwiseMin(point(canvas, v.idx()));
+      high = high.cwiseMax(point(canvas, v.idx()));
+    }
+    for (double epsilon : {1e-3, 0.5}) {
+      SCOPED_TRACE(testing::Message() << "radius " << radius << " epsilon " << epsilon);
+      const double eps = epsilon * (high - low).squaredNorm();
+      const auto eq1 = interpolatedNormals(canvas, surface, epsilon);
+      double worst = 0;
+      for (auto v : canvas.surface.vertices()) {
+        if (std::count(canvas.boundary.begin(), canvas.boundary.end(), v.idx())) continue;
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        for (int b : canvas.boundary)
+          sum += surface[b] / ((point(canvas, b) - point(canvas, v.idx())).squaredNorm() + eps);
+        worst = std::max(worst, (eq1[v.idx()] - sum.normalized()).norm());
+      }
+      // Only the order of the additions differs.
+      EXPECT_LE(worst, 1e-14);
+    }
+  }
+}
+
+TEST(ExponentialMap, ResultsDoNotDependOnTheThreadCount) {
+  const MeshPtr mesh = readMesh(test::meshPath("armadillo.obj")).mesh;
+  const int face =
+      mesh->surface.face_handle(mesh->surface.halfedge_handle(TriMesh::VertexHandle(5000))).idx();
+  // About 2600 vertices: several blocks of the per-vertex steps.
+  const Canvas canvas = test::growDiscCanvas(mesh, face, 0.25);
+  for (bool generalized : {true, false}) {
+    SCOPED_TRACE(generalized ? "generalized" : "original");
+    DemOptions o = mode(generalized);
+    o.threads = 1;
+    const DemResult one = discreteExponentialMap(canvas, o);
+    for (int threads : {2, 3, 8}) {
+      o.threads = threads;
+      const DemResult many = discreteExponentialMap(canvas, o);
+      EXPECT_EQ(many.uv, one.uv) << threads;
+      EXPECT_EQ(many.normal, one.normal) << threads;
+      EXPECT_EQ(many.reversedFaces, one.reversedFaces) << threads;
+    }
+  }
 }
 
 // Geodesic polar coordinates on the unit sphere around o: r = theta (the angle to o), and the
@@ -364,6 +451,9 @@ TEST(ExponentialMap, RejectsBadOptionsAndCanvases) {
   o = {};
   o.reversedRing = -1;
   EXPECT_EQ(rejected(o, canvas), "reversed_ring");
+  o = {};
+  o.threads = -1;
+  EXPECT_EQ(rejected(o, canvas), "threads");
   Canvas bad = canvas;
   bad.originFace = 10000;
   EXPECT_EQ(rejected({}, bad), "canvas");

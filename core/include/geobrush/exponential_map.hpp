@@ -38,10 +38,13 @@ struct DemOptions {
   double reversedThreshold = 0;
   // Reversed flags grow by this many vertex rings (section 4.5 uses 3).
   int reversedRing = 3;
+  // Threads for the per-vertex steps; 0: one per hardware thread. The result is the same for any
+  // count.
+  int threads = 0;
 };
 
 // An input that gives no map. `option()` names the field to change: "canvas", "angle",
-// "neighbours", "epsilon", "reversed_threshold" or "reversed_ring".
+// "neighbours", "epsilon", "reversed_threshold", "reversed_ring" or "threads".
 class DemError : public std::invalid_argument {
  public:
   DemError(std::string option, const std::string& message)
@@ -65,15 +68,16 @@ Eigen::Vector3d angleWeightedNormal(const TriMesh& mesh, TriMesh::VertexHandle v
 
 // Angle-weighted vertex normals of the source mesh at each canvas vertex, so that boundary
 // vertices see their whole one-ring (the canvas surface itself when it has no source). Throws
-// DemError("canvas") for a vertex whose faces' normals cancel out.
-std::vector<Eigen::Vector3d> surfaceNormals(const Canvas& canvas);
+// DemError("canvas") for a vertex whose faces' normals cancel out. `threads` as in DemOptions.
+std::vector<Eigen::Vector3d> surfaceNormals(const Canvas& canvas, int threads = 0);
 
 // Eq. 1: boundary vertices keep `surface`; every other vertex gets the normalized sum of the
-// boundary normals weighted by 1 / (|w - v|^2 + epsilon * diagonal^2). Throws DemError("canvas")
-// where the boundary normals cancel out (a canvas wrapped around far more than a hemisphere).
+// boundary normals weighted by 1 / (|w - v|^2 + epsilon * diagonal^2), so `surface` is read only
+// on the boundary. Throws DemError("canvas") where the boundary normals cancel out (a canvas
+// wrapped around far more than a hemisphere). The sums are exact up to the order of additions.
 std::vector<Eigen::Vector3d> interpolatedNormals(const Canvas& canvas,
                                                  const std::vector<Eigen::Vector3d>& surface,
-                                                 double epsilon);
+                                                 double epsilon, int threads = 0);
 
 // The frame at the origin point: the normal interpolated over the origin face from `normals`,
 // the axes as described for DemOptions::angleDegrees.
@@ -86,8 +90,9 @@ Frame originFrame(const std::array<Eigen::Vector3d, 3>& corners,
                   double angleDegrees);
 
 // For every point, its k nearest other points (all others when there are fewer), sorted by
-// distance, ties by index. Exact; a uniform hash grid keeps it near O(n k log k).
-std::vector<std::vector<int>> nearestNeighbours(const std::vector<Eigen::Vector3d>& points, int k);
+// distance, ties by index. Exact; a uniform grid keeps it near O(n k log k).
+std::vector<std::vector<int>> nearestNeighbours(const std::vector<Eigen::Vector3d>& points, int k,
+                                                int threads = 0);
 
 // The DEM propagation (SGW06): vertices are fixed in order of increasing Dijkstra distance from
 // the origin point over `adjacency` (3D edge lengths, ties by index). A new vertex p gets the
@@ -136,6 +141,17 @@ class ExponentialMapGrowth {
  private:
   int slotOf(int vertex);
 
+  // The reached, unfixed slots: a binary heap, nearest (distance, then vertex id) first, that
+  // knows each slot's place in it, so that a shorter distance moves a slot up instead of queueing
+  // it again.
+  struct SlotQueue {
+    std::vector<int> heap;
+    std::vector<int> place;  // slot -> index into heap, or -1
+    // Queues the slot, or moves it up after its distance dropped.
+    void moveUp(int slot, const std::vector<double>& distance, const std::vector<int>& vertex);
+    int popNearest(const std::vector<double>& distance, const std::vector<int>& vertex);
+  };
+
   Graph graph_;
   Frame origin_;
   bool rescale_;
@@ -150,7 +166,7 @@ class ExponentialMapGrowth {
   std::vector<Eigen::Vector2d> uv_;
   std::vector<int> order_;
   std::vector<int> scratch_;
-  std::vector<std::pair<double, int>> queue_;  // a binary heap, smallest first
+  SlotQueue queue_;
 };
 
 // Section 4.5: 1 where a face's unit normal . the normalized mean of its corners' `normals` is
@@ -163,8 +179,9 @@ std::vector<std::uint8_t> reversedFaces(const TriMesh& mesh,
 std::vector<std::uint8_t> growFaceRing(const TriMesh& mesh, std::vector<std::uint8_t> flags,
                                        int rings);
 
-// The whole map: normals (Eq. 1 or surface), adjacency (symmetric k-nearest neighbours plus mesh
-// edges, or mesh edges), propagation and reversed flags. Throws DemError.
+// The whole map: normals (Eq. 1 from the boundary's surface normals, or the surface normals),
+// adjacency (symmetric k-nearest neighbours plus mesh edges, or mesh edges), propagation and
+// reversed flags. Throws DemError.
 DemResult discreteExponentialMap(const Canvas& canvas, const DemOptions& options);
 
 }  // namespace geobrush
