@@ -1,5 +1,6 @@
 #include "gc_warp.hpp"
 
+#include "geobrush/parallel.hpp"
 #include "green_kernel.hpp"
 
 #include <Eigen/Geometry>
@@ -194,35 +195,6 @@ bool finishPoint(PointSums& sums, const std::vector<std::array<int, 3>>& faces, 
   return inside;
 }
 
-// Runs body(first, last) over fixed blocks of [0, count) on `threads` threads. Each block's
-// output depends only on its own indices, so the result does not depend on the thread count.
-template <typename Body>
-void parallelBlocks(std::size_t count, int threads, Body body) {
-  constexpr std::size_t kBlock = 64;  // a multiple of 4: see computeGreenCoordinates
-  const std::size_t blocks = (count + kBlock - 1) / kBlock;
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failureMutex;
-  auto work = [&] {
-    try {
-      for (std::size_t b = next++; b < blocks; b = next++)
-        body(b * kBlock, std::min(count, (b + 1) * kBlock));
-    } catch (...) {
-      const std::lock_guard lock(failureMutex);
-      if (!failure) failure = std::current_exception();
-      next = blocks;
-    }
-  };
-  const int n = int(std::min<std::size_t>(std::size_t(std::max(threads, 1)), blocks));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t)
-    pool.emplace_back(work);
-  work();
-  for (auto& t : pool)
-    t.join();
-  if (failure) std::rethrow_exception(failure);
-}
-
 std::string faceText(int face) {
   std::string text = "face ";
   text += std::to_string(face);
@@ -397,16 +369,16 @@ class ScalarPoint {
   std::vector<double> logIntegral_;
 };
 
+// Points per parallel block: a multiple of 4, so that the grouping into vectors, and with it
+// every bit of the result, is the same for any thread count.
+constexpr std::size_t kBlock = 64;
+
 bool vectorKernelAvailable() {
 #if defined(__x86_64__)
   return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 #else
   return false;
 #endif
-}
-
-int threadCount(int requested) {
-  return requested > 0 ? requested : int(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 }  // namespace
@@ -424,51 +396,47 @@ GreenCoordinatesResult computeGreenCoordinates(const TriMesh& cage,
   result.phi.resize(n, Eigen::Index(prepared.vertices.size()));
   result.psi.resize(n, Eigen::Index(prepared.faces.size()));
   std::vector<char> inside(points.size(), 1);
-  // Blocks hold a multiple of four points, so that the grouping into vectors, and with it every
-  // bit of the result, is the same for any thread count.
-  parallelBlocks(
-      points.size(), threadCount(options.threads), [&](std::size_t first, std::size_t last) {
-        ScalarPoint scalar(prepared);
-        std::vector<double> scratch(std::size_t(green_kernel::fourPointsScratchSize(kernelCage)) +
-                                    4);
-        double* aligned = scratch.data();
-        while (reinterpret_cast<std::uintptr_t>(aligned) % 32 != 0)
-          ++aligned;
-        for (std::size_t i = first; i < last; i += 4) {
-          const std::size_t count = std::min<std::size_t>(4, last - i);
-          if (vectorized) {
-            // A last group of fewer than four points repeats its last point in the spare lanes and
-            // writes their rows to scratch rows.
-            const double* lanes[4];
-            double* phiRows[4];
-            double* psiRows[4];
-            std::vector<double> spare;
-            if (count < 4)
-              spare.resize(std::size_t(result.phi.cols() + result.psi.cols()) * (4 - count));
-            for (std::size_t k = 0; k < 4; ++k) {
-              const std::size_t p = i + std::min(k, count - 1);
-              lanes[k] = points[p].data();
-              if (k < count) {
-                phiRows[k] = result.phi.row(Eigen::Index(p)).data();
-                psiRows[k] = result.psi.row(Eigen::Index(p)).data();
-              } else {
-                phiRows[k] =
-                    spare.data() + (k - count) * std::size_t(result.phi.cols() + result.psi.cols());
-                psiRows[k] = phiRows[k] + result.phi.cols();
-              }
-            }
-            bool in[4];
-            if (green_kernel::fourPoints(kernelCage, lanes, phiRows, psiRows, in, aligned)) {
-              for (std::size_t k = 0; k < count; ++k)
-                inside[i + k] = in[k];
-              continue;
-            }
+  parallelBlocks(points.size(), kBlock, options.threads, [&](std::size_t first, std::size_t last) {
+    ScalarPoint scalar(prepared);
+    std::vector<double> scratch(std::size_t(green_kernel::fourPointsScratchSize(kernelCage)) + 4);
+    double* aligned = scratch.data();
+    while (reinterpret_cast<std::uintptr_t>(aligned) % 32 != 0)
+      ++aligned;
+    for (std::size_t i = first; i < last; i += 4) {
+      const std::size_t count = std::min<std::size_t>(4, last - i);
+      if (vectorized) {
+        // A last group of fewer than four points repeats its last point in the spare lanes and
+        // writes their rows to scratch rows.
+        const double* lanes[4];
+        double* phiRows[4];
+        double* psiRows[4];
+        std::vector<double> spare;
+        if (count < 4)
+          spare.resize(std::size_t(result.phi.cols() + result.psi.cols()) * (4 - count));
+        for (std::size_t k = 0; k < 4; ++k) {
+          const std::size_t p = i + std::min(k, count - 1);
+          lanes[k] = points[p].data();
+          if (k < count) {
+            phiRows[k] = result.phi.row(Eigen::Index(p)).data();
+            psiRows[k] = result.psi.row(Eigen::Index(p)).data();
+          } else {
+            phiRows[k] =
+                spare.data() + (k - count) * std::size_t(result.phi.cols() + result.psi.cols());
+            psiRows[k] = phiRows[k] + result.phi.cols();
           }
-          for (std::size_t p = i; p < i + count; ++p)
-            inside[p] = scalar(points[p], result.phi.row(Eigen::Index(p)).data(),
-                               result.psi.row(Eigen::Index(p)).data());
         }
-      });
+        bool in[4];
+        if (green_kernel::fourPoints(kernelCage, lanes, phiRows, psiRows, in, aligned)) {
+          for (std::size_t k = 0; k < count; ++k)
+            inside[i + k] = in[k];
+          continue;
+        }
+      }
+      for (std::size_t p = i; p < i + count; ++p)
+        inside[p] = scalar(points[p], result.phi.row(Eigen::Index(p)).data(),
+                           result.psi.row(Eigen::Index(p)).data());
+    }
+  });
   for (std::size_t i = 0; i < points.size(); ++i)
     if (!inside[i]) result.outsidePoints.push_back(int(i));
   return result;
@@ -569,7 +537,7 @@ std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matri
   }
   // Each row of phi and psi is read once, in order: the product is bound by memory bandwidth.
   std::vector<Eigen::Vector3d> result(std::size_t(phi.rows()));
-  parallelBlocks(result.size(), threadCount(threads), [&](std::size_t first, std::size_t last) {
+  parallelBlocks(result.size(), kBlock, threads, [&](std::size_t first, std::size_t last) {
     for (std::size_t i = first; i < last; ++i) {
       const double* phiRow = phi.row(Eigen::Index(i)).data();
       const double* psiRow = psi.row(Eigen::Index(i)).data();
