@@ -76,34 +76,6 @@ Eigen::Vector3d point(const Canvas& c, int v) {
   return toEigen(c.surface.point(TriMesh::VertexHandle(v)));
 }
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
-bool segmentsCross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                   const Eigen::Vector2d& d) {
-  const double d1 = cross2(b - a, c - a), d2 = cross2(b - a, d - a);
-  const double d3 = cross2(d - c, a - c), d4 = cross2(d - c, b - c);
-  return ((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) &&
-         ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0) && !(d1 == 0 && d2 == 0 && d3 == 0);
-}
-
-// Whether the canvas boundary, mapped to the plane, is a simple polygon: no two edges that do
-// not share a corner touch.
-bool boundaryIsSimple(const Canvas& canvas, const std::vector<Eigen::Vector2d>& uv) {
-  const auto& b = canvas.boundary;
-  const std::size_t m = b.size();
-  for (std::size_t i = 0; i < m; ++i) {
-    for (std::size_t j = i + 2; j < m; ++j) {
-      if (i == 0 && j == m - 1) continue;
-      if (segmentsCross(uv[b[i]], uv[b[(i + 1) % m]], uv[b[j]], uv[b[(j + 1) % m]])) {
-        return false;
-      }
-    }
-  }
-  return true;
-}
-
 TEST(ExponentialMap, NearestNeighboursAreExact) {
   std::mt19937 random(7);
   std::uniform_real_distribution<double> coordinate(-1, 1);
@@ -346,7 +318,7 @@ TEST(ExponentialMap, GeneralizedMapOfABumpIsOneToOneOnItsBase) {
   o.reversedThreshold = 0.5;
   o.reversedRing = 0;
   const DemResult dem = discreteExponentialMap(canvas, o);
-  EXPECT_TRUE(boundaryIsSimple(canvas, dem.uv));
+  EXPECT_TRUE(test::boundaryIsSimple(canvas, dem.uv));
   // The flat boundary makes every Eq. 1 normal +z: the map is the projection onto the plane.
   for (std::size_t i = 0; i < dem.uv.size(); ++i) {
     const Eigen::Vector3d d = point(canvas, i) - canvas.originPoint;
@@ -416,7 +388,8 @@ TEST(ExponentialMap, RealMeshesGiveFiniteMapsWithSimpleBoundaries) {
         ASSERT_TRUE(uv.allFinite());
       for (const auto& n : dem.normal)
         EXPECT_NEAR(n.norm(), 1.0, 1e-12);
-      EXPECT_TRUE(boundaryIsSimple(canvas, dem.uv)) << (generalized ? "generalized" : "original");
+      EXPECT_TRUE(test::boundaryIsSimple(canvas, dem.uv))
+          << (generalized ? "generalized" : "original");
       const DemResult again = discreteExponentialMap(canvas, mode(generalized));
       EXPECT_EQ(dem.uv, again.uv);
       EXPECT_EQ(dem.normal, again.normal);

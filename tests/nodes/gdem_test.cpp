@@ -43,34 +43,6 @@ MeshPtr heightGrid(int n, const std::function<double(double, double)>& z,
   return std::make_shared<const Mesh>(std::move(mesh));
 }
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
-bool segmentsCross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                   const Eigen::Vector2d& d) {
-  const double d1 = cross2(b - a, c - a), d2 = cross2(b - a, d - a);
-  const double d3 = cross2(d - c, a - c), d4 = cross2(d - c, b - c);
-  return ((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) &&
-         ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0) && !(d1 == 0 && d2 == 0 && d3 == 0);
-}
-
-// Whether the canvas boundary, mapped to the plane, is a simple polygon: no two edges that do
-// not share a corner touch.
-bool boundaryIsSimple(const Canvas& canvas, const std::vector<Eigen::Vector2d>& uv) {
-  const auto& b = canvas.boundary;
-  const std::size_t m = b.size();
-  for (std::size_t i = 0; i < m; ++i) {
-    for (std::size_t j = i + 2; j < m; ++j) {
-      if (i == 0 && j == m - 1) continue;
-      if (segmentsCross(uv[b[i]], uv[b[(i + 1) % m]], uv[b[j]], uv[b[(j + 1) % m]])) {
-        return false;
-      }
-    }
-  }
-  return true;
-}
-
 double bump(double x, double y) {
   const double s = 1 - (x * x + y * y) / (0.6 * 0.6);
   return s > 0 ? 1.5 * s * s * s : 0.0;
@@ -130,7 +102,7 @@ TEST(GdemNode, RunsAfterCanvasGrowInAGraph) {
       evaluator.output("map", "parameterization"));
   ASSERT_NE(map, nullptr);
   ASSERT_EQ(map->uv.size(), map->canvas->surface.n_vertices());
-  EXPECT_TRUE(boundaryIsSimple(*map->canvas, map->uv));
+  EXPECT_TRUE(test::boundaryIsSimple(*map->canvas, map->uv));
   EXPECT_EQ(map->reversedFaces.size(), map->canvas->surface.n_faces());
 }
 

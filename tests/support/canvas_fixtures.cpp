@@ -105,4 +105,34 @@ std::shared_ptr<Parameterization> terrainParameterization() {
   return param;
 }
 
+namespace {
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+bool segmentsCross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                   const Eigen::Vector2d& d) {
+  const double d1 = cross2(b - a, c - a), d2 = cross2(b - a, d - a);
+  const double d3 = cross2(d - c, a - c), d4 = cross2(d - c, b - c);
+  return ((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) &&
+         ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0) && !(d1 == 0 && d2 == 0 && d3 == 0);
+}
+
+}  // namespace
+
+bool boundaryIsSimple(const Canvas& canvas, const std::vector<Eigen::Vector2d>& uv) {
+  const auto& b = canvas.boundary;
+  const std::size_t m = b.size();
+  for (std::size_t i = 0; i < m; ++i) {
+    for (std::size_t j = i + 2; j < m; ++j) {
+      if (i == 0 && j == m - 1) continue;
+      if (segmentsCross(uv[b[i]], uv[b[(i + 1) % m]], uv[b[j]], uv[b[(j + 1) % m]])) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 }  // namespace geobrush::test

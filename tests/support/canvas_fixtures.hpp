@@ -23,4 +23,8 @@ Canvas growDiscCanvas(const MeshPtr& mesh, int face, double radius);
 // right-handed.
 std::shared_ptr<Parameterization> terrainParameterization();
 
+// Whether the canvas boundary, mapped to the plane by uv, is a simple polygon: no two edges that
+// do not share a corner touch.
+bool boundaryIsSimple(const Canvas& canvas, const std::vector<Eigen::Vector2d>& uv);
+
 }  // namespace geobrush::test
