@@ -498,10 +498,13 @@ Eigen::VectorXd greenStretch(const TriMesh& sourceCage, const TriMesh& deformedC
   return stretch;
 }
 
-std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matrix& phi,
-                                                   const GreenCoordinates::Matrix& psi,
-                                                   const TriMesh& sourceCage,
-                                                   const TriMesh& deformedCage, int threads) {
+namespace {
+
+// applyGreenCoordinates for the rows `rows` (all rows when null).
+std::vector<Eigen::Vector3d> applyToRows(const GreenCoordinates::Matrix& phi,
+                                         const GreenCoordinates::Matrix& psi,
+                                         const TriMesh& sourceCage, const TriMesh& deformedCage,
+                                         const std::vector<int>* rows, int threads) {
   const auto faces = cageFaces(sourceCage);
   if (deformedCage.n_vertices() != sourceCage.n_vertices() || cageFaces(deformedCage) != faces) {
     std::ostringstream message;
@@ -536,11 +539,19 @@ std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matri
     if (norm > 0) basis.col(nv + f).head<3>() = stretch[f] / norm * cross;
   }
   // Each row of phi and psi is read once, in order: the product is bound by memory bandwidth.
-  std::vector<Eigen::Vector3d> result(std::size_t(phi.rows()));
+  if (rows) {
+    for (int row : *rows)
+      if (row < 0 || row >= phi.rows()) {
+        throw CageError("row " + std::to_string(row) + " is not one of the " +
+                        std::to_string(phi.rows()) + " points");
+      }
+  }
+  std::vector<Eigen::Vector3d> result(rows ? rows->size() : std::size_t(phi.rows()));
   parallelBlocks(result.size(), kBlock, threads, [&](std::size_t first, std::size_t last) {
     for (std::size_t i = first; i < last; ++i) {
-      const double* phiRow = phi.row(Eigen::Index(i)).data();
-      const double* psiRow = psi.row(Eigen::Index(i)).data();
+      const auto row = Eigen::Index(rows ? (*rows)[i] : int(i));
+      const double* phiRow = phi.row(row).data();
+      const double* psiRow = psi.row(row).data();
       Eigen::Vector4d sum = Eigen::Vector4d::Zero();
       for (Eigen::Index v = 0; v < nv; ++v)
         sum += phiRow[v] * basis.col(v);
@@ -550,6 +561,23 @@ std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matri
     }
   });
   return result;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matrix& phi,
+                                                   const GreenCoordinates::Matrix& psi,
+                                                   const TriMesh& sourceCage,
+                                                   const TriMesh& deformedCage, int threads) {
+  return applyToRows(phi, psi, sourceCage, deformedCage, nullptr, threads);
+}
+
+std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matrix& phi,
+                                                   const GreenCoordinates::Matrix& psi,
+                                                   const TriMesh& sourceCage,
+                                                   const TriMesh& deformedCage,
+                                                   const std::vector<int>& rows, int threads) {
+  return applyToRows(phi, psi, sourceCage, deformedCage, &rows, threads);
 }
 
 }  // namespace geobrush

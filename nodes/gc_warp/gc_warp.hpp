@@ -73,4 +73,13 @@ std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matri
                                                    const TriMesh& sourceCage,
                                                    const TriMesh& deformedCage, int threads = 0);
 
+// The same for the points `rows` only (indices into phi and psi), in that order: what a brush
+// needs of the draft is the region it pastes, and applying reads each row's coefficients, so the
+// cost follows the rows asked for. Throws CageError as above, and for a row out of range.
+std::vector<Eigen::Vector3d> applyGreenCoordinates(const GreenCoordinates::Matrix& phi,
+                                                   const GreenCoordinates::Matrix& psi,
+                                                   const TriMesh& sourceCage,
+                                                   const TriMesh& deformedCage,
+                                                   const std::vector<int>& rows, int threads = 0);
+
 }  // namespace geobrush

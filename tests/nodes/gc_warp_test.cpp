@@ -151,6 +151,25 @@ TEST(GreenCoordinates, RefusesBadCages) {
   EXPECT_THROW(applyGreenCoordinates(gc.phi, gc.psi, cube, flipped(cube)), CageError);
 }
 
+TEST(GreenCoordinates, ApplyingToSomeRowsGivesThoseRowsOfTheWhole) {
+  const TriMesh cage = test::boxCage({-1, -1, -1}, {1, 1, 1}, 3);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 40; ++i)
+    points.emplace_back(std::sin(i), std::cos(3 * i) * 0.9, 0.02 * i - 0.5);
+  const auto gc = computeGreenCoordinates(cage, points);
+  TriMesh moved = cage;
+  for (auto v : moved.vertices())
+    moved.set_point(v, moved.point(v) * 1.3 + TriMesh::Point(0.2 * moved.point(v)[1], 0, 0));
+  const auto whole = applyGreenCoordinates(gc.phi, gc.psi, cage, moved);
+  const std::vector<int> rows = {7, 0, 39, 7, 12};
+  const auto some = applyGreenCoordinates(gc.phi, gc.psi, cage, moved, rows);
+  ASSERT_EQ(some.size(), rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    EXPECT_EQ(some[k], whole[std::size_t(rows[k])]) << k;
+  EXPECT_THROW(applyGreenCoordinates(gc.phi, gc.psi, cage, moved, std::vector<int>{40}), CageError);
+  EXPECT_THROW(applyGreenCoordinates(gc.phi, gc.psi, cage, moved, std::vector<int>{-1}), CageError);
+}
+
 TEST(GreenCoordinates, ReportsPointsOutside) {
   const TriMesh cube = test::boxCage({-1, -1, -1}, {1, 1, 1}, 1);
   const auto gc = computeGreenCoordinates(cube, {{0, 0, 0}, {3, 0, 0}, {0.5, 0.5, 0.5}});
