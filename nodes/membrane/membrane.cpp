@@ -1,0 +1,505 @@
+// The offset membrane solver (GeoBrush paper section 4.4, Eqs. 4-5): conjugate gradients
+// preconditioned by a V-cycle of the Galerkin multigrid built in membrane_levels.cpp.
+#include "membrane.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <utility>
+
+#include "membrane_levels.hpp"
+
+namespace geobrush {
+namespace membrane_detail {
+
+namespace {
+
+// The fixed rings outside Q: two for the plate's 13-point stencil. The harmonic mode reads one,
+// but asks for the same room, so that one region serves both modes.
+constexpr int kRings = 2;
+
+std::string nodeName(int x, int y) {
+  std::string name = "(";
+  name += std::to_string(x);
+  name += ", ";
+  name += std::to_string(y);
+  name += ")";
+  return name;
+}
+
+void validateRegion(int width, int height, const std::vector<std::uint8_t>& inside) {
+  if (width < 5 || height < 5) {
+    std::string message = "membrane: the grid must be at least 5 x 5 nodes, got ";
+    message += std::to_string(width);
+    message += " x ";
+    message += std::to_string(height);
+    throw std::invalid_argument(message);
+  }
+  if (double(width) * double(height) > double(1 << 28))
+    throw std::invalid_argument("membrane: the grid has more than 2^28 nodes");
+  if (inside.size() != std::size_t(width) * std::size_t(height)) {
+    std::string message = "membrane: the region mask has ";
+    message += std::to_string(inside.size());
+    message += " entries, the grid ";
+    message += std::to_string(std::size_t(width) * std::size_t(height));
+    throw std::invalid_argument(message);
+  }
+  bool empty = true;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      if (!inside[std::size_t(y) * std::size_t(width) + std::size_t(x)]) continue;
+      empty = false;
+      if (x < kRings || y < kRings || x >= width - kRings || y >= height - kRings) {
+        std::string message = "membrane: the region reaches node ";
+        message += nodeName(x, y);
+        message += ", within two nodes of the grid border (the fixed rings need the room)";
+        throw std::invalid_argument(message);
+      }
+    }
+  if (empty) throw std::invalid_argument("membrane: the region Q is empty (no unknown node)");
+}
+
+void validateFields(const std::vector<std::vector<double>>& fields, std::size_t count,
+                    std::size_t nodes, const char* what) {
+  if (fields.size() != count) {
+    std::string message = "membrane: ";
+    message += what;
+    message += " has ";
+    message += std::to_string(fields.size());
+    message += " channels, the problem ";
+    message += std::to_string(count);
+    throw std::invalid_argument(message);
+  }
+  for (std::size_t c = 0; c < count; ++c)
+    if (fields[c].size() != nodes) {
+      std::string message = "membrane: channel ";
+      message += std::to_string(c);
+      message += " of ";
+      message += what;
+      message += " has ";
+      message += std::to_string(fields[c].size());
+      message += " values, the grid ";
+      message += std::to_string(nodes);
+      throw std::invalid_argument(message);
+    }
+}
+
+// Only the values the solver reads must be finite: the caller need not sample unused nodes.
+void requireFinite(const std::vector<std::vector<double>>& fields,
+                   const std::vector<MembraneNode>& roles, MembraneNode role, const char* what) {
+  for (std::size_t c = 0; c < fields.size(); ++c)
+    for (std::size_t i = 0; i < roles.size(); ++i)
+      if (roles[i] == role && !std::isfinite(fields[c][i])) {
+        std::string message = "membrane: ";
+        message += what;
+        message += " of channel ";
+        message += std::to_string(c);
+        message += " is not finite at node ";
+        message += std::to_string(i);
+        throw std::invalid_argument(message);
+      }
+}
+
+}  // namespace
+
+std::vector<MembraneNode> validateProblem(const MembraneProblem& problem) {
+  validateRegion(problem.width, problem.height, problem.inside);
+  if (problem.channels.empty())
+    throw std::invalid_argument("membrane: the problem has no channels");
+  const std::size_t nodes = problem.inside.size();
+  validateFields(problem.channels, problem.channels.size(), nodes, "the boundary data");
+  std::vector<MembraneNode> roles =
+      classifyMembraneNodes(problem.width, problem.height, problem.inside, problem.continuity);
+  requireFinite(problem.channels, roles, MembraneNode::Fixed, "the boundary value");
+  return roles;
+}
+
+std::vector<double> padded(const PaddedGrid& grid, const std::vector<double>& field,
+                           const std::vector<MembraneNode>& roles, MembraneNode role) {
+  std::vector<double> out(grid.size(), 0.0);
+  for (int y = 0; y < grid.height; ++y)
+    for (int x = 0; x < grid.width; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(grid.width) + std::size_t(x);
+      if (roles[i] == role) out[std::size_t(grid.index(x, y))] = field[i];
+    }
+  return out;
+}
+
+std::vector<double> rightHandSide(const Level& finest, const std::vector<double>& fixedValues) {
+  // b = -A_IB f_B: the finest operator's rows at the unknowns are the regular stencil, so applying
+  // the level's operator to the fixed values alone (zero at the unknowns) gives A_IB f_B.
+  std::vector<double> b(finest.grid.size(), 0.0);
+  applyOperator(finest, fixedValues.data(), b.data());
+  for (int i = finest.activeBegin; i < finest.activeEnd; ++i)
+    b[std::size_t(i)] = -b[std::size_t(i)];
+  return b;
+}
+
+}  // namespace membrane_detail
+
+namespace {
+
+using membrane_detail::Level;
+
+double dot(const Level& level, const double* a, const double* b) {
+  double sum = 0;
+  for (const membrane_detail::RowSpan& span : level.spans)
+    for (int i = span.begin; i < span.end; ++i)
+      sum += a[i] * b[i];
+  return sum;
+}
+
+double norm(const Level& level, const double* a) {
+  return std::sqrt(dot(level, a, a));
+}
+
+template <typename From, typename To>
+void copyActive(const Level& level, const From* from, To* to) {
+  std::copy(from + level.activeBegin, from + level.activeEnd, to + level.activeBegin);
+}
+
+// A cycle's vectors on one level, in single precision (see SingleCoefficients).
+struct CycleVectors {
+  CycleVectors(std::size_t size, bool repeatedCycles)
+      : b(size, 0.0f),
+        x(size, 0.0f),
+        r(size, 0.0f),
+        t(size, 0.0f),
+        d(size, 0.0f),
+        c(repeatedCycles ? size : 0, 0.0f),
+        e(repeatedCycles ? size : 0, 0.0f) {}
+  std::vector<float> b, x;     // this level's right-hand side and solution within a cycle
+  std::vector<float> r, t, d;  // residual, second iterate and step of the smoother
+  std::vector<float> c, e;     // right-hand side and solution of a repeated coarse cycle
+};
+
+// One cycle of the Galerkin multigrid as a symmetric preconditioner: the post-smoother is the
+// adjoint of the pre-smoother (the same Chebyshev polynomial; the band sweeps in reverse order)
+// and every coarse correction is symmetric, so CG may use it.
+//
+// Each level's coarse problem gets `coarseCycles` cycles (2: a W-cycle). With the B-spline
+// prolongation a V-cycle already keeps CG's iteration count flat from 64^2 to 256^2; the W-cycle
+// saves two or three iterations and costs twice as much per iteration.
+class Preconditioner {
+ public:
+  Preconditioner(const MembraneHierarchy& hierarchy, const MembraneMultigridSettings& settings)
+      : hierarchy_(hierarchy), settings_(settings) {
+    for (const Level& level : hierarchy.levels())
+      vectors_.emplace_back(level.grid.size(), settings.coarseCycles > 1);
+  }
+
+  // z = M r on the finest level.
+  void apply(const double* r, double* z) {
+    const Level& finest = hierarchy_.levels().front();
+    CycleVectors& v = vectors_.front();
+    copyActive(finest, r, v.b.data());
+    cycle(0, v.b.data(), v.x.data());
+    copyActive(finest, v.x.data(), z);
+  }
+
+ private:
+  // x = (approximately) A^-1 b on level `index`.
+  void cycle(std::size_t index, const float* b, float* x) {
+    const auto& levels = hierarchy_.levels();
+    const Level& level = levels[index];
+    if (index + 1 == levels.size()) {
+      membrane_detail::solveCoarsest(hierarchy_.coarsest(), b, x, coarseScratch_);
+      return;
+    }
+    CycleVectors& v = vectors_[index];
+    smooth(level, b, x, v, true);
+    sweepBand(level, b, x, true);
+    membrane_detail::subtractOperator(level, b, x, v.r.data());
+    const Level& coarse = levels[index + 1];
+    CycleVectors& next = vectors_[index + 1];
+    membrane_detail::restrictToCoarse(level, coarse, v.r.data(), next.b.data());
+    cycle(index + 1, next.b.data(), next.x.data());
+    const bool coarseIsExact = index + 2 == levels.size();
+    for (int repeat = 1; repeat < settings_.coarseCycles && !coarseIsExact; ++repeat) {
+      membrane_detail::subtractOperator(coarse, next.b.data(), next.x.data(), next.c.data());
+      cycle(index + 1, next.c.data(), next.e.data());
+      for (int i = coarse.activeBegin; i < coarse.activeEnd; ++i)
+        next.x[std::size_t(i)] += next.e[std::size_t(i)];
+    }
+    membrane_detail::prolongAdd(coarse, level, next.x.data(), x);
+    sweepBand(level, b, x, false);
+    smooth(level, b, x, v, false);
+  }
+
+  // x += p(D^-1 A) D^-1 (b - A x) with the Chebyshev polynomial of the settings' degree that is
+  // smallest on [lambdaMax / ratio, lambdaMax]; zeroStart: x is taken as zero and overwritten.
+  // The iterates alternate between x and v.t, arranged so that the last lands in x.
+  void smooth(const Level& level, const float* b, float* x, CycleVectors& v, bool zeroStart) {
+    const double upper = level.lambdaMax, lower = upper / settings_.smootherRatio;
+    const double theta = (upper + lower) / 2, delta = (upper - lower) / 2;
+    const double sigma = theta / delta;
+    double rho = 1 / sigma;
+    float* d = v.d.data();
+    int steps = settings_.smootherDegree;
+    float* current = x;
+    float* other = v.t.data();
+    if (zeroStart) {
+      // The first step from zero needs no stencil: d = D^-1 b / theta.
+      --steps;
+      if (steps % 2 == 1) std::swap(current, other);
+      const float* inverseDiagonal = level.single.inverseDiagonal.data();
+      const float gain = float(1 / theta);
+      for (int i = level.activeBegin; i < level.activeEnd; ++i) {
+        d[i] = gain * inverseDiagonal[i] * b[i];
+        current[i] = d[i];
+      }
+    } else {
+      membrane_detail::chebyshevStep(level, b, current, other, d, 0.0f, float(1 / theta));
+      std::swap(current, other);
+      --steps;
+    }
+    for (; steps > 0; --steps) {
+      const double rhoNext = 1 / (2 * sigma - rho);
+      membrane_detail::chebyshevStep(level, b, current, other, d, float(rhoNext * rho),
+                                     float(2 * rhoNext / delta));
+      std::swap(current, other);
+      rho = rhoNext;
+    }
+    if (current != x) copyActive(level, current, x);
+  }
+
+  void sweepBand(const Level& level, const float* b, float* x, bool forward) {
+    const auto& band = level.band;
+    const float* inverseDiagonal = level.single.inverseDiagonal.data();
+    auto relax = [&](int node) {
+      x[node] += (b[node] - membrane_detail::rowProduct(level, x, node)) * inverseDiagonal[node];
+    };
+    for (int sweep = 0; sweep < settings_.bandSweeps; ++sweep) {
+      if (forward)
+        std::for_each(band.begin(), band.end(), relax);
+      else
+        std::for_each(band.rbegin(), band.rend(), relax);
+    }
+  }
+
+  const MembraneHierarchy& hierarchy_;
+  MembraneMultigridSettings settings_;
+  std::vector<CycleVectors> vectors_;
+  Eigen::VectorXd coarseScratch_;
+};
+
+struct KrylovVectors {
+  explicit KrylovVectors(std::size_t size)
+      : r(size, 0.0), z(size, 0.0), p(size, 0.0), q(size, 0.0) {}
+  std::vector<double> r, z, p, q;
+};
+
+// Preconditioned conjugate gradients on A x = b from the x given. The stopping test uses the
+// recurrence residual; it is confirmed on the true residual b - A x, and CG restarts from there
+// when the two have drifted apart, so `converged` always describes the returned x.
+MembraneChannelReport conjugateGradients(const Level& finest, Preconditioner& preconditioner,
+                                         const double* b, double* x, KrylovVectors& v,
+                                         double tolerance, int maxIterations) {
+  MembraneChannelReport report;
+  const int begin = finest.activeBegin, end = finest.activeEnd;
+  const double bNorm = norm(finest, b);
+  if (bNorm == 0) {
+    // Zero boundary data: the solution is zero.
+    std::fill(x + begin, x + end, 0.0);
+    report.converged = true;
+    return report;
+  }
+  const double target = tolerance * bNorm;
+  double* r = v.r.data();
+  double* z = v.z.data();
+  double* p = v.p.data();
+  double* q = v.q.data();
+  membrane_detail::subtractOperator(finest, b, x, r);
+  double rNorm = norm(finest, r);
+  bool restart = true;
+  double rz = 0;
+  while (std::isfinite(rNorm)) {
+    if (rNorm <= target) {
+      membrane_detail::subtractOperator(finest, b, x, r);
+      rNorm = norm(finest, r);
+      if (rNorm <= target) break;
+      restart = true;
+    }
+    if (report.iterations >= maxIterations) break;
+    preconditioner.apply(r, z);
+    const double rzNext = dot(finest, r, z);
+    if (restart) {
+      copyActive(finest, z, p);
+      restart = false;
+    } else {
+      const double beta = rzNext / rz;
+      for (int i = begin; i < end; ++i)
+        p[i] = z[i] + beta * p[i];
+    }
+    rz = rzNext;
+    membrane_detail::applyOperator(finest, p, q);
+    const double pq = dot(finest, p, q);
+    if (!(pq > 0) || !(rz > 0)) break;  // breakdown: the reported residual says how far it got
+    const double alpha = rz / pq;
+    for (int i = begin; i < end; ++i) {
+      x[i] += alpha * p[i];
+      r[i] -= alpha * q[i];
+    }
+    rNorm = norm(finest, r);
+    ++report.iterations;
+  }
+  membrane_detail::subtractOperator(finest, b, x, r);
+  rNorm = norm(finest, r);
+  report.residual = rNorm / bNorm;
+  report.converged = rNorm <= target;
+  return report;
+}
+
+// Solves the channels c = first, first + step, ... on the calling thread. Each channel's
+// arithmetic is the same whichever thread runs it, so the values do not depend on the thread
+// count. (Splitting rows between threads instead would need a barrier after every kernel, about
+// a hundred per V-cycle, most of them on coarse levels too small to share.)
+void solveChannels(const MembraneProblem& problem, const MembraneOptions& options,
+                   const MembraneHierarchy& hierarchy, const std::vector<MembraneNode>& roles,
+                   std::size_t first, std::size_t step, MembraneResult& result) {
+  const Level& finest = hierarchy.levels().front();
+  Preconditioner preconditioner(hierarchy, options.multigrid);
+  KrylovVectors krylov(finest.grid.size());
+  for (std::size_t c = first; c < problem.channels.size(); c += step) {
+    const std::vector<double>& field = problem.channels[c];
+    const std::vector<double> b = membrane_detail::rightHandSide(
+        finest, membrane_detail::padded(finest.grid, field, roles, MembraneNode::Fixed));
+    std::vector<double> x = options.initialGuess.empty()
+                                ? std::vector<double>(finest.grid.size(), 0.0)
+                                : membrane_detail::padded(finest.grid, options.initialGuess[c],
+                                                          roles, MembraneNode::Unknown);
+    result.channels[c] = conjugateGradients(finest, preconditioner, b.data(), x.data(), krylov,
+                                            options.tolerance, options.maxIterations);
+    std::vector<double>& values = result.values[c];
+    values = field;
+    for (int y = 0; y < problem.height; ++y)
+      for (int column = 0; column < problem.width; ++column) {
+        const std::size_t i = std::size_t(y) * std::size_t(problem.width) + std::size_t(column);
+        if (roles[i] == MembraneNode::Unknown)
+          values[i] = x[std::size_t(finest.grid.index(column, y))];
+      }
+  }
+}
+
+std::size_t workerCount(int requested) {
+  if (requested > 0) return std::size_t(requested);
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+void validateOptions(const MembraneOptions& options, const MembraneProblem& problem,
+                     const std::vector<MembraneNode>& roles) {
+  if (!(options.tolerance > 0) || !std::isfinite(options.tolerance))
+    throw std::invalid_argument("membrane: the tolerance must be positive and finite");
+  if (options.maxIterations < 0)
+    throw std::invalid_argument("membrane: maxIterations must not be negative");
+  if (options.threads < 0) throw std::invalid_argument("membrane: threads must not be negative");
+  const MembraneMultigridSettings& m = options.multigrid;
+  if (m.smootherDegree < 1 || !(m.smootherRatio > 1) || !std::isfinite(m.smootherRatio) ||
+      m.bandWidth < 0 || m.bandSweeps < 0 || m.coarseCycles < 1 || m.coarsestUnknowns < 1)
+    throw std::invalid_argument(
+        "membrane: multigrid settings need smootherDegree >= 1, a finite smootherRatio > 1, "
+        "bandWidth >= 0, bandSweeps >= 0, coarseCycles >= 1 and coarsestUnknowns >= 1");
+  if (options.initialGuess.empty()) return;
+  membrane_detail::validateFields(options.initialGuess, problem.channels.size(),
+                                  problem.inside.size(), "the initial guess");
+  membrane_detail::requireFinite(options.initialGuess, roles, MembraneNode::Unknown,
+                                 "the initial guess");
+}
+
+}  // namespace
+
+std::vector<MembraneNode> classifyMembraneNodes(int width, int height,
+                                                const std::vector<std::uint8_t>& inside,
+                                                MembraneContinuity continuity) {
+  membrane_detail::validateRegion(width, height, inside);
+  const int reach = continuity == MembraneContinuity::C1 ? 2 : 1;
+  std::vector<MembraneNode> roles(inside.size(), MembraneNode::Unused);
+  auto at = [width](int x, int y) { return std::size_t(y) * std::size_t(width) + std::size_t(x); };
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      if (!inside[at(x, y)]) continue;
+      roles[at(x, y)] = MembraneNode::Unknown;
+      // The nodes the stencil reads: taxicab distance up to `reach`.
+      for (int dy = -reach; dy <= reach; ++dy)
+        for (int dx = -reach + std::abs(dy); dx <= reach - std::abs(dy); ++dx)
+          if (!inside[at(x + dx, y + dy)]) roles[at(x + dx, y + dy)] = MembraneNode::Fixed;
+    }
+  return roles;
+}
+
+MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptions& options) {
+  const std::vector<MembraneNode> roles = membrane_detail::validateProblem(problem);
+  validateOptions(options, problem, roles);
+
+  MembraneResult result;
+  result.hierarchyReused = options.hierarchy && options.hierarchy->fits(problem, options.multigrid);
+  result.hierarchy = result.hierarchyReused
+                         ? options.hierarchy
+                         : std::make_shared<const MembraneHierarchy>(
+                               problem.width, problem.height, problem.inside, problem.continuity,
+                               options.multigrid, options.hierarchy.get());
+  const auto& levels = result.hierarchy->levels();
+  const Level& finest = levels.front();
+  result.levels = int(levels.size());
+  result.unknowns = int(finest.unknowns.size());
+
+  const std::size_t channels = problem.channels.size();
+  result.channels.resize(channels);
+  result.values.resize(channels);
+  const std::size_t threads = std::min(channels, workerCount(options.threads));
+  std::vector<std::thread> workers;
+  std::vector<std::exception_ptr> failures(threads);
+  for (std::size_t t = 1; t < threads; ++t)
+    workers.emplace_back([&, t] {
+      try {
+        solveChannels(problem, options, *result.hierarchy, roles, t, threads, result);
+      } catch (...) {
+        failures[t] = std::current_exception();
+      }
+    });
+  try {
+    solveChannels(problem, options, *result.hierarchy, roles, 0, threads, result);
+  } catch (...) {
+    failures[0] = std::current_exception();
+  }
+  for (std::thread& worker : workers)
+    worker.join();
+  for (const std::exception_ptr& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+
+  result.converged = true;
+  for (const MembraneChannelReport& report : result.channels) {
+    result.iterations = std::max(result.iterations, report.iterations);
+    result.residual = std::max(result.residual, report.residual);
+    result.converged = result.converged && report.converged;
+  }
+  return result;
+}
+
+std::vector<double> membraneResidual(const MembraneProblem& problem,
+                                     const std::vector<std::vector<double>>& values) {
+  const std::vector<MembraneNode> roles = membrane_detail::validateProblem(problem);
+  membrane_detail::validateFields(values, problem.channels.size(), problem.inside.size(),
+                                  "the values");
+  membrane_detail::requireFinite(values, roles, MembraneNode::Unknown, "the value");
+  const Level finest = membrane_detail::finestLevel(problem.width, problem.height, problem.inside,
+                                                    problem.continuity, 0);
+  std::vector<double> residuals;
+  std::vector<double> r(finest.grid.size(), 0.0);
+  for (std::size_t c = 0; c < problem.channels.size(); ++c) {
+    const std::vector<double> b = membrane_detail::rightHandSide(
+        finest,
+        membrane_detail::padded(finest.grid, problem.channels[c], roles, MembraneNode::Fixed));
+    const std::vector<double> x =
+        membrane_detail::padded(finest.grid, values[c], roles, MembraneNode::Unknown);
+    membrane_detail::subtractOperator(finest, b.data(), x.data(), r.data());
+    const double bNorm = norm(finest, b.data()), rNorm = norm(finest, r.data());
+    residuals.push_back(bNorm > 0 ? rNorm / bNorm : rNorm);
+  }
+  return residuals;
+}
+
+}  // namespace geobrush

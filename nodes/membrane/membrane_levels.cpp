@@ -1,0 +1,735 @@
+// The levels of the membrane's Galerkin multigrid (GeoBrush paper section 4.4, Eq. 4) and the
+// kernels that apply their operators.
+#include "membrane_levels.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+// The kernels are compiled twice, for AVX2 and for the baseline, and the loader picks one. Without
+// FMA contraction both round alike, so the results do not depend on the machine's choice.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define GEOBRUSH_MEMBRANE_KERNEL [[gnu::target_clones("avx2", "default"), gnu::flatten]]
+#else
+#define GEOBRUSH_MEMBRANE_KERNEL
+#endif
+
+namespace geobrush::membrane_detail {
+namespace {
+
+// Prolongation is the cubic B-spline subdivision rule: the weight of a coarse node at a fine node
+// `offset` fine steps away along one axis (a tensor product in 2D). Bilinear prolongation is not
+// enough for a fourth-order operator: its piecewise-linear coarse functions have kinks whose
+// discrete curvature costs plate energy, so the Galerkin coarse levels only half-correct smooth
+// errors, and with a V-cycle that loss compounds level by level (CG needed 14, 20 and 26
+// iterations at 64^2, 128^2 and 256^2). B-splines are C2, and the coarse stencils grow only from
+// 25 to 49 points.
+constexpr int kSplineReach = 2;
+constexpr double splineWeight(int offset) {
+  switch (offset) {
+    case 0:
+      return 0.75;
+    case 1:
+    case -1:
+      return 0.5;
+    case 2:
+    case -2:
+      return 0.125;
+    default:
+      return 0;
+  }
+}
+
+// The fine coordinate under coarse coordinate `coarse`. The coarse grid starts one coarse step
+// before the fine grid, so that coarse unknowns stay at least one node from every grid border.
+constexpr int fineOf(int coarse) {
+  return 2 * coarse - 2;
+}
+
+Stencil plateStencil() {
+  Stencil s{};
+  s[stencilSlot(0, 0)] = 20;
+  for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+    s[stencilSlot(dx, dy)] = -8;
+    s[stencilSlot(2 * dx, 2 * dy)] = 1;
+  }
+  for (auto [dx, dy] : {std::pair{1, 1}, {-1, 1}, {1, -1}, {-1, -1}})
+    s[stencilSlot(dx, dy)] = 2;
+  return s;
+}
+
+Stencil laplaceStencil() {
+  Stencil s{};
+  s[stencilSlot(0, 0)] = 4;
+  for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}})
+    s[stencilSlot(dx, dy)] = -1;
+  return s;
+}
+
+// The Galerkin product P^T S P of a stencil on the unmasked infinite grid: the coarse operator
+// wherever Q is far away.
+Stencil galerkinStencil(const Stencil& fine) {
+  Stencil coarse{};
+  for (int fy = -kSplineReach; fy <= kSplineReach; ++fy)
+    for (int fx = -kSplineReach; fx <= kSplineReach; ++fx)
+      for (int ky = -kReach; ky <= kReach; ++ky)
+        for (int kx = -kReach; kx <= kReach; ++kx) {
+          const double a = fine[stencilSlot(kx, ky)];
+          if (a == 0) continue;
+          const double weight = splineWeight(fx) * splineWeight(fy) * a;
+          const int gx = fx + kx, gy = fy + ky;
+          for (int jy = -kReach; jy <= kReach; ++jy)
+            for (int jx = -kReach; jx <= kReach; ++jx)
+              coarse[stencilSlot(jx, jy)] +=
+                  weight * splineWeight(gx - 2 * jx) * splineWeight(gy - 2 * jy);
+        }
+  return coarse;
+}
+
+const Stencil& rowWeights(const Level& level, int node) {
+  const int custom = level.customOfNode[std::size_t(node)];
+  return custom < 0 ? level.regular : level.customRows[std::size_t(custom)].weights;
+}
+
+// Row (coarseX, coarseY) of R A P from the fine level's rows and mask: exact also where the mask
+// cuts the B-splines short. w = A P e_I is gathered on the fine window it can reach, then
+// restricted to the coarse stencil one axis at a time.
+Stencil galerkinRow(const Level& fine, int coarseX, int coarseY) {
+  constexpr int kWindow = kSplineReach + kReach;
+  constexpr int kSide = 2 * kWindow + 1;
+  const int centerX = fineOf(coarseX), centerY = fineOf(coarseY);
+  std::array<std::array<double, kSide>, kSide> unknown{};  // 1 or 0: multiplied, not branched on
+  for (int gy = -kWindow; gy <= kWindow; ++gy)
+    for (int gx = -kWindow; gx <= kWindow; ++gx) {
+      const int x = centerX + gx, y = centerY + gy;
+      if (fine.grid.contains(x, y))
+        unknown[std::size_t(gy + kWindow)][std::size_t(gx + kWindow)] =
+            fine.mask[std::size_t(fine.grid.index(x, y))];
+    }
+  std::array<std::array<double, kSide>, kSide> w{};
+  for (int fy = -kSplineReach; fy <= kSplineReach; ++fy)
+    for (int fx = -kSplineReach; fx <= kSplineReach; ++fx) {
+      if (unknown[std::size_t(fy + kWindow)][std::size_t(fx + kWindow)] == 0) continue;
+      const double pf = splineWeight(fx) * splineWeight(fy);
+      // Row f of A, read as column f: the operators are symmetric.
+      const Stencil& a = rowWeights(fine, fine.grid.index(centerX + fx, centerY + fy));
+      for (int ky = -fine.reach; ky <= fine.reach; ++ky) {
+        const std::size_t gy = std::size_t(fy + ky + kWindow);
+        for (int kx = -fine.reach; kx <= fine.reach; ++kx) {
+          const std::size_t gx = std::size_t(fx + kx + kWindow);
+          w[gy][gx] += pf * a[std::size_t(stencilSlot(kx, ky))] * unknown[gy][gx];
+        }
+      }
+    }
+  // The coarse node j steps away covers fine offsets 2j - 2 .. 2j + 2 from the center.
+  std::array<std::array<double, kStencilSide>, kSide> halfway{};
+  for (int gy = 0; gy < kSide; ++gy)
+    for (int jx = -kReach; jx <= kReach; ++jx)
+      for (int dx = -kSplineReach; dx <= kSplineReach; ++dx) {
+        const int gx = 2 * jx + dx + kWindow;
+        if (gx < 0 || gx >= kSide) continue;
+        halfway[std::size_t(gy)][std::size_t(jx + kReach)] +=
+            splineWeight(dx) * w[std::size_t(gy)][std::size_t(gx)];
+      }
+  Stencil row{};
+  for (int jy = -kReach; jy <= kReach; ++jy)
+    for (int dy = -kSplineReach; dy <= kSplineReach; ++dy) {
+      const int gy = 2 * jy + dy + kWindow;
+      if (gy < 0 || gy >= kSide) continue;
+      for (int jx = -kReach; jx <= kReach; ++jx)
+        row[std::size_t(stencilSlot(jx, jy))] +=
+            splineWeight(dy) * halfway[std::size_t(gy)][std::size_t(jx + kReach)];
+    }
+  return row;
+}
+
+// Box dilation of `marks` by `radius` nodes (Chebyshev distance): separable, each pass an OR of
+// shifted copies.
+std::vector<std::uint8_t> dilate(const PaddedGrid& grid, const std::vector<std::uint8_t>& marks,
+                                 int radius) {
+  const int stride = grid.stride(), rows = grid.rows();
+  std::vector<std::uint8_t> horizontal(marks.size(), 0), out(marks.size(), 0);
+  for (int y = 0; y < rows; ++y) {
+    const std::uint8_t* in = marks.data() + std::size_t(y) * std::size_t(stride);
+    std::uint8_t* row = horizontal.data() + std::size_t(y) * std::size_t(stride);
+    for (int shift = -radius; shift <= radius; ++shift)
+      for (int x = std::max(0, -shift); x < std::min(stride, stride - shift); ++x)
+        row[x] |= in[x + shift];
+  }
+  for (int y = 0; y < rows; ++y) {
+    std::uint8_t* row = out.data() + std::size_t(y) * std::size_t(stride);
+    for (int from = std::max(0, y - radius); from <= std::min(rows - 1, y + radius); ++from) {
+      const std::uint8_t* in = horizontal.data() + std::size_t(from) * std::size_t(stride);
+      for (int x = 0; x < stride; ++x)
+        row[x] |= in[x];
+    }
+  }
+  return out;
+}
+
+double gershgorinRatio(const Stencil& row) {
+  double sum = 0;
+  for (double w : row)
+    sum += std::abs(w);
+  return sum / row[stencilSlot(0, 0)];
+}
+
+// The Lanczos estimate is a lower bound (within 4% after 8 steps on the coarse levels tried);
+// the Chebyshev smoother amplifies eigenvalues beyond (1 + 1 / smootherRatio) times its upper end.
+constexpr double kLanczosSafety = 1.1;
+
+double largestRitzValue(const Level& level);
+
+// Everything a level derives from its mask, regular stencil and custom rows.
+void finishLevel(Level& level, int bandWidth) {
+  const PaddedGrid& grid = level.grid;
+  const std::size_t size = grid.size();
+
+  level.unknowns.clear();
+  level.spans.assign(std::size_t(grid.height), RowSpan{});
+  for (int y = 0; y < grid.height; ++y) {
+    RowSpan& span = level.spans[std::size_t(y)];
+    for (int x = 0; x < grid.width; ++x) {
+      const int node = grid.index(x, y);
+      if (level.mask[std::size_t(node)] == 0) continue;
+      if (span.begin == span.end) span.begin = node;
+      span.end = node + 1;
+      level.unknowns.push_back(node);
+    }
+  }
+  level.activeBegin = level.unknowns.empty() ? 0 : level.unknowns.front();
+  level.activeEnd = level.unknowns.empty() ? 0 : level.unknowns.back() + 1;
+
+  for (int dy = -kReach; dy <= kReach; ++dy)
+    for (int dx = -kReach; dx <= kReach; ++dx)
+      level.slotOffsets[std::size_t(stencilSlot(dx, dy))] = dy * grid.stride() + dx;
+
+  level.customOfNode.assign(size, -1);
+  level.customBegin.assign(std::size_t(grid.height) + 1, 0);
+  for (std::size_t i = 0; i < level.customRows.size(); ++i) {
+    const int node = level.customRows[i].node;
+    level.customOfNode[std::size_t(node)] = int(i);
+    ++level.customBegin[std::size_t(node / grid.stride() - kPad) + 1];
+  }
+  for (int y = 0; y < grid.height; ++y)
+    level.customBegin[std::size_t(y) + 1] += level.customBegin[std::size_t(y)];
+
+  level.inverseDiagonal.assign(size, 0);
+  level.lambdaMax = gershgorinRatio(level.regular);
+  for (int node : level.unknowns)
+    level.inverseDiagonal[std::size_t(node)] = 1 / rowWeights(level, node)[stencilSlot(0, 0)];
+  for (const CustomRow& row : level.customRows)
+    level.lambdaMax = std::max(level.lambdaMax, gershgorinRatio(row.weights));
+
+  std::vector<std::uint8_t> outside(size);
+  for (std::size_t i = 0; i < size; ++i)
+    outside[i] = level.mask[i] == 0;
+  const std::vector<std::uint8_t> nearOutside = dilate(grid, outside, bandWidth);
+  level.band.clear();
+  for (int node : level.unknowns)
+    if (nearOutside[std::size_t(node)]) level.band.push_back(node);
+
+  SingleCoefficients& single = level.single;
+  single.mask.assign(level.mask.begin(), level.mask.end());
+  single.inverseDiagonal.assign(level.inverseDiagonal.begin(), level.inverseDiagonal.end());
+  std::copy(level.regular.begin(), level.regular.end(), single.regular.begin());
+  single.custom.resize(level.customRows.size());
+  for (std::size_t c = 0; c < level.customRows.size(); ++c)
+    std::copy(level.customRows[c].weights.begin(), level.customRows[c].weights.end(),
+              single.custom[c].begin());
+}
+
+// The coefficients a kernel reads in its precision: the double ones, or their float copies.
+template <typename T>
+struct Coefficients;
+
+template <>
+struct Coefficients<double> {
+  static const double* mask(const Level& level) { return level.mask.data(); }
+  static const double* inverseDiagonal(const Level& level) { return level.inverseDiagonal.data(); }
+  static const double* regular(const Level& level) { return level.regular.data(); }
+  static const double* custom(const Level& level, int c) {
+    return level.customRows[std::size_t(c)].weights.data();
+  }
+};
+
+template <>
+struct Coefficients<float> {
+  static const float* mask(const Level& level) { return level.single.mask.data(); }
+  static const float* inverseDiagonal(const Level& level) {
+    return level.single.inverseDiagonal.data();
+  }
+  static const float* regular(const Level& level) { return level.single.regular.data(); }
+  static const float* custom(const Level& level, int c) {
+    return level.single.custom[std::size_t(c)].data();
+  }
+};
+
+// (S x) at node i for the level's regular stencil S: written out for the finest level's plate
+// and Laplace stencils, 49 taps for the Galerkin ones. Always inlined: a call in the kernels'
+// loops would stop their vectorization.
+template <typename T>
+[[gnu::always_inline]] inline T plateSum(const T* x, int i, int s) {
+  return T(20) * x[i] - T(8) * (x[i - 1] + x[i + 1] + x[i - s] + x[i + s]) +
+         T(2) * (x[i - s - 1] + x[i - s + 1] + x[i + s - 1] + x[i + s + 1]) +
+         (x[i - 2] + x[i + 2] + x[i - 2 * s] + x[i + 2 * s]);
+}
+
+template <typename T>
+[[gnu::always_inline]] inline T laplaceSum(const T* x, int i, int s) {
+  return T(4) * x[i] - (x[i - 1] + x[i + 1] + x[i - s] + x[i + s]);
+}
+
+// One stencil row at a time, as regularRowSums does.
+template <typename T>
+[[gnu::always_inline]] inline T fullSum(const T* x, int i, int s, const T* weights) {
+  T sum = 0;
+  for (int dy = -kReach; dy <= kReach; ++dy) {
+    const T* row = x + i + dy * s;
+    const T* w = weights + stencilSlot(0, dy);
+    sum += w[-3] * row[-3] + w[-2] * row[-2] + w[-1] * row[-1] + w[0] * row[0] + w[1] * row[1] +
+           w[2] * row[2] + w[3] * row[3];
+  }
+  return sum;
+}
+
+// sum[i] = (S x)[begin + i] for i < length. The 49-tap stencil is applied one stencil row at a
+// time: seven weights in registers and seven streams, which vectorizes well (several times faster
+// than 49 taps per node).
+template <typename T>
+void regularRowSums(const Level& level, const T* x, int begin, int length, T* sum) {
+  const int s = level.grid.stride();
+  const T* center = x + begin;
+  switch (level.shape) {
+    case StencilShape::Plate:
+      for (int i = 0; i < length; ++i)
+        sum[i] = plateSum(center, i, s);
+      return;
+    case StencilShape::Laplace:
+      for (int i = 0; i < length; ++i)
+        sum[i] = laplaceSum(center, i, s);
+      return;
+    case StencilShape::Full:
+      break;
+  }
+  std::fill(sum, sum + length, T(0));
+  const T* weights = Coefficients<T>::regular(level);
+  for (int dy = -kReach; dy <= kReach; ++dy) {
+    const T* row = center + dy * s;
+    const T* w = weights + stencilSlot(0, dy);
+    const T w0 = w[-3], w1 = w[-2], w2 = w[-1], w3 = w[0], w4 = w[1], w5 = w[2], w6 = w[3];
+    for (int i = 0; i < length; ++i)
+      sum[i] += w0 * row[i - 3] + w1 * row[i - 2] + w2 * row[i - 1] + w3 * row[i] +
+                w4 * row[i + 1] + w5 * row[i + 2] + w6 * row[i + 3];
+  }
+}
+
+// Computes A x one grid row at a time into a scratch row and hands it to
+// finish(begin, length, sums): begin is the padded index of sums[0]. Every kernel that applies
+// the operator is one pass of this, so outputs may alias any input but x.
+template <typename T, typename Finish>
+void forEachOperatorRow(const Level& level, const T* x, Finish&& finish) {
+  std::vector<T> scratch(std::size_t(level.grid.width));
+  T* sums = scratch.data();
+  for (int row = 0; row < level.grid.height; ++row) {
+    const RowSpan span = level.spans[std::size_t(row)];
+    const int length = span.end - span.begin;
+    if (length == 0) continue;
+    regularRowSums(level, x, span.begin, length, sums);
+    for (int c = level.customBegin[std::size_t(row)]; c < level.customBegin[std::size_t(row) + 1];
+         ++c) {
+      const int node = level.customRows[std::size_t(c)].node;
+      sums[node - span.begin] =
+          fullSum(x, node, level.grid.stride(), Coefficients<T>::custom(level, c));
+    }
+    finish(span.begin, length, static_cast<const T*>(sums));
+  }
+}
+
+template <typename T>
+void applyOperatorRows(const Level& level, const T* x, T* out) {
+  const T* mask = Coefficients<T>::mask(level);
+  forEachOperatorRow(level, x, [&](int begin, int length, const T* sums) {
+    for (int i = 0; i < length; ++i)
+      out[begin + i] = mask[begin + i] * sums[i];
+  });
+}
+
+template <typename T>
+void subtractOperatorRows(const Level& level, const T* base, const T* x, T* out) {
+  const T* mask = Coefficients<T>::mask(level);
+  forEachOperatorRow(level, x, [&](int begin, int length, const T* sums) {
+    for (int i = 0; i < length; ++i)
+      out[begin + i] = mask[begin + i] * (base[begin + i] - sums[i]);
+  });
+}
+
+template <typename T>
+void chebyshevStepRows(const Level& level, const T* b, const T* x, T* xNext, T* d, T keep, T gain) {
+  const T* inverseDiagonal = Coefficients<T>::inverseDiagonal(level);
+  forEachOperatorRow(level, x, [&](int begin, int length, const T* sums) {
+    for (int i = begin; i < begin + length; ++i) {
+      // inverseDiagonal is 0 off the unknowns, which keeps d and xNext at 0 there.
+      d[i] = keep * d[i] + gain * inverseDiagonal[i] * (b[i] - sums[i - begin]);
+      xNext[i] = x[i] + d[i];
+    }
+  });
+}
+
+template <typename T>
+T rowProductAt(const Level& level, const T* x, int node) {
+  const int stride = level.grid.stride();
+  const int custom = level.customOfNode[std::size_t(node)];
+  if (custom >= 0) return fullSum(x, node, stride, Coefficients<T>::custom(level, custom));
+  switch (level.shape) {
+    case StencilShape::Plate:
+      return plateSum(x, node, stride);
+    case StencilShape::Laplace:
+      return laplaceSum(x, node, stride);
+    case StencilShape::Full:
+      break;
+  }
+  return fullSum(x, node, stride, Coefficients<T>::regular(level));
+}
+
+// The largest Ritz value of D^-1/2 A D^-1/2 after a few Lanczos steps: from below, within a few
+// percent of lambda_max(D^-1 A). Gershgorin's bound, exact on the finest level, is several times
+// too large on coarse levels whose rows near the boundary of Q have large off-diagonal weights;
+// a Chebyshev smoother tuned to it would leave half of the spectrum undamped.
+double largestRitzValue(const Level& level) {
+  constexpr int kSteps = 8;
+  // In float, as the cycle runs: an estimate a few percent low is all that is needed.
+  const std::size_t size = level.grid.size();
+  const std::size_t begin = std::size_t(level.activeBegin), end = std::size_t(level.activeEnd);
+  std::vector<float> scale(size, 0.0f), q(size, 0.0f), previous(size, 0.0f), w(size, 0.0f),
+      scaled(size, 0.0f);
+  for (int node : level.unknowns)
+    scale[std::size_t(node)] = float(std::sqrt(level.inverseDiagonal[std::size_t(node)]));
+  // A fixed pseudo-random start: deterministic, and with components along every eigenvector.
+  std::uint32_t state = 12345;
+  for (int node : level.unknowns) {
+    state = state * 1664525u + 1013904223u;
+    q[std::size_t(node)] = float(double(state >> 8) / double(1u << 24) - 0.5);
+  }
+  // Four interleaved sums in double: vectorizable, and the same order on every run.
+  auto dot = [&](const std::vector<float>& a, const std::vector<float>& b) {
+    std::array<double, 4> sums{};
+    std::size_t i = begin;
+    for (; i + 4 <= end; i += 4)
+      for (std::size_t k = 0; k < 4; ++k)
+        sums[k] += double(a[i + k]) * double(b[i + k]);
+    for (; i < end; ++i)
+      sums[0] += double(a[i]) * double(b[i]);
+    return (sums[0] + sums[1]) + (sums[2] + sums[3]);
+  };
+  const double start = std::sqrt(dot(q, q));
+  if (start == 0) return 0;
+  for (std::size_t i = begin; i < end; ++i)
+    q[i] = float(q[i] / start);
+  std::vector<double> alphas, betas;
+  double beta = 0;
+  for (int step = 0; step < kSteps; ++step) {
+    for (std::size_t i = begin; i < end; ++i)
+      scaled[i] = scale[i] * q[i];
+    applyOperator(level, scaled.data(), w.data());
+    const float previousWeight = float(beta);
+    for (std::size_t i = begin; i < end; ++i)
+      w[i] = scale[i] * w[i] - previousWeight * previous[i];
+    const double alpha = dot(w, q);
+    for (std::size_t i = begin; i < end; ++i)
+      w[i] -= float(alpha) * q[i];
+    alphas.push_back(alpha);
+    beta = std::sqrt(dot(w, w));
+    if (beta <= 1e-6 * std::abs(alpha)) break;  // an invariant subspace: the Ritz values are exact
+    betas.push_back(beta);
+    for (std::size_t i = begin; i < end; ++i) {
+      previous[i] = q[i];
+      q[i] = float(w[i] / beta);
+    }
+  }
+  const auto k = Eigen::Index(alphas.size());
+  Eigen::VectorXd diagonal = Eigen::Map<const Eigen::VectorXd>(alphas.data(), k);
+  Eigen::VectorXd subdiagonal = Eigen::Map<const Eigen::VectorXd>(betas.data(), k - 1);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> tridiagonal;
+  tridiagonal.computeFromTridiagonal(diagonal, subdiagonal, Eigen::EigenvaluesOnly);
+  return tridiagonal.eigenvalues().maxCoeff();
+}
+
+}  // namespace
+
+namespace {
+
+template <typename T>
+void restrictRows(const Level& fine, const Level& coarse, const T* fineValues, T* coarseValues) {
+  std::vector<T> columnSums(std::size_t(fine.grid.stride()));
+  const T* coarseMask = Coefficients<T>::mask(coarse);
+  for (int y = 0; y < coarse.grid.height; ++y) {
+    const RowSpan span = coarse.spans[std::size_t(y)];
+    if (span.begin == span.end) continue;
+    const int rowStart = coarse.grid.index(0, y);
+    const int firstX = fineOf(span.begin - rowStart) - kSplineReach;
+    const int lastX = fineOf(span.end - 1 - rowStart) + kSplineReach;
+    // Along y first: columnSums[x - firstX] = sum over dy of w(dy) fine(x, fineOf(y) + dy).
+    std::fill(columnSums.begin(), columnSums.end(), T(0));
+    for (int dy = -kSplineReach; dy <= kSplineReach; ++dy) {
+      const T weight = T(splineWeight(dy));
+      const T* fineRow = fineValues + fine.grid.index(firstX, fineOf(y) + dy);
+      for (int x = 0; x <= lastX - firstX; ++x)
+        columnSums[std::size_t(x)] += weight * fineRow[x];
+    }
+    for (int node = span.begin; node < span.end; ++node) {
+      const T* sums = columnSums.data() + (fineOf(node - rowStart) - firstX);
+      const T value =
+          T(0.125) * (sums[-2] + sums[2]) + T(0.5) * (sums[-1] + sums[1]) + T(0.75) * sums[0];
+      coarseValues[node] = coarseMask[node] * value;
+    }
+  }
+}
+
+template <typename T>
+void prolongRows(const Level& coarse, const Level& fine, const T* coarseValues, T* fineValues) {
+  std::vector<T> rowMix(std::size_t(coarse.grid.stride()));
+  const T* fineMask = Coefficients<T>::mask(fine);
+  for (int y = 0; y < fine.grid.height; ++y) {
+    const RowSpan span = fine.spans[std::size_t(y)];
+    if (span.begin == span.end) continue;
+    const int rowStart = fine.grid.index(0, y);
+    const int firstX = span.begin - rowStart, lastX = span.end - 1 - rowStart;
+    // The coarse columns that reach fine columns firstX..lastX. Coarse row (y + 2) / 2 lies on
+    // an even y; an odd y lies between it and the next.
+    const int firstColumn = firstX / 2, lastColumn = lastX / 2 + 2;
+    // Along y first: rowMix[X - firstColumn] mixes the coarse rows around y.
+    const T* row = coarseValues + coarse.grid.index(firstColumn, (y + 2) / 2);
+    const int stride = coarse.grid.stride();
+    for (int column = 0; column <= lastColumn - firstColumn; ++column) {
+      const T* c = row + column;
+      rowMix[std::size_t(column)] = y % 2 == 0
+                                        ? T(0.125) * (c[-stride] + c[stride]) + T(0.75) * c[0]
+                                        : T(0.5) * (c[0] + c[stride]);
+    }
+    for (int x = firstX; x <= lastX; ++x) {
+      const int node = rowStart + x;
+      if (fineMask[node] == 0) continue;
+      // Even x lies on coarse column (x + 2) / 2, odd x between that one and the next.
+      const T* m = rowMix.data() + ((x + 2) / 2 - firstColumn);
+      fineValues[node] +=
+          x % 2 == 0 ? T(0.125) * (m[-1] + m[1]) + T(0.75) * m[0] : T(0.5) * (m[0] + m[1]);
+    }
+  }
+}
+
+}  // namespace
+
+// The exported kernels in both precisions.
+GEOBRUSH_MEMBRANE_KERNEL void applyOperator(const Level& level, const double* x, double* out) {
+  applyOperatorRows(level, x, out);
+}
+GEOBRUSH_MEMBRANE_KERNEL void applyOperator(const Level& level, const float* x, float* out) {
+  applyOperatorRows(level, x, out);
+}
+GEOBRUSH_MEMBRANE_KERNEL void subtractOperator(const Level& level, const double* base,
+                                               const double* x, double* out) {
+  subtractOperatorRows(level, base, x, out);
+}
+GEOBRUSH_MEMBRANE_KERNEL void subtractOperator(const Level& level, const float* base,
+                                               const float* x, float* out) {
+  subtractOperatorRows(level, base, x, out);
+}
+GEOBRUSH_MEMBRANE_KERNEL void chebyshevStep(const Level& level, const float* b, const float* x,
+                                            float* xNext, float* d, float keep, float gain) {
+  chebyshevStepRows(level, b, x, xNext, d, keep, gain);
+}
+double rowProduct(const Level& level, const double* x, int node) {
+  return rowProductAt(level, x, node);
+}
+float rowProduct(const Level& level, const float* x, int node) {
+  return rowProductAt(level, x, node);
+}
+GEOBRUSH_MEMBRANE_KERNEL void restrictToCoarse(const Level& fine, const Level& coarse,
+                                               const double* fineValues, double* coarseValues) {
+  restrictRows(fine, coarse, fineValues, coarseValues);
+}
+GEOBRUSH_MEMBRANE_KERNEL void restrictToCoarse(const Level& fine, const Level& coarse,
+                                               const float* fineValues, float* coarseValues) {
+  restrictRows(fine, coarse, fineValues, coarseValues);
+}
+GEOBRUSH_MEMBRANE_KERNEL void prolongAdd(const Level& coarse, const Level& fine,
+                                         const double* coarseValues, double* fineValues) {
+  prolongRows(coarse, fine, coarseValues, fineValues);
+}
+GEOBRUSH_MEMBRANE_KERNEL void prolongAdd(const Level& coarse, const Level& fine,
+                                         const float* coarseValues, float* fineValues) {
+  prolongRows(coarse, fine, coarseValues, fineValues);
+}
+
+Level finestLevel(int width, int height, const std::vector<std::uint8_t>& inside,
+                  MembraneContinuity continuity, int bandWidth) {
+  Level level;
+  level.grid = {width, height};
+  level.mask.assign(level.grid.size(), 0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (inside[std::size_t(y) * std::size_t(width) + std::size_t(x)])
+        level.mask[std::size_t(level.grid.index(x, y))] = 1;
+  const bool plate = continuity == MembraneContinuity::C1;
+  level.regular = plate ? plateStencil() : laplaceStencil();
+  level.shape = plate ? StencilShape::Plate : StencilShape::Laplace;
+  level.reach = plate ? 2 : 1;
+  finishLevel(level, bandWidth);
+  return level;
+}
+
+Level coarsenLevel(const Level& fine, int bandWidth, const Level* previous,
+                   const std::vector<std::uint8_t>* fineChanged) {
+  const PaddedGrid& fineGrid = fine.grid;
+  Level coarse;
+  coarse.grid = {fineGrid.width / 2 + 3, fineGrid.height / 2 + 3};
+  coarse.regular = galerkinStencil(fine.regular);
+  coarse.shape = StencilShape::Full;
+  coarse.reach = kReach;
+
+  std::vector<std::uint8_t> unknown(fineGrid.size()), irregular(fineGrid.size());
+  for (std::size_t i = 0; i < unknown.size(); ++i) {
+    unknown[i] = fine.mask[i] != 0;
+    irregular[i] = !unknown[i] || fine.customOfNode[i] >= 0;
+  }
+  // A coarse node is unknown when its B-spline covers a fine unknown; its row is the regular
+  // Galerkin stencil when every fine node that R A P reads for it is an unknown with a regular
+  // row. The same window bounds what a change of the fine level can reach.
+  const int window = kSplineReach + fine.reach;
+  const std::vector<std::uint8_t> coversUnknown = dilate(fineGrid, unknown, kSplineReach);
+  const std::vector<std::uint8_t> nearIrregular = dilate(fineGrid, irregular, window);
+  const std::vector<std::uint8_t> reachedByChange =
+      previous ? dilate(fineGrid, *fineChanged, window) : std::vector<std::uint8_t>();
+
+  coarse.mask.assign(coarse.grid.size(), 0);
+  for (int y = 0; y < coarse.grid.height; ++y)
+    for (int x = 0; x < coarse.grid.width; ++x) {
+      const std::size_t f = std::size_t(fineGrid.index(fineOf(x), fineOf(y)));
+      if (!coversUnknown[f]) continue;
+      const int node = coarse.grid.index(x, y);
+      coarse.mask[std::size_t(node)] = 1;
+      if (!nearIrregular[f]) continue;
+      if (previous && !reachedByChange[f]) {
+        // The window is as it was: so is the row.
+        const int custom = previous->customOfNode[std::size_t(node)];
+        if (custom >= 0) coarse.customRows.push_back(previous->customRows[std::size_t(custom)]);
+        continue;
+      }
+      // Near the boundary most rows differ from the regular stencil, some do not.
+      const Stencil row = galerkinRow(fine, x, y);
+      if (row != coarse.regular) coarse.customRows.push_back({node, row});
+    }
+  finishLevel(coarse, bandWidth);
+  coarse.lambdaMax = std::min(coarse.lambdaMax, kLanczosSafety * largestRitzValue(coarse));
+  return coarse;
+}
+
+std::vector<std::uint8_t> changedNodes(const Level& now, const Level& before) {
+  std::vector<std::uint8_t> changed(now.grid.size(), 0);
+  for (std::size_t i = 0; i < changed.size(); ++i) {
+    if (now.mask[i] != before.mask[i]) {
+      changed[i] = 1;
+    } else if (now.customOfNode[i] >= 0 || before.customOfNode[i] >= 0) {
+      changed[i] = rowWeights(now, int(i)) != rowWeights(before, int(i));
+    }
+  }
+  return changed;
+}
+
+CoarsestSolver factorCoarsest(const Level& level) {
+  CoarsestSolver solver;
+  solver.nodes = level.unknowns;
+  const int n = int(solver.nodes.size());
+  std::vector<int> position(level.grid.size(), -1);
+  for (int i = 0; i < n; ++i)
+    position[std::size_t(solver.nodes[std::size_t(i)])] = i;
+  Eigen::MatrixXd matrix = Eigen::MatrixXd::Zero(n, n);
+  const int stride = level.grid.stride();
+  for (int i = 0; i < n; ++i) {
+    const int node = solver.nodes[std::size_t(i)];
+    const Stencil& w = rowWeights(level, node);
+    for (int dy = -kReach; dy <= kReach; ++dy)
+      for (int dx = -kReach; dx <= kReach; ++dx) {
+        const int j = position[std::size_t(node + dy * stride + dx)];
+        if (j >= 0) matrix(i, j) += w[stencilSlot(dx, dy)];
+      }
+  }
+  solver.factorization.compute(matrix);
+  const double largestPivot = n > 0 ? solver.factorization.vectorD().cwiseAbs().maxCoeff() : 0;
+  solver.pivotTolerance = 1e-12 * largestPivot;
+  return solver;
+}
+
+void solveCoarsest(const CoarsestSolver& solver, const float* b, float* x,
+                   Eigen::VectorXd& scratch) {
+  const auto n = Eigen::Index(solver.nodes.size());
+  scratch.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    scratch[i] = b[solver.nodes[std::size_t(i)]];
+  const auto& ldlt = solver.factorization;
+  scratch = ldlt.transpositionsP() * scratch;
+  ldlt.matrixL().solveInPlace(scratch);
+  const Eigen::VectorXd& pivots = ldlt.vectorD();
+  for (Eigen::Index i = 0; i < n; ++i)
+    scratch[i] = std::abs(pivots[i]) > solver.pivotTolerance ? scratch[i] / pivots[i] : 0.0;
+  ldlt.matrixU().solveInPlace(scratch);
+  scratch = ldlt.transpositionsP().transpose() * scratch;
+  for (Eigen::Index i = 0; i < n; ++i)
+    x[solver.nodes[std::size_t(i)]] = float(scratch[i]);
+}
+
+}  // namespace geobrush::membrane_detail
+
+namespace geobrush {
+
+MembraneHierarchy::MembraneHierarchy(int width, int height, std::vector<std::uint8_t> inside,
+                                     MembraneContinuity continuity,
+                                     const MembraneMultigridSettings& settings,
+                                     const MembraneHierarchy* previous)
+    : width_(width),
+      height_(height),
+      inside_(std::move(inside)),
+      continuity_(continuity),
+      bandWidth_(settings.bandWidth),
+      coarsestUnknowns_(settings.coarsestUnknowns) {
+  for (auto& flag : inside_)
+    flag = flag != 0;
+  levels_.push_back(
+      membrane_detail::finestLevel(width_, height_, inside_, continuity_, bandWidth_));
+  // A region of scattered single nodes may gain unknowns on a coarser level, but never more than
+  // the shrinking grid holds: a coarse grid is smaller than its fine grid down to 6 x 6.
+  auto canShrink = [](const membrane_detail::Level& level) {
+    return level.grid.width > 6 || level.grid.height > 6;
+  };
+  const bool related = previous && previous->width_ == width_ && previous->height_ == height_ &&
+                       previous->continuity_ == continuity_ && previous->bandWidth_ == bandWidth_;
+  while (levels_.back().unknowns.size() > std::size_t(coarsestUnknowns_) &&
+         canShrink(levels_.back())) {
+    // Levels of a previous region on the same grid lie on the same grids: rows that its change
+    // cannot reach are copied instead of recomputed.
+    const std::size_t fine = levels_.size() - 1;
+    if (related && fine + 1 < previous->levels_.size()) {
+      const std::vector<std::uint8_t> changed =
+          membrane_detail::changedNodes(levels_[fine], previous->levels_[fine]);
+      levels_.push_back(membrane_detail::coarsenLevel(levels_[fine], bandWidth_,
+                                                      &previous->levels_[fine + 1], &changed));
+    } else {
+      levels_.push_back(membrane_detail::coarsenLevel(levels_[fine], bandWidth_));
+    }
+  }
+  coarsest_ = membrane_detail::factorCoarsest(levels_.back());
+}
+
+bool MembraneHierarchy::fits(const MembraneProblem& problem,
+                             const MembraneMultigridSettings& settings) const {
+  if (problem.width != width_ || problem.height != height_ || problem.continuity != continuity_ ||
+      settings.bandWidth != bandWidth_ || settings.coarsestUnknowns != coarsestUnknowns_ ||
+      problem.inside.size() != inside_.size())
+    return false;
+  for (std::size_t i = 0; i < inside_.size(); ++i)
+    if ((problem.inside[i] != 0) != (inside_[i] != 0)) return false;
+  return true;
+}
+
+}  // namespace geobrush

@@ -1,0 +1,119 @@
+#include <algorithm>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "geobrush/domain_locator.hpp"
+#include "geobrush/node.hpp"
+#include "geobrush/registry.hpp"
+#include "membrane.hpp"
+#include "membrane_boundary.hpp"
+
+namespace {
+
+using geobrush::Context;
+using geobrush::Field2D;
+using geobrush::Mesh;
+using geobrush::NodeError;
+using geobrush::Parameterization;
+using geobrush::Region2D;
+
+// Each dab changes Q a little: the node keeps the locators of both canvases while they stay the
+// same, and the last solution and multigrid hierarchy on the same grid, so that the next solve
+// starts from the previous dab's membrane (one or two iterations) and reuses the hierarchy when
+// Q did not change.
+class MembraneNode final : public geobrush::Node {
+ public:
+  void compute(Context& ctx) override {
+    const auto region = ctx.in<Region2D>("region");
+    const auto source = ctx.in<Parameterization>("source");
+    const auto draft = ctx.in<Mesh>("draft");
+    const auto target = ctx.in<Parameterization>("target");
+    const auto continuity = ctx.param<bool>("derivative_constraints")
+                                ? geobrush::MembraneContinuity::C1
+                                : geobrush::MembraneContinuity::C0;
+    auto field = std::make_shared<Field2D>();
+    field->grid = region->grid;
+    field->values.assign(region->grid.nodeCount(), Eigen::Vector3d::Zero());
+    field->defined.assign(region->grid.nodeCount(), 0);
+    if (std::find(region->inside.begin(), region->inside.end(), 1) == region->inside.end()) {
+      ctx.out("offset", std::move(field));
+      return;
+    }
+    if (source != source_ || target != target_) {
+      sourceLocator_ = std::make_unique<geobrush::DomainLocator>(*source);
+      targetLocator_ = std::make_unique<geobrush::DomainLocator>(*target);
+      source_ = source;
+      target_ = target;
+    }
+    geobrush::MembraneSetup setup;
+    try {
+      setup = geobrush::membraneSetup(*region, *source, draft->surface, *sourceLocator_,
+                                      *targetLocator_, continuity);
+    } catch (const std::invalid_argument& e) {
+      throw NodeError::input("draft", e.what());
+    }
+    geobrush::MembraneOptions options;
+    options.tolerance = ctx.param<double>("tolerance");
+    options.maxIterations = ctx.param<int>("max_iterations");
+    if (previousGrid_ == region->grid && previousContinuity_ == continuity) {
+      options.initialGuess = previous_;
+      options.hierarchy = hierarchy_;
+    }
+    geobrush::MembraneResult result;
+    try {
+      result = geobrush::solveMembrane(setup.problem, options);
+    } catch (const std::invalid_argument& e) {
+      throw NodeError::input("region", e.what());
+    }
+    if (!result.converged) {
+      std::ostringstream message;
+      message << "the membrane did not converge: relative residual " << result.residual << " after "
+              << result.iterations << " iterations (tolerance " << options.tolerance << ")";
+      throw NodeError(message.str());
+    }
+    previous_ = result.values;
+    hierarchy_ = result.hierarchy;
+    previousGrid_ = region->grid;
+    previousContinuity_ = continuity;
+    ctx.out("offset", std::make_shared<const Field2D>(
+                          geobrush::membraneField(*region, setup, result.values)));
+  }
+
+ private:
+  std::shared_ptr<const Parameterization> source_, target_;
+  std::unique_ptr<geobrush::DomainLocator> sourceLocator_, targetLocator_;
+  std::vector<std::vector<double>> previous_;
+  std::shared_ptr<const geobrush::MembraneHierarchy> hierarchy_;
+  geobrush::DomainGrid previousGrid_;
+  geobrush::MembraneContinuity previousContinuity_ = geobrush::MembraneContinuity::C1;
+};
+
+void registerNodes(geobrush::PluginRegistrar& r) {
+  r.add(geobrush::NodeTypeBuilder("geobrush.membrane", 1)
+            .label("Offset Membrane")
+            .category("Real-time")
+            .doc("The C1 offset membrane x~ of the paper (section 4.4, Eqs. 4-5): on the "
+                 "region's grid, the biharmonic function that equals R_out - g_in outside Q, value "
+                 "and slope, so that g_in + x~ meets the target smoothly. Solved by conjugate "
+                 "gradients with a Galerkin multigrid preconditioner, warm-started from the "
+                 "previous dab.")
+            .input<Region2D>("region", "Q on its grid, with R_in.")
+            .input<Parameterization>("source", "E_s: the source canvas and its map.")
+            .input<Mesh>("draft", "G(P_s): the source canvas warped by the cages.")
+            .input<Parameterization>("target", "E_t: the target canvas in the same domain.")
+            .output<Field2D>("offset", "x~ on the region's grid.")
+            .paramBool("derivative_constraints", true,
+                       "On: biharmonic with value and slope fixed (C1). Off: harmonic with the "
+                       "value only (C0), the paper's Fig. 10 comparison.")
+            .paramDouble("tolerance", 1e-7, "Relative residual at which the solve stops.")
+            .range(1e-12, 1e-2)
+            .paramInt("max_iterations", 100, "Conjugate-gradient iterations at most.")
+            .range(1, 10000)
+            .node<MembraneNode>()
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)

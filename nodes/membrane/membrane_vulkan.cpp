@@ -1,0 +1,301 @@
+// The membrane multigrid's level kernels on Vulkan (GeoBrush paper section 4.4, Eq. 4; the
+// paper's appendix runs its iteration on the GPU too).
+#include "membrane_vulkan.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "geobrush/gpu/vulkan_context.hpp"
+// The generated header needs <cstdint> first.
+#include "geobrush/shaders/membrane_level_comp.h"
+
+namespace geobrush::membrane_detail {
+namespace {
+
+using DescriptorSetLayout = gpu::DeviceHandle<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
+using DescriptorPool = gpu::DeviceHandle<VkDescriptorPool, vkDestroyDescriptorPool>;
+
+constexpr int kGroupSize = 64;  // local_size_x of the shader
+
+enum Mode : std::int32_t { kApply = 0, kSubtract = 1, kChebyshev = 2 };
+enum Shape : std::int32_t { kFull = 0, kPlate = 1, kLaplace = 2 };
+
+Shape shapeOf(StencilShape shape) {
+  switch (shape) {
+    case StencilShape::Plate:
+      return kPlate;
+    case StencilShape::Laplace:
+      return kLaplace;
+    case StencilShape::Full:
+      break;
+  }
+  return kFull;
+}
+
+// The shader's push constants, field for field.
+struct Pass {
+  std::int32_t begin, count, stride, mode, shape;
+  std::int32_t b, x, d, outValues;
+  std::int32_t mask, inverseDiagonal, regular, custom;
+  float keep, gain;
+};
+
+// Where each vector lives in the vector buffer, in units of the level's padded size.
+enum VectorSlot : int { kB, kX, kT, kD, kOut, kVectorSlots };
+
+gpu::Buffer hostBuffer(const gpu::VulkanContext& context, std::size_t bytes) {
+  return context.createBuffer(
+      VkDeviceSize(std::max<std::size_t>(bytes, 4)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+}
+
+void computeBarrier(VkCommandBuffer commands, VkAccessFlags dstAccess,
+                    VkPipelineStageFlags dstStage) {
+  auto barrier = gpu::makeInfo<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+  barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  barrier.dstAccessMask = dstAccess;
+  vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, dstStage, 0, 1, &barrier, 0,
+                       nullptr, 0, nullptr);
+}
+
+}  // namespace
+
+struct VulkanLevelKernels::Resources {
+  explicit Resources(gpu::VulkanContext& vulkan) : context(vulkan) {}
+
+  gpu::VulkanContext& context;
+  int size = 0;
+  int begin = 0;  // the level's active range
+  int count = 0;
+  int stride = 0;
+  Shape shape = kFull;
+  int inverseDiagonalOffset = 0, regularOffset = 0, customOffset = 0;  // in `coefficients`
+  gpu::Buffer vectors, coefficients, customOf;
+  DescriptorSetLayout setLayout;
+  DescriptorPool pool;
+  VkDescriptorSet set = VK_NULL_HANDLE;  // freed with the pool
+  gpu::PipelineLayout layout;
+  gpu::Pipeline pipeline;
+
+  float* vector(VectorSlot slot) const {
+    return static_cast<float*>(vectors.mapped()) + std::size_t(slot) * std::size_t(size);
+  }
+
+  void upload(VectorSlot slot, const float* values) const {
+    std::memcpy(vector(slot) + begin, values + begin, std::size_t(count) * sizeof(float));
+  }
+
+  void download(VectorSlot slot, float* values) const {
+    std::memcpy(values + begin, vector(slot) + begin, std::size_t(count) * sizeof(float));
+  }
+
+  Pass pass(Mode mode, VectorSlot x, VectorSlot out) const {
+    Pass p{};
+    p.begin = begin;
+    p.count = count;
+    p.stride = stride;
+    p.mode = mode;
+    p.shape = shape;
+    p.b = kB * size;
+    p.x = x * size;
+    p.d = kD * size;
+    p.outValues = out * size;
+    p.mask = 0;
+    p.inverseDiagonal = inverseDiagonalOffset;
+    p.regular = regularOffset;
+    p.custom = customOffset;
+    return p;
+  }
+
+  void dispatch(VkCommandBuffer commands, const Pass& p) const {
+    vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.get());
+    vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout.get(), 0, 1, &set, 0,
+                            nullptr);
+    vkCmdPushConstants(commands, layout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Pass), &p);
+    vkCmdDispatch(commands, std::uint32_t((count + kGroupSize - 1) / kGroupSize), 1, 1);
+  }
+
+  void uploadCoefficients(const Level& level);
+  void createPipeline();
+
+  // Runs the passes in one submission, a barrier after each.
+  void run(std::span<const Pass> passes) const {
+    if (count == 0) return;
+    context.submit([&](VkCommandBuffer commands) {
+      for (std::size_t k = 0; k < passes.size(); ++k) {
+        dispatch(commands, passes[k]);
+        if (k + 1 < passes.size())
+          computeBarrier(commands, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+      }
+      computeBarrier(commands, VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT);
+    });
+  }
+};
+
+void VulkanLevelKernels::Resources::uploadCoefficients(const Level& level) {
+  Resources& r = *this;
+  const SingleCoefficients& single = level.single;
+  r.inverseDiagonalOffset = r.size;
+  r.regularOffset = 2 * r.size;
+  r.customOffset = r.regularOffset + kSlots;
+  const std::size_t floats = std::size_t(r.customOffset) + single.custom.size() * kSlots;
+  r.coefficients = hostBuffer(r.context, floats * sizeof(float));
+  float* out = static_cast<float*>(r.coefficients.mapped());
+  std::memcpy(out, single.mask.data(), std::size_t(r.size) * sizeof(float));
+  std::memcpy(out + r.inverseDiagonalOffset, single.inverseDiagonal.data(),
+              std::size_t(r.size) * sizeof(float));
+  std::memcpy(out + r.regularOffset, single.regular.data(), kSlots * sizeof(float));
+  for (std::size_t c = 0; c < single.custom.size(); ++c)
+    std::memcpy(out + r.customOffset + c * kSlots, single.custom[c].data(), kSlots * sizeof(float));
+
+  r.customOf = hostBuffer(r.context, std::size_t(r.size) * sizeof(std::int32_t));
+  std::memcpy(r.customOf.mapped(), level.customOfNode.data(),
+              std::size_t(r.size) * sizeof(std::int32_t));
+  r.vectors =
+      hostBuffer(r.context, std::size_t(kVectorSlots) * std::size_t(r.size) * sizeof(float));
+  std::memset(r.vectors.mapped(), 0, r.vectors.size());
+}
+
+void VulkanLevelKernels::Resources::createPipeline() {
+  Resources& r = *this;
+  const VkDevice device = r.context.device();
+  VkDescriptorSetLayoutBinding bindings[3] = {};
+  for (std::uint32_t b = 0; b < 3; ++b) {
+    bindings[b].binding = b;
+    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[b].descriptorCount = 1;
+    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  auto setInfo = gpu::makeInfo<VkDescriptorSetLayoutCreateInfo>(
+      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  setInfo.bindingCount = 3;
+  setInfo.pBindings = bindings;
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  gpu::check(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout),
+             "vkCreateDescriptorSetLayout");
+  r.setLayout = {device, setLayout};
+
+  const VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
+  auto poolInfo =
+      gpu::makeInfo<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  poolInfo.maxSets = 1;
+  poolInfo.poolSizeCount = 1;
+  poolInfo.pPoolSizes = &poolSize;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  gpu::check(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool), "vkCreateDescriptorPool");
+  r.pool = {device, pool};
+
+  auto allocInfo =
+      gpu::makeInfo<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  allocInfo.descriptorPool = pool;
+  allocInfo.descriptorSetCount = 1;
+  allocInfo.pSetLayouts = &setLayout;
+  gpu::check(vkAllocateDescriptorSets(device, &allocInfo, &r.set), "vkAllocateDescriptorSets");
+  const VkDescriptorBufferInfo buffers[3] = {{r.vectors.handle(), 0, VK_WHOLE_SIZE},
+                                             {r.coefficients.handle(), 0, VK_WHOLE_SIZE},
+                                             {r.customOf.handle(), 0, VK_WHOLE_SIZE}};
+  VkWriteDescriptorSet writes[3] = {};
+  for (std::uint32_t b = 0; b < 3; ++b) {
+    writes[b] = gpu::makeInfo<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    writes[b].dstSet = r.set;
+    writes[b].dstBinding = b;
+    writes[b].descriptorCount = 1;
+    writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[b].pBufferInfo = &buffers[b];
+  }
+  vkUpdateDescriptorSets(device, 3, writes, 0, nullptr);
+
+  const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Pass)};
+  auto layoutInfo =
+      gpu::makeInfo<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  layoutInfo.setLayoutCount = 1;
+  layoutInfo.pSetLayouts = &setLayout;
+  layoutInfo.pushConstantRangeCount = 1;
+  layoutInfo.pPushConstantRanges = &range;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  gpu::check(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout),
+             "vkCreatePipelineLayout");
+  r.layout = {device, layout};
+
+  const gpu::ShaderModule shader = r.context.createShaderModule(membrane_level_comp);
+  auto pipelineInfo =
+      gpu::makeInfo<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+  pipelineInfo.stage = gpu::makeInfo<VkPipelineShaderStageCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+  pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  pipelineInfo.stage.module = shader.get();
+  pipelineInfo.stage.pName = "main";
+  pipelineInfo.layout = layout;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  gpu::check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &pipeline),
+             "vkCreateComputePipelines");
+  r.pipeline = {device, pipeline};
+}
+
+bool VulkanLevelKernels::available() {
+  return gpu::VulkanContext::shared() != nullptr;
+}
+
+VulkanLevelKernels::VulkanLevelKernels(const Level& level) {
+  gpu::VulkanContext* context = gpu::VulkanContext::shared();
+  if (context == nullptr) {
+    std::string message = "membrane: no Vulkan device: ";
+    message += gpu::VulkanContext::unavailableReason();
+    throw std::runtime_error(message);
+  }
+  resources_ = std::make_unique<Resources>(*context);
+  Resources& r = *resources_;
+  r.size = int(level.grid.size());
+  r.begin = level.activeBegin;
+  r.count = level.activeEnd - level.activeBegin;
+  r.stride = level.grid.stride();
+  r.shape = shapeOf(level.shape);
+  r.uploadCoefficients(level);
+  r.createPipeline();
+}
+
+VulkanLevelKernels::~VulkanLevelKernels() = default;
+
+void VulkanLevelKernels::apply(const float* x, float* out) {
+  Resources& r = *resources_;
+  r.upload(kX, x);
+  const Pass pass = r.pass(kApply, kX, kOut);
+  r.run({&pass, 1});
+  r.download(kOut, out);
+}
+
+void VulkanLevelKernels::subtract(const float* b, const float* x, float* out) {
+  Resources& r = *resources_;
+  r.upload(kB, b);
+  r.upload(kX, x);
+  const Pass pass = r.pass(kSubtract, kX, kOut);
+  r.run({&pass, 1});
+  r.download(kOut, out);
+}
+
+void VulkanLevelKernels::chebyshev(const float* b, float* x, float* d,
+                                   std::span<const ChebyshevStep> steps) {
+  Resources& r = *resources_;
+  r.upload(kB, b);
+  r.upload(kX, x);
+  r.upload(kD, d);
+  std::vector<Pass> passes;
+  VectorSlot current = kX, next = kT;
+  for (const ChebyshevStep& step : steps) {
+    Pass pass = r.pass(kChebyshev, current, next);
+    pass.keep = step.keep;
+    pass.gain = step.gain;
+    passes.push_back(pass);
+    std::swap(current, next);
+  }
+  r.run(passes);
+  r.download(current, x);
+  r.download(kD, d);
+}
+
+}  // namespace geobrush::membrane_detail
