@@ -102,3 +102,28 @@ INSTANTIATE_TEST_SUITE_P(Graphs, SavedGraph, testing::ValuesIn(graphFiles()),
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return name;
                          });
+
+// The clone graphs paste onto closed targets: the result stays one closed manifold piece, and a
+// pasted handle adds one to the genus (Euler characteristic 2 - 2 genus).
+TEST(CloneGraphs, ResultsAreClosedManifoldsOfTheExpectedGenus) {
+  struct Case {
+    std::string graph, result;
+    int eulerCharacteristic;
+  };
+  const std::vector<Case> cases = {
+      {"clone_ear_cube_edge.json", "ear_on_cube_edge.obj", 2},
+      {"clone_mountain_sphere.json", "mountain_on_sphere.obj", 2},
+      {"clone_boot_loop_sphere.json", "boot_loop_on_sphere.obj", 0},
+  };
+  for (const Case& c : cases) {
+    const auto dir = test::tempDir("clone-" + c.graph);
+    const EvalReport report = runGraph(test::sourceDir() / "graphs" / c.graph, dir);
+    ASSERT_TRUE(report.ok) << c.graph << ": " << report.error;
+    const auto loaded = readMesh(dir / c.result);
+    EXPECT_TRUE(loaded.warnings.empty()) << c.graph;
+    const MeshStats stats = meshStats(loaded.mesh->surface);
+    EXPECT_EQ(stats.boundaryLoops, 0u) << c.graph;
+    EXPECT_EQ(stats.components, 1u) << c.graph;
+    EXPECT_EQ(stats.eulerCharacteristic, c.eulerCharacteristic) << c.graph;
+  }
+}
