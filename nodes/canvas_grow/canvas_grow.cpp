@@ -88,7 +88,7 @@ void checkInput(const MeshPtr& source, const CanvasGrowOptions& options) {
     throw CanvasGrowError("dabs", "nothing is painted: add at least one dab (x, y, z, radius)");
   }
   for (std::size_t i = 0; i < options.dabs.size(); ++i) {
-    const Dab& dab = options.dabs[i];
+    const CanvasDab& dab = options.dabs[i];
     if (!dab.center.allFinite() || !std::isfinite(dab.radius)) {
       throw CanvasGrowError("dabs", "dab " + std::to_string(i) + " has a non-finite entry");
     }
@@ -99,8 +99,8 @@ void checkInput(const MeshPtr& source, const CanvasGrowOptions& options) {
   }
 }
 
-bool insideSomeDab(const Eigen::Vector3d& p, const std::vector<Dab>& dabs) {
-  return std::any_of(dabs.begin(), dabs.end(), [&](const Dab& d) {
+bool insideSomeDab(const Eigen::Vector3d& p, const std::vector<CanvasDab>& dabs) {
+  return std::any_of(dabs.begin(), dabs.end(), [&](const CanvasDab& d) {
     return (p - d.center).squaredNorm() <= d.radius * d.radius;
   });
 }

@@ -16,7 +16,7 @@
 namespace geobrush {
 
 // One brush dab: a closed ball in space.
-struct Dab {
+struct CanvasDab {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double radius = 0;
 };
@@ -26,7 +26,7 @@ struct CanvasGrowOptions {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   // The painted region is the union of the dabs' balls. A face is painted when each of its three
   // corners lies in some dab (not necessarily the same one).
-  std::vector<Dab> dabs;
+  std::vector<CanvasDab> dabs;
   // How far the origin may lie from the surface, relative to the mesh's bounding-box diagonal.
   double originTolerance = 1e-2;
 };

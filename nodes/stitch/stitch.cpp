@@ -1,8 +1,10 @@
 #include "stitch.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 #include "geobrush/submesh.hpp"
 
@@ -131,9 +133,40 @@ std::string vertexText(int v) {
 
 }  // namespace
 
+StitchBase stitchBase(const Parameterization& target) {
+  if (!target.canvas) throw StitchError("the target parameterization has no canvas");
+  const Canvas& canvas = *target.canvas;
+  StitchBase base;
+  base.canvasToMesh = canvas.sourceVertex;
+  if (!canvas.source) {
+    base.canvasToMesh.resize(canvas.surface.n_vertices());
+    std::iota(base.canvasToMesh.begin(), base.canvasToMesh.end(), 0);
+    base.meshToOutside.assign(canvas.surface.n_vertices(), -1);
+    return base;
+  }
+  const TriMesh& mesh = canvas.source->surface;
+  if (base.canvasToMesh.size() != canvas.surface.n_vertices() ||
+      canvas.sourceFace.size() != canvas.surface.n_faces() ||
+      target.uv.size() != canvas.surface.n_vertices())
+    throw StitchError("the target canvas does not map its vertices and faces to the target mesh");
+  std::vector<char> inCanvas(mesh.n_faces(), 0);
+  for (int f : canvas.sourceFace)
+    inCanvas[std::size_t(f)] = 1;
+  std::vector<int> outsideFaces;
+  for (std::size_t f = 0; f < inCanvas.size(); ++f)
+    if (!inCanvas[f]) outsideFaces.push_back(int(f));
+  Submesh outside = extractSubmesh(mesh, outsideFaces);
+  if (outside.unattachedFace >= 0) throw StitchError("the target mesh is not a manifold mesh");
+  base.outside = std::move(outside.surface);
+  base.meshToOutside.assign(mesh.n_vertices(), -1);
+  for (std::size_t o = 0; o < outside.sourceVertex.size(); ++o)
+    base.meshToOutside[std::size_t(outside.sourceVertex[o])] = int(o);
+  return base;
+}
+
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const TriMesh& draft, const Field2D* offset,
-                         const Parameterization& target) {
+                         const Parameterization& target, const StitchBase* base) {
   if (!source.canvas || !target.canvas) throw StitchError("the parameterizations have no canvases");
   const TriMesh& canvas = source.canvas->surface;
   if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
@@ -164,38 +197,91 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
     return result;
   }
 
-  // The target without the faces that touch a covered vertex, made manifold. A canvas without a
-  // source mesh is the whole target.
-  std::vector<int> canvasToMesh = target.canvas->sourceVertex;
-  if (!target.canvas->source) {
-    canvasToMesh.resize(targetMesh.n_vertices());
-    std::iota(canvasToMesh.begin(), canvasToMesh.end(), 0);
+  // The target: its part outside the canvas as it is, then the canvas faces that touch no covered
+  // vertex, made manifold.
+  std::optional<StitchBase> ownBase;
+  if (!base) base = &ownBase.emplace(stitchBase(target));
+  const TriMesh& targetCanvas = target.canvas->surface;
+  std::vector<char> covered(targetCanvas.n_vertices(), 0);
+  for (int v : region.targetVertices) {
+    if (targetCanvas.is_boundary(TriMesh::VertexHandle(v))) {
+      throw StitchError("the region reaches the edge of the target canvas at target " +
+                        vertexText(base->canvasToMesh[std::size_t(v)]) +
+                        ": paint away from it or grow the target canvas");
+    }
+    covered[std::size_t(v)] = 1;
   }
-  if (canvasToMesh.size() != target.canvas->surface.n_vertices() ||
-      target.uv.size() != canvasToMesh.size())
-    throw StitchError("the target canvas does not map its vertices to the target mesh");
-  std::vector<char> removedVertex(targetMesh.n_vertices(), 0);
-  for (int v : region.targetVertices)
-    removedVertex[std::size_t(canvasToMesh[std::size_t(v)])] = 1;
-  std::vector<char> kept(targetMesh.n_faces(), 1);
-  for (auto f : targetMesh.faces())
-    for (auto v : targetMesh.fv_range(f))
-      if (removedVertex[std::size_t(v.idx())]) kept[std::size_t(f.idx())] = 0;
-  removePinches(targetMesh, kept);
-  std::vector<char> seamVertex(targetMesh.n_vertices(), 0);
-  for (auto f : targetMesh.faces())
+  std::vector<char> kept(targetCanvas.n_faces(), 1);
+  for (auto f : targetCanvas.faces())
+    for (auto v : targetCanvas.fv_range(f))
+      if (covered[std::size_t(v.idx())]) kept[std::size_t(f.idx())] = 0;
+  removePinches(targetCanvas, kept);
+
+  TriMesh& out = result.mesh;
+  out = base->outside;
+  std::vector<int> canvasToOut(targetCanvas.n_vertices(), -1);
+  std::vector<int> outToCanvas(out.n_vertices(), -1);
+  for (std::size_t c = 0; c < canvasToOut.size(); ++c) {
+    const int o = base->meshToOutside[std::size_t(base->canvasToMesh[c])];
+    canvasToOut[c] = o;
+    if (o >= 0) outToCanvas[std::size_t(o)] = int(c);
+  }
+  auto outVertex = [&](TriMesh::VertexHandle c) {
+    int& o = canvasToOut[std::size_t(c.idx())];
+    if (o < 0) {
+      o = out.add_vertex(targetCanvas.point(c)).idx();
+      outToCanvas.push_back(c.idx());
+    }
+    return TriMesh::VertexHandle(o);
+  };
+  std::vector<char> seamCanvasVertex(targetCanvas.n_vertices(), 0);
+  for (auto f : targetCanvas.faces()) {
     if (!kept[std::size_t(f.idx())]) {
       ++result.removedFaces;
-      for (auto v : targetMesh.fv_range(f))
-        seamVertex[std::size_t(v.idx())] = 1;
+      for (auto v : targetCanvas.fv_range(f))
+        seamCanvasVertex[std::size_t(v.idx())] = 1;
+      continue;
     }
-  Submesh rest = extractSubmesh(targetMesh, selectedFaces(kept));
-  if (rest.unattachedFace >= 0 || patch.unattachedFace >= 0)
-    throw StitchError("the target or the source region is not a manifold mesh");
+    std::array<TriMesh::VertexHandle, 3> corners;
+    int k = 0;
+    for (auto v : targetCanvas.fv_range(f))
+      corners[std::size_t(k++)] = outVertex(v);
+    if (!out.add_face(corners[0], corners[1], corners[2]).is_valid())
+      throw StitchError("the target is not a manifold mesh around its canvas");
+  }
+  if (patch.unattachedFace >= 0) throw StitchError("the source region is not a manifold mesh");
 
-  // The combined mesh: the rest of the target, then the patch.
-  TriMesh& out = result.mesh;
-  out = rest.surface;
+  // The seam loops: boundary loops of the target through a vertex of a removed face, found
+  // before the patch is added.
+  std::vector<std::vector<int>> seams;
+  std::vector<std::vector<Vector2d>> seamUv;
+  std::vector<char> traced(out.n_halfedges(), 0);
+  for (std::size_t c = 0; c < seamCanvasVertex.size(); ++c) {
+    if (!seamCanvasVertex[c] || canvasToOut[c] < 0) continue;
+    for (auto start : out.voh_range(TriMesh::VertexHandle(canvasToOut[c]))) {
+      if (!out.is_boundary(start) || traced[std::size_t(start.idx())]) continue;
+      std::vector<int> loop;
+      std::vector<Vector2d> uv;
+      auto h = start;
+      do {
+        traced[std::size_t(h.idx())] = 1;
+        const int o = out.from_vertex_handle(h).idx();
+        const int canvasVertex = outToCanvas[std::size_t(o)];
+        if (canvasVertex < 0) {
+          throw StitchError(
+              "the region reaches the edge of the target canvas: paint away from "
+              "it or grow the target canvas");
+        }
+        loop.push_back(o);
+        uv.push_back(target.uv[std::size_t(canvasVertex)]);
+        h = out.next_halfedge_handle(h);
+      } while (h != start);
+      seams.push_back(std::move(loop));
+      seamUv.push_back(std::move(uv));
+    }
+  }
+
+  // The patch, after the target's vertices.
   const int patchBase = int(out.n_vertices());
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   for (auto v : patch.surface.vertices()) {
@@ -216,28 +302,6 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
   }
 
   // Pair each boundary loop of R_in with the seam loop of the target nearest to it in the domain.
-  auto targetUv = [&](int restVertex) {
-    const int meshVertex = rest.sourceVertex[std::size_t(restVertex)];
-    const auto it = std::lower_bound(canvasToMesh.begin(), canvasToMesh.end(), meshVertex);
-    if (it == canvasToMesh.end() || *it != meshVertex) {
-      throw StitchError("the region reaches the edge of the target canvas at target " +
-                        vertexText(meshVertex) + ": paint away from it or grow the target canvas");
-    }
-    return target.uv[std::size_t(it - canvasToMesh.begin())];
-  };
-  std::vector<std::vector<int>> seams;
-  std::vector<std::vector<Vector2d>> seamUv;
-  for (auto& loop : boundaryLoops(rest.surface)) {
-    const bool isSeam = std::any_of(loop.begin(), loop.end(), [&](int v) {
-      return seamVertex[std::size_t(rest.sourceVertex[std::size_t(v)])] != 0;
-    });
-    if (!isSeam) continue;
-    std::vector<Vector2d> uv;
-    for (int v : loop)
-      uv.push_back(targetUv(v));
-    seams.push_back(std::move(loop));
-    seamUv.push_back(std::move(uv));
-  }
   const auto patchLoops = boundaryLoops(patch.surface);
   if (patchLoops.size() != seams.size()) {
     throw StitchError("the region has " + std::to_string(patchLoops.size()) +
@@ -267,10 +331,9 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
       const auto face = out.add_face(TriMesh::VertexHandle(t[0]), TriMesh::VertexHandle(t[1]),
                                      TriMesh::VertexHandle(t[2]));
       if (!face.is_valid()) {
-        throw StitchError(
-            "the seam strip folds onto itself near target " +
-            vertexText(rest.sourceVertex[std::size_t(t[2] < patchBase ? t[2] : t[0])]) +
-            ": the two outlines are too far apart or too jagged to join");
+        throw StitchError("the seam strip folds onto itself near target canvas " +
+                          vertexText(outToCanvas[std::size_t(t[2] < patchBase ? t[2] : t[0])]) +
+                          ": the two outlines are too far apart or too jagged to join");
       }
       ++result.gapTriangles;
     }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <stdexcept>
+#include <vector>
 
 #include "geobrush/canvas.hpp"
 #include "geobrush/region.hpp"
@@ -23,13 +24,24 @@ struct StitchResult {
   std::size_t seamLoops = 0;      // boundary loops of R_in, each zipped to one of the target
 };
 
+// The target mesh outside its canvas, which no paste changes: built once per target canvas, each
+// result starts from a copy of it.
+struct StitchBase {
+  TriMesh outside;
+  std::vector<int> canvasToMesh;   // target canvas vertex -> target mesh vertex
+  std::vector<int> meshToOutside;  // target mesh vertex -> vertex of `outside`, or -1
+};
+// Throws StitchError when the canvas does not map onto its mesh or the mesh is not manifold.
+StitchBase stitchBase(const Parameterization& target);
+
 // `draft` is G(P_s): the source canvas surface with its vertices warped (same connectivity).
 // `offset` is the membrane x~ on the region's grid, or null to paste G alone (x~ = 0). An empty
 // region gives the target mesh unchanged. Throws StitchError when the draft does not match the
 // source canvas, the offset is undefined at a vertex of R_in, the region reaches the edge of the
-// target canvas, or the two boundaries cannot be paired loop by loop.
+// target canvas, or the two boundaries cannot be paired loop by loop. `base`, when given, must be
+// stitchBase(target).
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const TriMesh& draft, const Field2D* offset,
-                         const Parameterization& target);
+                         const Parameterization& target, const StitchBase* base = nullptr);
 
 }  // namespace geobrush

@@ -14,6 +14,8 @@ using geobrush::NodeError;
 using geobrush::Parameterization;
 using geobrush::Region2D;
 
+// Every dab re-stitches into the same target: the node keeps the target's part outside its canvas
+// for as long as the target parameterization stays the same.
 class StitchNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -26,13 +28,22 @@ class StitchNode final : public geobrush::Node {
       throw NodeError::input("offset", "the membrane was solved on another grid than the region's");
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
     try {
-      geobrush::StitchResult result =
-          geobrush::stitchPaste(*region, *source, draft->surface, offset.get(), *target);
+      if (!base_ || target != target_) {
+        base_.reset();
+        base_ = std::make_unique<geobrush::StitchBase>(geobrush::stitchBase(*target));
+        target_ = target;
+      }
+      geobrush::StitchResult result = geobrush::stitchPaste(*region, *source, draft->surface,
+                                                            offset.get(), *target, base_.get());
       ctx.out("mesh", std::make_shared<const Mesh>(std::move(result.mesh)));
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("region", e.what());
     }
   }
+
+ private:
+  std::unique_ptr<geobrush::StitchBase> base_;
+  std::shared_ptr<const Parameterization> target_;
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

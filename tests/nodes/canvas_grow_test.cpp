@@ -49,7 +49,7 @@ MeshPtr load(const std::string& name) {
   return readMesh(test::meshPath(name)).mesh;
 }
 
-CanvasGrowOptions options(const Eigen::Vector3d& origin, std::vector<Dab> dabs) {
+CanvasGrowOptions options(const Eigen::Vector3d& origin, std::vector<CanvasDab> dabs) {
   CanvasGrowOptions o;
   o.origin = origin;
   o.dabs = std::move(dabs);
@@ -141,7 +141,7 @@ TEST(CanvasGrow, ClosestPointOnTriangleCoversEveryRegion) {
 
 TEST(CanvasGrow, OneDabOnAPlaneGivesTheDiscOfPaintedFaces) {
   const MeshPtr plane = planeGrid(40);
-  const Dab dab{{0.1, 0.05, 0}, 0.5};
+  const CanvasDab dab{{0.1, 0.05, 0}, 0.5};
   const Canvas canvas = growCanvas(plane, options({0.11, 0.07, 0}, {dab}));
   expectValidCanvas(canvas);
   EXPECT_EQ(genus(canvas.surface), 0);
@@ -186,7 +186,7 @@ TEST(CanvasGrow, FloodFillStopsAtUnconnectedPaint) {
 }
 
 TEST(CanvasGrow, RingOfDabsIsRejectedWithTheHoleToPaint) {
-  std::vector<Dab> ring;
+  std::vector<CanvasDab> ring;
   for (int i = 0; i < 24; ++i) {
     const double a = 2 * std::numbers::pi * i / 24;
     ring.push_back({{0.6 * std::cos(a), 0.6 * std::sin(a), 0}, 0.2});
@@ -221,7 +221,7 @@ TEST(CanvasGrow, TouchingAtOneVertexIsRejected) {
   // corner cell, whose two ends still meet at vertex (11, 11).
   const MeshPtr plane = planeGrid(20);
   auto at = [](int i, int j) { return Eigen::Vector3d(-1 + 0.1 * i, -1 + 0.1 * j, 0); };
-  std::vector<Dab> dabs;
+  std::vector<CanvasDab> dabs;
   for (int j = 10; j <= 14; ++j)
     for (int i = 10; i <= 14; ++i)
       if (!(i == 12 && j == 12) && !(i == 10 && j == 10)) dabs.push_back({at(i, j), 0.01});
@@ -346,7 +346,8 @@ TEST(CanvasGrow, RealMeshesGiveValidCanvases) {
     const double r = radius * (hi - lo).norm();
     const Eigen::Vector3d t = Eigen::Vector3d(1, 2, 2) / 3;
     // A stroke of three overlapping dabs.
-    const std::vector<Dab> dabs = {{p, r}, {p + 0.5 * r * t, 0.8 * r}, {p - 0.5 * r * t, 0.8 * r}};
+    const std::vector<CanvasDab> dabs = {
+        {p, r}, {p + 0.5 * r * t, 0.8 * r}, {p - 0.5 * r * t, 0.8 * r}};
     const Canvas canvas = growCanvas(mesh, options(p, dabs));
     expectValidCanvas(canvas);
     EXPECT_GT(canvas.surface.n_faces(), 10u);
