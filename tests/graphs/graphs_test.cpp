@@ -127,3 +127,22 @@ TEST(CloneGraphs, ResultsAreClosedManifoldsOfTheExpectedGenus) {
     EXPECT_EQ(stats.eulerCharacteristic, c.eulerCharacteristic) << c.graph;
   }
 }
+
+// Painting the whole canvas, or solving on the smallest grid, still gives a closed manifold.
+TEST(CloneGraphs, AWholeCanvasRegionAndACoarseGridStayValid) {
+  for (const std::string assignment : {"strokes.dabs=0,0,5,1", "roi.resolution=16"}) {
+    Graph graph = readGraphFile(test::sourceDir() / "graphs" / "clone_ear_cube_edge.json");
+    setParamFromText(graph, test::registry(), assignment);
+    prepareGraph(graph, test::registry());
+    EvalOptions options;
+    const auto dir = test::tempDir("clone-variant");
+    options.outputDir = dir;
+    Evaluator evaluator(test::registry());
+    const EvalReport report = evaluator.evaluate(graph, options);
+    ASSERT_TRUE(report.ok) << assignment << ": " << report.error;
+    const MeshStats stats = meshStats(readMesh(dir / "ear_on_cube_edge.obj").mesh->surface);
+    EXPECT_EQ(stats.boundaryLoops, 0u) << assignment;
+    EXPECT_EQ(stats.components, 1u) << assignment;
+    EXPECT_EQ(stats.eulerCharacteristic, 2) << assignment;
+  }
+}
