@@ -49,6 +49,7 @@ Hash Region2D::contentHash() const {
   hasher.span(std::span<const std::uint8_t>(inside));
   hasher.span(std::span<const int>(sourceVertices));
   hasher.span(std::span<const int>(targetVertices));
+  hasher.span(std::span<const int>(draftSupport));
   return hasher.digest();
 }
 

@@ -5,6 +5,7 @@
 #include "gc_warp.hpp"
 #include "geobrush/canvas.hpp"
 #include "geobrush/node.hpp"
+#include "geobrush/region.hpp"
 #include "geobrush/registry.hpp"
 
 namespace {
@@ -62,23 +63,64 @@ class GcWarpNode final : public geobrush::Node {
     if (!outsideWarning_.empty()) ctx.warn(outsideWarning_);
     ctx.throwIfCancelled();
 
-    std::vector<Eigen::Vector3d> warped;
+    ctx.out("coordinates", coordinates_);
     try {
-      warped = geobrush::applyGreenCoordinates(coordinates_->phi, coordinates_->psi,
-                                               sourceCage->mesh, targetCage->mesh);
+      if (ctx.hasInput("region")) {
+        ctx.out("draft", partialDraft(*canvas, *sourceCage, *targetCage,
+                                      ctx.in<geobrush::Region2D>("region")->draftSupport));
+        return;
+      }
+      const auto warped = geobrush::applyGreenCoordinates(coordinates_->phi, coordinates_->psi,
+                                                          sourceCage->mesh, targetCage->mesh);
+      geobrush::TriMesh draft = canvas->surface;
+      for (auto v : draft.vertices())
+        setPoint(draft, v.idx(), warped[std::size_t(v.idx())]);
+      ctx.out("draft", std::make_shared<const Mesh>(std::move(draft)));
     } catch (const geobrush::CageError& e) {
       throw NodeError::input("target_cage", e.what());
     }
-    geobrush::TriMesh draft = canvas->surface;
-    for (auto v : draft.vertices()) {
-      const Eigen::Vector3d& p = warped[std::size_t(v.idx())];
-      draft.set_point(v, {p.x(), p.y(), p.z()});
-    }
-    ctx.out("coordinates", coordinates_);
-    ctx.out("draft", std::make_shared<const Mesh>(std::move(draft)));
   }
 
  private:
+  static void setPoint(geobrush::TriMesh& mesh, int v, const Eigen::Vector3d& p) {
+    mesh.set_point(geobrush::TriMesh::VertexHandle(v), {p.x(), p.y(), p.z()});
+  }
+
+  // The draft with only `rows` warped, the others at their source positions. Rows warped for the
+  // same target cage are kept from one evaluation to the next, so a dab warps only the rows it
+  // adds; rows that left the support go back to their source positions, so the value depends on
+  // the inputs alone.
+  std::shared_ptr<const Mesh> partialDraft(const Canvas& canvas, const Cage& sourceCage,
+                                           const Cage& targetCage, const std::vector<int>& rows) {
+    const geobrush::Hash cage = targetCage.contentHash();
+    if (partial_.n_vertices() != canvas.surface.n_vertices() || partialKey_ != key_ ||
+        partialCage_ != cage) {
+      partial_ = canvas.surface;
+      warpedRow_.assign(canvas.surface.n_vertices(), 0);
+      partialKey_ = key_;
+      partialCage_ = cage;
+    }
+    std::vector<char> wanted(warpedRow_.size(), 0);
+    std::vector<int> missing;
+    for (int row : rows) {
+      wanted[std::size_t(row)] = 1;
+      if (!warpedRow_[std::size_t(row)]) missing.push_back(row);
+    }
+    const auto warped = geobrush::applyGreenCoordinates(coordinates_->phi, coordinates_->psi,
+                                                        sourceCage.mesh, targetCage.mesh, missing);
+    for (std::size_t k = 0; k < missing.size(); ++k) {
+      setPoint(partial_, missing[k], warped[k]);
+      warpedRow_[std::size_t(missing[k])] = 1;
+    }
+    for (std::size_t v = 0; v < warpedRow_.size(); ++v)
+      if (warpedRow_[v] && !wanted[v]) {
+        partial_.set_point(geobrush::TriMesh::VertexHandle(int(v)),
+                           canvas.surface.point(geobrush::TriMesh::VertexHandle(int(v))));
+        warpedRow_[v] = 0;
+      }
+    return std::make_shared<const Mesh>(partial_);
+  }
+
   struct Key {
     geobrush::Hash canvas = 0;
     geobrush::Hash sourceCage = 0;
@@ -88,6 +130,10 @@ class GcWarpNode final : public geobrush::Node {
   Key key_;
   std::shared_ptr<const GreenCoordinates> coordinates_;
   std::string outsideWarning_;
+  geobrush::TriMesh partial_;
+  std::vector<char> warpedRow_;
+  Key partialKey_;
+  geobrush::Hash partialCage_ = 0;
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {
@@ -102,6 +148,11 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                          "Closed, outward-oriented cage around the canvas, in its rest pose.")
             .input<Cage>("target_cage",
                          "The same cage (same connectivity) moved to where the canvas should go.")
+            .optionalInput<geobrush::Region2D>(
+                "region",
+                "When connected, only the vertices a paste of this region reads "
+                "(its draft support) are warped; the others keep their source positions, and "
+                "dragging the target canvas costs what the region needs.")
             .output<GreenCoordinates>("coordinates",
                                       "phi and psi of every canvas vertex in the source cage.")
             .output<Mesh>("draft", "The canvas surface with every vertex warped by the cages.")

@@ -29,6 +29,45 @@ void nodeRange(const DomainGrid& grid, const Box& box, int& i0, int& i1, int& j0
   j1 = std::min(grid.height - 1, int(std::floor(b.y())));
 }
 
+// Region2D::draftSupport: R_in, and the corners of the source faces that the membrane's data
+// nodes fall in.
+std::vector<int> draftSupport(const Region2D& region, const Parameterization& source,
+                              const DomainLocator& locator) {
+  const DomainGrid& grid = region.grid;
+  std::vector<std::uint8_t> sampled(grid.nodeCount(), 0);
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i) {
+      if (!region.inside[grid.index(i, j)]) continue;
+      for (int dj = -2; dj <= 2; ++dj)
+        for (int di = -2 + std::abs(dj); di <= 2 - std::abs(dj); ++di) {
+          const int x = i + di, y = j + dj;
+          if (x >= 0 && y >= 0 && x < grid.width && y < grid.height) sampled[grid.index(x, y)] = 1;
+        }
+    }
+  std::vector<char> support(source.uv.size(), 0);
+  for (int v : region.sourceVertices) {
+    support[std::size_t(v)] = 1;
+    const Eigen::Vector2d g = (source.uv[std::size_t(v)] - grid.origin) / grid.spacing;
+    const int i = int(std::floor(g.x())), j = int(std::floor(g.y()));
+    for (int dj = 0; dj <= 1; ++dj)
+      for (int di = 0; di <= 1; ++di)
+        if (i + di >= 0 && j + dj >= 0 && i + di < grid.width && j + dj < grid.height)
+          sampled[grid.index(i + di, j + dj)] = 1;
+  }
+  const TriMesh& canvas = source.canvas->surface;
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i) {
+      if (!sampled[grid.index(i, j)]) continue;
+      const DomainHit hit = locator.locate(grid.position(i, j));
+      for (auto v : canvas.fv_range(TriMesh::FaceHandle(hit.face)))
+        support[std::size_t(v.idx())] = 1;
+    }
+  std::vector<int> vertices;
+  for (std::size_t v = 0; v < support.size(); ++v)
+    if (support[v]) vertices.push_back(int(v));
+  return vertices;
+}
+
 }  // namespace
 
 DomainGrid roiGrid(const Parameterization& source, int resolution) {
@@ -109,6 +148,8 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
   for (std::size_t v = 0; v < target.uv.size(); ++v)
     if (strokes.contains(target.uv[v]) && coverage.sourceLocator->locate(target.uv[v]).inside)
       region.targetVertices.push_back(int(v));
+
+  region.draftSupport = draftSupport(region, source, *coverage.sourceLocator);
 
   for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
     const Dab& dab = strokes.dabs[d];

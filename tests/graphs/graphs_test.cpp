@@ -146,3 +146,31 @@ TEST(CloneGraphs, AWholeCanvasRegionAndACoarseGridStayValid) {
     EXPECT_EQ(stats.eulerCharacteristic, 2) << assignment;
   }
 }
+
+// gc_warp connected to the region warps only the draft support; the pasted result is the same,
+// bit for bit, as with the whole draft.
+TEST(CloneGraphs, WarpingTheDraftSupportOnlyGivesTheSameResult) {
+  for (const std::string name :
+       {"clone_ear_cube_edge", "clone_mountain_sphere", "clone_boot_loop_sphere"}) {
+    std::string results[2];
+    for (int whole = 0; whole < 2; ++whole) {
+      Graph graph = readGraphFile(test::sourceDir() / "graphs" / (name + ".json"));
+      const Connection regionToWarp{{"roi", "region"}, {"warp", "region"}};
+      const auto found =
+          std::find(graph.connections.begin(), graph.connections.end(), regionToWarp);
+      ASSERT_NE(found, graph.connections.end()) << name;
+      if (whole) graph.connections.erase(found);
+      prepareGraph(graph, test::registry());
+      EvalOptions options;
+      const auto dir = test::tempDir(name + (whole ? "-whole-draft" : "-support-draft"));
+      options.outputDir = dir;
+      Evaluator evaluator(test::registry());
+      const EvalReport report = evaluator.evaluate(graph, options);
+      ASSERT_TRUE(report.ok) << name << ": " << report.error;
+      for (const auto& path : report.filesWritten)
+        if (path.extension() == ".obj") results[whole] = bytes(path);
+    }
+    EXPECT_FALSE(results[0].empty()) << name;
+    EXPECT_TRUE(results[0] == results[1]) << name;
+  }
+}

@@ -64,6 +64,10 @@ class Region2D final : public Value {
   std::vector<std::uint8_t> inside;  // per grid node: 1 in Q
   std::vector<int> sourceVertices;   // R_in: source canvas vertices u with E_s(u) in Q, ascending
   std::vector<int> targetVertices;   // target canvas vertices with E_t in Q, ascending
+  // The source canvas vertices whose warped positions G(v) a paste of Q reads, ascending: R_in and
+  // the corners of the source faces under every grid node within two nodes (taxicab) of Q or at
+  // a corner of a cell that holds a vertex of R_in (where the membrane samples g_in).
+  std::vector<int> draftSupport;
 };
 using Region2DPtr = std::shared_ptr<const Region2D>;
 
