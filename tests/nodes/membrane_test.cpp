@@ -674,6 +674,29 @@ TEST(MembraneNodeData, AConstantGapIsClosedByAConstantOffset) {
   }
 }
 
+// On the mountain's terrain, lifted along its up axis: the membrane brings the lifted draft back
+// down by the same amount, whatever the mesh's irregular triangles.
+TEST(MembraneNodeData, ClosesAConstantGapOnARealTerrain) {
+  auto terrain = test::terrainParameterization();
+  Eigen::Vector2d lo = terrain->uv.front(), hi = lo;
+  for (const auto& u : terrain->uv) {
+    lo = lo.cwiseMin(u);
+    hi = hi.cwiseMax(u);
+  }
+  const Region2D region =
+      paintRegion(disc((lo + hi) / 2, 0.2 * (hi - lo).minCoeff()), *terrain, *terrain).region;
+  ASSERT_FALSE(region.empty());
+  TriMesh draft = terrain->canvas->surface;
+  for (auto v : draft.vertices())
+    draft.point(v)[1] += 1.5;
+  const Field2D field = solveForNode(region, *terrain, draft, *terrain, MembraneContinuity::C1);
+  for (int v : region.sourceVertices) {
+    Eigen::Vector3d offset;
+    ASSERT_TRUE(field.sample(terrain->uv[std::size_t(v)], offset)) << v;
+    EXPECT_NEAR((offset - Eigen::Vector3d(0, -1.5, 0)).norm(), 0, 1e-7);
+  }
+}
+
 // The paper's Fig. 10a-b with G = 0: a flat patch pasted into a curved target is bent by the
 // membrane alone. With the derivative constraints the fill meets the target tangentially; without
 // them only its position matches, and the normals jump across the seam.
