@@ -114,6 +114,16 @@ void BM_WholeSourcePreprocess(benchmark::State& state) {
   }
 }
 
+// The source preprocessed once and the target sphere prepared: what a drag or a dab starts from.
+struct Scene {
+  Stages stages;
+  std::shared_ptr<Canvas> canvas = stages.canvas();
+  std::shared_ptr<Parameterization> source = stages.map(canvas);
+  Cage cage = buildCage(*source).cage;
+  GreenCoordinatesResult gc = computeGreenCoordinates(cage.mesh, points(canvas->surface));
+  PreparedTarget target{std::make_shared<const Mesh>(test::icosphere(7))};
+};
+
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
@@ -126,12 +136,8 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 // target is a 163,842-vertex sphere whose PreparedTarget is kept between moves, as the dem node
 // keeps it. Counters give each stage's mean time per move.
 void BM_TargetMove(benchmark::State& state) {
-  Stages stages;
-  auto canvas = stages.canvas();
-  auto source = stages.map(canvas);
-  const Cage cage = buildCage(*source).cage;
-  const auto gc = computeGreenCoordinates(cage.mesh, points(canvas->surface));
-  const PreparedTarget target(std::make_shared<const Mesh>(test::icosphere(7)));
+  const Scene scene;
+  const auto& [stages, canvas, source, cage, gc, target] = scene;
   const CageFitOptions fitOptions;
   const CageFitSolver solver(cage, fitOptions.constraintWeight);
   const SourceColumns columns(cage, *source);
@@ -188,12 +194,8 @@ void BM_TargetMove(benchmark::State& state) {
 // dab) and the stitch, on a 256^2 grid. Each iteration adds one dab of a stroke across the
 // canvas; counters give each stage's mean time per dab.
 void BM_LiveBrush(benchmark::State& state) {
-  Stages stages;
-  auto canvas = stages.canvas();
-  auto source = stages.map(canvas);
-  const Cage cage = buildCage(*source).cage;
-  const auto gc = computeGreenCoordinates(cage.mesh, points(canvas->surface));
-  const PreparedTarget target(std::make_shared<const Mesh>(test::icosphere(7)));
+  const Scene scene;
+  const auto& [stages, canvas, source, cage, gc, target] = scene;
   TargetDemOptions demOptions;
   demOptions.scale = 0.3;
   demOptions.origin = Eigen::Vector3d(1, 0, 0.3).normalized();

@@ -27,27 +27,6 @@ Eigen::Vector3d toEigen(const TriMesh::Point& p) {
   return {p[0], p[1], p[2]};
 }
 
-// An n x n grid over [-1, 1]^2 with heights z(x, y), mapped by `rigid`.
-MeshPtr heightGrid(int n, const std::function<double(double, double)>& z,
-                   const Eigen::Isometry3d& rigid = Eigen::Isometry3d::Identity()) {
-  TriMesh mesh;
-  for (int j = 0; j <= n; ++j) {
-    for (int i = 0; i <= n; ++i) {
-      const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
-      const Eigen::Vector3d p = rigid * Eigen::Vector3d(x, y, z(x, y));
-      mesh.add_vertex({p.x(), p.y(), p.z()});
-    }
-  }
-  auto at = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  }
-  return std::make_shared<const Mesh>(std::move(mesh));
-}
-
 double flat(double, double) {
   return 0;
 }
@@ -142,7 +121,7 @@ TEST(ExponentialMap, PlaneMapsIsometricallyInBothModes) {
   Eigen::Isometry3d rigid = Eigen::Isometry3d::Identity();
   rigid.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()));
   rigid.pretranslate(Eigen::Vector3d(0.3, -1.2, 2));
-  const MeshPtr plane = heightGrid(24, flat, rigid);
+  const MeshPtr plane = test::heightGrid(24, flat, rigid);
   const Canvas canvas = test::growDiscCanvas(
       plane, faceNear(plane->surface, rigid * Eigen::Vector3d(0.13, -0.07, 0)), 0.8);
   for (bool generalized : {false, true}) {
@@ -170,7 +149,7 @@ TEST(ExponentialMap, PlaneMapsIsometricallyInBothModes) {
 }
 
 TEST(ExponentialMap, AxesFollowGlobalYAndTheAngle) {
-  const MeshPtr plane = heightGrid(20, flat);
+  const MeshPtr plane = test::heightGrid(20, flat);
   const Canvas canvas = test::growDiscCanvas(plane, faceNear(plane->surface, {0.12, 0.05, 0}), 0.7);
   const Eigen::Vector3d origin = canvas.originPoint;
   const DemResult straight = discreteExponentialMap(canvas, mode(true));
@@ -310,7 +289,7 @@ double bump(double x, double y) {
 }
 
 TEST(ExponentialMap, GeneralizedMapOfABumpIsOneToOneOnItsBase) {
-  const MeshPtr mesh = heightGrid(40, bump);
+  const MeshPtr mesh = test::heightGrid(40, bump);
   const Canvas canvas = test::growDiscCanvas(mesh, faceNear(mesh->surface, {-0.62, -0.41, 0}), 10);
   ASSERT_EQ(canvas.surface.n_faces(), mesh->surface.n_faces());
   DemOptions o = mode(true);
@@ -350,7 +329,7 @@ TEST(ExponentialMap, GeneralizedMapOfABumpIsOneToOneOnItsBase) {
 }
 
 TEST(ExponentialMap, FaceRingsGrowByVertexNeighbourhoods) {
-  const MeshPtr mesh = heightGrid(10, flat);
+  const MeshPtr mesh = test::heightGrid(10, flat);
   std::vector<std::uint8_t> one(mesh->surface.n_faces(), 0);
   // The lower triangle of cell (5, 5).
   one[2 * (5 * 10 + 5)] = 1;
@@ -399,7 +378,7 @@ TEST(ExponentialMap, RealMeshesGiveFiniteMapsWithSimpleBoundaries) {
 }
 
 TEST(ExponentialMap, RejectsBadOptionsAndCanvases) {
-  const MeshPtr plane = heightGrid(6, flat);
+  const MeshPtr plane = test::heightGrid(6, flat);
   const Canvas canvas = test::growDiscCanvas(plane, 30, 0.8);
   auto rejected = [&](const DemOptions& o, const Canvas& c) -> std::string {
     try {

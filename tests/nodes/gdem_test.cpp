@@ -22,27 +22,6 @@
 namespace geobrush {
 namespace {
 
-// An n x n grid over [-1, 1]^2 with heights z(x, y), mapped by `rigid`.
-MeshPtr heightGrid(int n, const std::function<double(double, double)>& z,
-                   const Eigen::Isometry3d& rigid = Eigen::Isometry3d::Identity()) {
-  TriMesh mesh;
-  for (int j = 0; j <= n; ++j) {
-    for (int i = 0; i <= n; ++i) {
-      const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
-      const Eigen::Vector3d p = rigid * Eigen::Vector3d(x, y, z(x, y));
-      mesh.add_vertex({p.x(), p.y(), p.z()});
-    }
-  }
-  auto at = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  }
-  return std::make_shared<const Mesh>(std::move(mesh));
-}
-
 double bump(double x, double y) {
   const double s = 1 - (x * x + y * y) / (0.6 * 0.6);
   return s > 0 ? 1.5 * s * s * s : 0.0;
@@ -53,7 +32,7 @@ using test::DirectContext;
 TEST(GdemNode, OutputsTheGeneralizedMap) {
   const NodeType* type = test::registry().find("geobrush.gdem");
   ASSERT_NE(type, nullptr);
-  const MeshPtr mesh = heightGrid(30, bump);
+  const MeshPtr mesh = test::heightGrid(30, bump);
   const auto canvas = std::make_shared<const Canvas>(test::growDiscCanvas(mesh, 100, 10));
   DirectContext ctx(*type, {{"canvas", canvas}}, {{"angle", 20.0}});
   type->create()->compute(ctx);

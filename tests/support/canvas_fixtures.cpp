@@ -12,21 +12,29 @@
 
 namespace geobrush::test {
 
-std::shared_ptr<Parameterization> heightFieldParameterization(
-    int n, const std::function<double(double, double)>& height) {
-  auto canvas = std::make_shared<Canvas>();
-  TriMesh& mesh = canvas->surface;
+MeshPtr heightGrid(int n, const std::function<double(double, double)>& z,
+                   const Eigen::Isometry3d& rigid) {
+  TriMesh mesh;
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) {
       const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
-      mesh.add_vertex({x, y, height(x, y)});
+      const Eigen::Vector3d p = rigid * Eigen::Vector3d(x, y, z(x, y));
+      mesh.add_vertex({p.x(), p.y(), p.z()});
     }
-  auto vh = [&](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
+  auto at = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
-      mesh.add_face(vh(i, j), vh(i + 1, j), vh(i + 1, j + 1));
-      mesh.add_face(vh(i, j), vh(i + 1, j + 1), vh(i, j + 1));
+      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
     }
+  return std::make_shared<const Mesh>(std::move(mesh));
+}
+
+std::shared_ptr<Parameterization> heightFieldParameterization(
+    int n, const std::function<double(double, double)>& height) {
+  auto canvas = std::make_shared<Canvas>();
+  canvas->surface = heightGrid(n, height)->surface;
+  const TriMesh& mesh = canvas->surface;
   for (int v = 0; v < int(mesh.n_vertices()); ++v)
     canvas->sourceVertex.push_back(v);
   auto param = std::make_shared<Parameterization>();

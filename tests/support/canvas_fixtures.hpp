@@ -1,12 +1,17 @@
 // Parameterized canvases with known geometry, for the preprocess suites.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <functional>
 #include <memory>
 
 #include "geobrush/canvas.hpp"
 
 namespace geobrush::test {
+
+// An n x n grid of quads over [-1, 1]^2 with heights z(x, y), mapped by `rigid`.
+MeshPtr heightGrid(int n, const std::function<double(double, double)>& z,
+                   const Eigen::Isometry3d& rigid = Eigen::Isometry3d::Identity());
 
 // The height field z = height(x, y) over [-1, 1]^2 with n x n quads,
 // parameterized by projection: uv = (x, y), normals +z.
