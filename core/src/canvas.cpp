@@ -108,4 +108,11 @@ std::string GreenCoordinates::summary() const {
   return "Green coordinates of " + std::to_string(phi.rows()) + " points";
 }
 
+MeshPtr zeroDraft(const Canvas& canvas) {
+  TriMesh surface = canvas.surface;
+  for (auto v : surface.vertices())
+    surface.set_point(v, {0, 0, 0});
+  return std::make_shared<const Mesh>(std::move(surface));
+}
+
 }  // namespace geobrush

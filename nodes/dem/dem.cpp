@@ -108,11 +108,12 @@ void rejectOriginOnBoundary(const TriMesh& mesh, int face, const Eigen::Vector3d
 // still unfixed; growth may stop when no needed vertex has an unfixed neighbour.
 class Needs {
  public:
-  explicit Needs(std::size_t vertices) : unfixed_(vertices, -1) {}
+  Needs(std::size_t vertices, bool boundaryAllowed)
+      : unfixed_(vertices, -1), boundaryAllowed_(boundaryAllowed) {}
 
   void require(const TriMesh& mesh, const ExponentialMapGrowth& growth, int v) {
     if (unfixed_[v] >= 0) return;
-    if (mesh.is_boundary(TriMesh::VertexHandle(v))) {
+    if (!boundaryAllowed_ && mesh.is_boundary(TriMesh::VertexHandle(v))) {
       throw TargetDemError(
           "scale", "the required domain runs off the target mesh at its boundary near vertex " +
                        std::to_string(v) + " " +
@@ -135,6 +136,7 @@ class Needs {
 
  private:
   std::vector<int> unfixed_;  // -1: not needed
+  bool boundaryAllowed_ = false;
   std::size_t open_ = 0;
 };
 
@@ -199,7 +201,7 @@ struct Region {
 // The canvas on `faces`; the outer loop is the one whose uv polygon has the largest area (holes
 // in the outer band are small).
 Region buildCanvas(const MeshPtr& target, const std::vector<int>& faces,
-                   const ExponentialMapGrowth& growth) {
+                   const ExponentialMapGrowth& growth, bool keepHoles) {
   const TriMesh& mesh = target->surface;
   Region r;
   Canvas& c = r.canvas;
@@ -244,10 +246,16 @@ Region buildCanvas(const MeshPtr& target, const std::vector<int>& faces,
   std::size_t outer = 0;
   for (std::size_t i = 1; i < loops.size(); ++i)
     if (area(loops[i]) > area(loops[outer])) outer = i;
-  for (std::size_t i = 0; i < loops.size(); ++i)
-    if (i != outer)
-      for (int v : loops[i])
-        r.holeVertices.push_back(c.sourceVertex[v]);
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    if (i == outer) continue;
+    // A loop of the mesh's own boundary is one of its holes.
+    const bool meshHole = std::all_of(loops[i].begin(), loops[i].end(), [&](int v) {
+      return mesh.is_boundary(TriMesh::VertexHandle(c.sourceVertex[v]));
+    });
+    if (keepHoles && meshHole) continue;
+    for (int v : loops[i])
+      r.holeVertices.push_back(c.sourceVertex[v]);
+  }
   // As canvas_grow does: the loop starts at its lowest surface vertex.
   const auto& loop = loops[outer];
   const auto first = std::min_element(loop.begin(), loop.end()) - loop.begin();
@@ -349,7 +357,7 @@ TargetDemResult targetExponentialMap(const PreparedTarget& prepared,
   // SGW06: surface normals and steps rescaled to their 3D length.
   ExponentialMapGrowth growth(std::move(graph), result.origin, originCorners, true,
                               1e-12 * std::max(diagonal, std::numeric_limits<double>::min()));
-  Needs needs(mesh.n_vertices());
+  Needs needs(mesh.n_vertices(), options.keepHoles);
   const std::size_t limit = mesh.n_vertices() / 2;
   auto grow = [&] {
     while (needs.open() > 0 || !std::all_of(originCorners.begin(), originCorners.end(),
@@ -382,7 +390,7 @@ TargetDemResult targetExponentialMap(const PreparedTarget& prepared,
     const std::vector<int> faces = regionFaces(mesh, growth, snapped.face, faceMarks);
     std::vector<int> defects = pinchedVertices(mesh, faces, faceMarks);
     if (defects.empty()) {
-      region = buildCanvas(target, faces, growth);
+      region = buildCanvas(target, faces, growth, options.keepHoles);
       defects = region.holeVertices;
       if (defects.empty()) break;
     }

@@ -28,6 +28,10 @@ struct TargetDemOptions {
   double margin = 0.25;
   // How far the origin may lie from the surface, relative to the mesh's bounding-box diagonal.
   double originTolerance = 1e-2;
+  // Keep holes of the target mesh (boundary loops it encloses) inside the canvas instead of
+  // refusing them: what hole filling needs. The canvas then has one boundary loop per hole
+  // besides its outer one.
+  bool keepHoles = false;
 };
 
 // An input that gives no target canvas. `option()` names what to change: "origin", "angle",

@@ -28,6 +28,7 @@ class DemNode final : public geobrush::Node {
     options.angleDegrees = ctx.param<double>("angle");
     options.scale = ctx.param<double>("scale");
     options.margin = ctx.param<double>("margin");
+    options.keepHoles = ctx.param<bool>("keep_holes");
     try {
       if (!target_ || target_->mesh() != mesh) {
         target_.reset();
@@ -84,6 +85,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                          "radius (the source cage reaches about two grid cells beyond the "
                          "canvas).")
             .range(0, 10)
+            .paramBool("keep_holes", false,
+                       "Keep holes of the target mesh inside the canvas (for filling them) "
+                       "instead of refusing them.")
             .node<DemNode>()
             .build());
 }

@@ -27,7 +27,8 @@ class MembraneNode final : public geobrush::Node {
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    const auto draft = ctx.in<Mesh>("draft");
+    const auto draft =
+        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : geobrush::zeroDraft(*source->canvas);
     const auto target = ctx.in<Parameterization>("target");
     const auto continuity = ctx.param<bool>("derivative_constraints")
                                 ? geobrush::MembraneContinuity::C1
@@ -100,7 +101,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                  "previous dab.")
             .input<Region2D>("region", "Q on its grid, with R_in.")
             .input<Parameterization>("source", "E_s: the source canvas and its map.")
-            .input<Mesh>("draft", "G(P_s): the source canvas warped by the cages.")
+            .optionalInput<Mesh>("draft",
+                                 "G(P_s): the source canvas warped by the cages. Unconnected, "
+                                 "G = 0: the membrane alone fills the region (hole filling).")
             .input<Parameterization>("target", "E_t: the target canvas in the same domain.")
             .output<Field2D>("offset", "x~ on the region's grid.")
             .paramBool("derivative_constraints", true,

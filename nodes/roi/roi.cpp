@@ -68,7 +68,53 @@ std::vector<int> draftSupport(const Region2D& region, const Parameterization& so
   return vertices;
 }
 
+// Crossing-number test: whether u lies inside the closed polygon.
+bool insidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& u) {
+  bool inside = false;
+  for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[j];
+    if ((a.y() > u.y()) != (b.y() > u.y()) &&
+        u.x() < (b.x() - a.x()) * (u.y() - a.y()) / (b.y() - a.y()) + a.x())
+      inside = !inside;
+  }
+  return inside;
+}
+
+// Whether a canvas covers u: a uv triangle holds it, or one of the canvas' holes does.
+bool covers(const DomainLocator& locator, const std::vector<std::vector<Eigen::Vector2d>>& holes,
+            const Eigen::Vector2d& u) {
+  if (locator.locate(u).inside) return true;
+  return std::any_of(holes.begin(), holes.end(),
+                     [&](const auto& hole) { return insidePolygon(hole, u); });
+}
+
 }  // namespace
+
+std::vector<std::vector<Eigen::Vector2d>> canvasHoles(const Parameterization& param) {
+  const Canvas& canvas = *param.canvas;
+  const TriMesh& mesh = canvas.surface;
+  std::vector<char> outer(mesh.n_vertices(), 0);
+  for (int v : canvas.boundary)
+    outer[std::size_t(v)] = 1;
+  std::vector<std::vector<Eigen::Vector2d>> holes;
+  std::vector<char> seen(mesh.n_halfedges(), 0);
+  for (auto start : mesh.halfedges()) {
+    if (!mesh.is_boundary(start) || seen[std::size_t(start.idx())]) continue;
+    std::vector<Eigen::Vector2d> polygon;
+    bool isOuter = false;
+    auto h = start;
+    do {
+      seen[std::size_t(h.idx())] = 1;
+      const int v = mesh.from_vertex_handle(h).idx();
+      isOuter = isOuter || outer[std::size_t(v)];
+      polygon.push_back(param.uv[std::size_t(v)]);
+      h = mesh.next_halfedge_handle(h);
+    } while (h != start);
+    if (!isOuter && !canvas.boundary.empty()) holes.push_back(std::move(polygon));
+  }
+  return holes;
+}
 
 DomainGrid roiGrid(const Parameterization& source, int resolution) {
   if (resolution < 16) throw RoiError("the grid resolution must be at least 16 nodes");
@@ -114,6 +160,18 @@ std::vector<std::uint8_t> domainCoverage(const Parameterization& param, const Do
         if (inside) covered[grid.index(i, j)] = 1;
       }
   }
+  for (const auto& hole : canvasHoles(param)) {
+    Box box{hole.front(), hole.front()};
+    for (const auto& u : hole) {
+      box.lo = box.lo.cwiseMin(u);
+      box.hi = box.hi.cwiseMax(u);
+    }
+    int i0, i1, j0, j1;
+    nodeRange(grid, box, i0, i1, j0, j1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        if (insidePolygon(hole, grid.position(i, j))) covered[grid.index(i, j)] = 1;
+  }
   return covered;
 }
 
@@ -125,6 +183,8 @@ RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& 
   coverage.target = domainCoverage(target, coverage.grid);
   coverage.sourceLocator = std::make_shared<const DomainLocator>(source);
   coverage.targetLocator = std::make_shared<const DomainLocator>(target);
+  coverage.sourceHoles = canvasHoles(source);
+  coverage.targetHoles = canvasHoles(target);
   return coverage;
 }
 
@@ -143,10 +203,12 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
     }
 
   for (std::size_t v = 0; v < source.uv.size(); ++v)
-    if (strokes.contains(source.uv[v]) && coverage.targetLocator->locate(source.uv[v]).inside)
+    if (strokes.contains(source.uv[v]) &&
+        covers(*coverage.targetLocator, coverage.targetHoles, source.uv[v]))
       region.sourceVertices.push_back(int(v));
   for (std::size_t v = 0; v < target.uv.size(); ++v)
-    if (strokes.contains(target.uv[v]) && coverage.sourceLocator->locate(target.uv[v]).inside)
+    if (strokes.contains(target.uv[v]) &&
+        covers(*coverage.sourceLocator, coverage.sourceHoles, target.uv[v]))
       region.targetVertices.push_back(int(v));
 
   region.draftSupport = draftSupport(region, source, *coverage.sourceLocator);

@@ -32,7 +32,12 @@ constexpr int kRoiBorder = 4;
 // resolution below 16 or a source domain of zero extent.
 DomainGrid roiGrid(const Parameterization& source, int resolution);
 
-// Per grid node: 1 where a uv triangle of the parameterization holds it (the canvas covers it).
+// The uv polygons of a canvas' inner boundary loops (holes of its mesh, which a fill covers):
+// every boundary loop but the outer one.
+std::vector<std::vector<Eigen::Vector2d>> canvasHoles(const Parameterization& param);
+
+// Per grid node: 1 where a uv triangle of the parameterization holds it, or one of its holes
+// does (the canvas covers it).
 std::vector<std::uint8_t> domainCoverage(const Parameterization& param, const DomainGrid& grid);
 
 // What stays the same while only the strokes change: the grid, both canvases' coverage of its
@@ -44,6 +49,7 @@ struct RoiCoverage {
   std::vector<std::uint8_t> target;
   std::shared_ptr<const DomainLocator> sourceLocator;
   std::shared_ptr<const DomainLocator> targetLocator;
+  std::vector<std::vector<Eigen::Vector2d>> sourceHoles, targetHoles;
 };
 RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& target,
                         const RoiOptions& options = {});

@@ -203,8 +203,13 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
   if (!base) base = &ownBase.emplace(stitchBase(target));
   const TriMesh& targetCanvas = target.canvas->surface;
   std::vector<char> covered(targetCanvas.n_vertices(), 0);
+  std::vector<char> outerBoundary(targetCanvas.n_vertices(), 0);
+  for (int v : target.canvas->boundary)
+    outerBoundary[std::size_t(v)] = 1;
   for (int v : region.targetVertices) {
-    if (targetCanvas.is_boundary(TriMesh::VertexHandle(v))) {
+    // Vertices of the canvas' inner loops (holes of the target mesh) may be covered: a fill
+    // replaces the faces around them.
+    if (outerBoundary[std::size_t(v)]) {
       throw StitchError("the region reaches the edge of the target canvas at target " +
                         vertexText(base->canvasToMesh[std::size_t(v)]) +
                         ": paint away from it or grow the target canvas");

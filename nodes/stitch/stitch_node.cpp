@@ -21,7 +21,8 @@ class StitchNode final : public geobrush::Node {
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    const auto draft = ctx.in<Mesh>("draft");
+    const auto draft =
+        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : geobrush::zeroDraft(*source->canvas);
     const auto target = ctx.in<Parameterization>("target");
     const auto offset = ctx.hasInput("offset") ? ctx.in<Field2D>("offset") : nullptr;
     if (offset && offset->grid != region->grid)
@@ -56,7 +57,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                  "one manifold mesh whose seam shares vertices; handles in R_in raise its genus.")
             .input<Region2D>("region", "Q with R_in and the covered target vertices.")
             .input<Parameterization>("source", "E_s: the source canvas and its map.")
-            .input<Mesh>("draft", "G(P_s): the source canvas warped by the cages.")
+            .optionalInput<Mesh>("draft",
+                                 "G(P_s): the source canvas warped by the cages. Unconnected, "
+                                 "G = 0: the membrane alone fills the region (hole filling).")
             .input<Parameterization>("target", "E_t: the target canvas, on the target mesh.")
             .optionalInput<Field2D>("offset",
                                     "The offset membrane x~ on the region's grid; without it the "

@@ -3,13 +3,16 @@
 // from scratch writes bit-identical files.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 #include <sstream>
+#include <unordered_set>
 
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/image.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/surface_point.hpp"
 #include "test_support.hpp"
 
 using namespace geobrush;
@@ -173,4 +176,122 @@ TEST(CloneGraphs, WarpingTheDraftSupportOnlyGivesTheSameResult) {
     EXPECT_FALSE(results[0].empty()) << name;
     EXPECT_TRUE(results[0] == results[1]) << name;
   }
+}
+
+namespace {
+
+std::uint64_t positionKey(const TriMesh::Point& p) {
+  std::uint64_t key = 1469598103934665603ull;
+  for (int k = 0; k < 3; ++k) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &p[k], sizeof bits);
+    key = (key ^ bits) * 1099511628211ull;
+  }
+  return key;
+}
+
+struct FillMeasures {
+  double meanDistance = 0;  // of the new vertices to the original surface
+  double maxDistance = 0;
+  double seamJump = 0;  // mean angle between the faces at the edges where the untouched target ends
+};
+
+// Compares a filled mesh with the mesh it was cut from: `holed` is the mesh with the hole.
+FillMeasures measureFill(const TriMesh& filled, const TriMesh& holed, const TriMesh& original) {
+  std::unordered_set<std::uint64_t> kept;
+  for (auto v : holed.vertices())
+    kept.insert(positionKey(holed.point(v)));
+  std::vector<char> isNew(filled.n_vertices(), 0);
+  const SurfaceLocator locator(original);
+  FillMeasures m;
+  int count = 0;
+  for (auto v : filled.vertices()) {
+    if (kept.count(positionKey(filled.point(v)))) continue;
+    isNew[std::size_t(v.idx())] = 1;
+    const auto& p = filled.point(v);
+    const double d = locator.nearest({p[0], p[1], p[2]}).distance;
+    m.meanDistance += d;
+    m.maxDistance = std::max(m.maxDistance, d);
+    ++count;
+  }
+  m.meanDistance /= std::max(count, 1);
+  auto touchesNew = [&](TriMesh::FaceHandle f) {
+    for (auto v : filled.fv_range(f))
+      if (isNew[std::size_t(v.idx())]) return true;
+    return false;
+  };
+  int seamEdges = 0;
+  for (auto e : filled.edges()) {
+    const auto f0 = filled.face_handle(filled.halfedge_handle(e, 0));
+    const auto f1 = filled.face_handle(filled.halfedge_handle(e, 1));
+    if (!f0.is_valid() || !f1.is_valid() || touchesNew(f0) == touchesNew(f1)) continue;
+    const auto n0 = filled.calc_face_normal(f0), n1 = filled.calc_face_normal(f1);
+    m.seamJump += std::acos(std::clamp(double(OpenMesh::dot(n0, n1)), -1.0, 1.0));
+    ++seamEdges;
+  }
+  m.seamJump /= std::max(seamEdges, 1);
+  return m;
+}
+
+}  // namespace
+
+// The paper's Fig. 10a-b on a real cut: Nefertiti's forehead with a hole cut out of it, filled
+// with G = 0. The fill stays close to the removed surface, and with the derivative constraints
+// it meets the rest of the face with a smaller normal jump than without.
+TEST(FillGraphs, TheForeheadFillFollowsTheRemovedSurface) {
+  const MeshPtr original = readMesh(test::meshPath("nefertiti.obj")).mesh;
+  const MeshPtr holed = readMesh(test::meshPath("cases/nefertiti_forehead_hole.obj")).mesh;
+  // The hole's radius: how far its rim reaches from the rim's centroid.
+  std::vector<Eigen::Vector3d> rim;
+  for (auto v : holed->surface.vertices())
+    if (holed->surface.is_boundary(v))
+      rim.emplace_back(holed->surface.point(v)[0], holed->surface.point(v)[1],
+                       holed->surface.point(v)[2]);
+  ASSERT_FALSE(rim.empty());
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& p : rim)
+    centroid += p / double(rim.size());
+  double holeRadius = 0;
+  for (const auto& p : rim)
+    holeRadius = std::max(holeRadius, (p - centroid).norm());
+  FillMeasures measures[2];
+  for (int c0 = 0; c0 < 2; ++c0) {
+    Graph graph = readGraphFile(test::sourceDir() / "graphs" / "fill_nefertiti_forehead.json");
+    if (c0) setParamFromText(graph, test::registry(), "membrane.derivative_constraints=false");
+    prepareGraph(graph, test::registry());
+    EvalOptions options;
+    const auto dir = test::tempDir(c0 ? "fill-c0" : "fill-c1");
+    options.outputDir = dir;
+    Evaluator evaluator(test::registry());
+    const EvalReport report = evaluator.evaluate(graph, options);
+    ASSERT_TRUE(report.ok) << report.error;
+    const MeshPtr filled = readMesh(dir / "nefertiti_forehead_filled.obj").mesh;
+    const MeshStats stats = meshStats(filled->surface);
+    EXPECT_EQ(stats.boundaryLoops, 0u);
+    EXPECT_EQ(stats.eulerCharacteristic, 2);
+    measures[c0] = measureFill(filled->surface, holed->surface, original->surface);
+  }
+  const FillMeasures& c1 = measures[0];
+  const FillMeasures& c0 = measures[1];
+  RecordProperty("c1_mean_distance", std::to_string(c1.meanDistance));
+  RecordProperty("c1_max_distance", std::to_string(c1.maxDistance));
+  RecordProperty("c1_seam_jump", std::to_string(c1.seamJump));
+  RecordProperty("c0_mean_distance", std::to_string(c0.meanDistance));
+  RecordProperty("c0_seam_jump", std::to_string(c0.seamJump));
+  EXPECT_LT(c1.meanDistance, 0.1 * holeRadius);
+  EXPECT_LT(c1.maxDistance, 0.3 * holeRadius);
+  EXPECT_LT(c1.seamJump, c0.seamJump);
+}
+
+// One of the bunny scan's real holes is filled: one boundary loop fewer, the rest unchanged.
+TEST(FillGraphs, ABunnyScanHoleIsClosed) {
+  const MeshStats before = meshStats(readMesh(test::meshPath("bunny_scan.obj")).mesh->surface);
+  const auto dir = test::tempDir("fill-bunny-scan");
+  const EvalReport report =
+      runGraph(test::sourceDir() / "graphs" / "fill_bunny_scan_hole.json", dir);
+  ASSERT_TRUE(report.ok) << report.error;
+  const MeshStats after = meshStats(readMesh(dir / "bunny_scan_hole_filled.obj").mesh->surface);
+  EXPECT_EQ(after.boundaryLoops, before.boundaryLoops - 1);
+  EXPECT_EQ(after.components, 1u);
+  EXPECT_EQ(after.eulerCharacteristic, before.eulerCharacteristic + 1);
 }

@@ -229,6 +229,32 @@ TEST(Dem, RejectsBadInput) {
   EXPECT_TRUE(test::contains(message, "would wrap around it: use a smaller scale"));
 }
 
+// A plane with a square hole near the origin: refused as it is, kept inside the canvas (one more
+// boundary loop, every source uv still covered around it) when keepHoles asks for it.
+TEST(Dem, KeepsTheMeshHolesItIsAskedTo) {
+  TriMesh holed = plane(40, 4)->surface;
+  holed.request_face_status();
+  holed.request_edge_status();
+  holed.request_vertex_status();
+  for (auto f : holed.faces()) {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (auto v : holed.fv_range(f))
+      centre += toEigen(holed.point(v)) / 3;
+    if ((centre - Eigen::Vector3d(0.9, 0.4, 0)).cwiseAbs().maxCoeff() < 0.5)
+      holed.delete_face(f, true);
+  }
+  holed.garbage_collection();
+  const MeshPtr mesh = std::make_shared<const Mesh>(std::move(holed));
+  TargetDemOptions o;
+  EXPECT_TRUE(test::contains(rejected(mesh, o), "boundary"));
+  o.keepHoles = true;
+  const TargetDemResult dem = targetExponentialMap(mesh, sourceUv(), o);
+  EXPECT_EQ(meshStats(dem.canvas.surface).boundaryLoops, 2u);
+  // The outer loop lies beyond the required disk.
+  for (int v : dem.canvas.boundary)
+    EXPECT_GT(dem.uv[std::size_t(v)].norm(), dem.requiredRadius * 0.99);
+}
+
 using test::DirectContext;
 
 TEST(DemNode, OutputsTheTargetParameterization) {

@@ -170,3 +170,42 @@ TEST(RoiNode, WarnsAboutDabsOutsideAndAnEmptyRegion) {
   ASSERT_TRUE(region);
   EXPECT_TRUE(region->empty());
 }
+
+// A target canvas around a hole of its mesh (as the dem node keeps it for filling): the hole's
+// inside counts as covered, so the region and R_in reach across it.
+TEST(Roi, AHoleOfTheTargetCanvasCountsAsCovered) {
+  auto source = flatSquare(20);
+  auto target = std::make_shared<Parameterization>(*flatSquare(20));
+  auto canvas = std::make_shared<Canvas>(*target->canvas);
+  TriMesh& mesh = canvas->surface;
+  mesh.request_face_status();
+  mesh.request_edge_status();
+  mesh.request_vertex_status();
+  for (auto f : mesh.faces()) {
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (auto v : mesh.fv_range(f))
+      centre += Eigen::Vector2d(mesh.point(v)[0], mesh.point(v)[1]) / 3;
+    if (centre.cwiseAbs().maxCoeff() < 0.3) mesh.delete_face(f, true);
+  }
+  mesh.garbage_collection();
+  target->uv.clear();
+  for (auto v : mesh.vertices()) {
+    target->uv.emplace_back(mesh.point(v)[0], mesh.point(v)[1]);
+    if (std::max(std::abs(mesh.point(v)[0]), std::abs(mesh.point(v)[1])) > 1 - 1e-12)
+      canvas->boundary.push_back(v.idx());
+  }
+  target->normal.assign(target->uv.size(), Eigen::Vector3d::UnitZ());
+  canvas->sourceVertex.resize(mesh.n_vertices());
+  target->canvas = canvas;
+  ASSERT_EQ(canvasHoles(*target).size(), 1u);
+
+  const RoiResult result =
+      paintRegion(strokes({{{0, 0}, 0.5, false}}), *source, *target, RoiOptions{64});
+  const auto all = [](const Eigen::Vector2d&) { return true; };
+  EXPECT_EQ(result.region.sourceVertices,
+            verticesWithin(*source, strokes({{{0, 0}, 0.5, false}}), all));
+  const DomainGrid& grid = result.region.grid;
+  const std::size_t centre = grid.index(int(std::lround(-grid.origin.x() / grid.spacing)),
+                                        int(std::lround(-grid.origin.y() / grid.spacing)));
+  EXPECT_EQ(result.region.inside[centre], 1);
+}

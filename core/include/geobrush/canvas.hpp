@@ -33,6 +33,10 @@ class Canvas final : public Value {
 };
 using CanvasPtr = std::shared_ptr<const Canvas>;
 
+// G = 0 (the paper's Fig. 10a-b; hole filling): the canvas surface with every vertex at the
+// origin, standing in for the draft G(P_s) where nothing is warped in.
+MeshPtr zeroDraft(const Canvas& canvas);
+
 // An orthonormal frame: a normal and the directions of growing u and v.
 struct Frame {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
