@@ -6,6 +6,7 @@
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/node.hpp"
 #include "geobrush/registry.hpp"
+#include "geobrush/values.hpp"
 #include "membrane.hpp"
 #include "membrane_boundary.hpp"
 
@@ -37,8 +38,11 @@ class MembraneNode final : public geobrush::Node {
     field->grid = region->grid;
     field->values.assign(region->grid.nodeCount(), Eigen::Vector3d::Zero());
     field->defined.assign(region->grid.nodeCount(), 0);
+    auto report = std::make_shared<geobrush::Metrics>();
     if (std::find(region->inside.begin(), region->inside.end(), 1) == region->inside.end()) {
+      report->notes.push_back("the region is empty: nothing to solve");
       ctx.out("offset", std::move(field));
+      ctx.out("report", std::move(report));
       return;
     }
     if (source != source_ || target != target_) {
@@ -73,12 +77,21 @@ class MembraneNode final : public geobrush::Node {
               << result.iterations << " iterations (tolerance " << options.tolerance << ")";
       throw NodeError(message.str());
     }
+    report->values = {{"iterations", result.iterations},
+                      {"relative_residual", result.residual},
+                      {"unknowns", result.unknowns},
+                      {"levels", result.levels},
+                      {"hierarchy_reused", result.hierarchyReused ? 1 : 0}};
+    // The Vulkan kernels cover one level's operator and smoother; a whole cycle on the device is
+    // not written yet, and on lavapipe those kernels are far slower than the CPU's.
+    report->notes.push_back("kernel: cpu");
     previous_ = result.values;
     hierarchy_ = result.hierarchy;
     previousGrid_ = region->grid;
     previousContinuity_ = continuity;
     ctx.out("offset", std::make_shared<const Field2D>(
                           geobrush::membraneField(*region, setup, result.values)));
+    ctx.out("report", std::move(report));
   }
 
  private:
@@ -106,6 +119,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                                  "G = 0: the membrane alone fills the region (hole filling).")
             .input<Parameterization>("target", "E_t: the target canvas in the same domain.")
             .output<Field2D>("offset", "x~ on the region's grid.")
+            .output<geobrush::Metrics>("report",
+                                       "The solve: CG iterations, relative residual, unknowns, "
+                                       "multigrid levels, whether the hierarchy was reused, and "
+                                       "the kernel that ran.")
             .paramBool("derivative_constraints", true,
                        "On: biharmonic with value and slope fixed (C1). Off: harmonic with the "
                        "value only (C0), the paper's Fig. 10 comparison.")

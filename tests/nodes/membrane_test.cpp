@@ -18,6 +18,7 @@
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/gpu/vulkan_context.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/values.hpp"
 #include "membrane_boundary.hpp"
 #include "membrane_levels.hpp"
 #include "membrane_vulkan.hpp"
@@ -746,6 +747,7 @@ TEST(MembraneNode, WarmStartsFromThePreviousDab) {
   auto node = type->create();
   Strokes strokes = disc({0, 0}, 0.4);
   std::shared_ptr<const Field2D> last;
+  double iterations[2] = {0, 0};
   for (int dab = 0; dab < 2; ++dab) {
     auto region =
         std::make_shared<Region2D>(paintRegion(strokes, *source, *target, RoiOptions{64}).region);
@@ -754,8 +756,14 @@ TEST(MembraneNode, WarmStartsFromThePreviousDab) {
     node->compute(ctx);
     last = std::dynamic_pointer_cast<const Field2D>(ctx.outputs["offset"]);
     ASSERT_TRUE(last);
+    const auto report = std::dynamic_pointer_cast<const Metrics>(ctx.outputs["report"]);
+    ASSERT_TRUE(report);
+    iterations[dab] = report->values.at("iterations");
+    EXPECT_LE(report->values.at("relative_residual"), 1e-7);
+    EXPECT_EQ(report->notes, std::vector<std::string>{"kernel: cpu"});
     strokes.dabs.push_back({{0.3, 0.1}, 0.2, false});
   }
+  EXPECT_LT(iterations[1], iterations[0]);  // warm-started from the first dab
   // The second dab's field solves its own region, whatever the start.
   const Region2D region = paintRegion(strokes, *source, *target, RoiOptions{64}).region;
   const Field2D fresh =
