@@ -761,7 +761,7 @@ TEST(MembraneNode, WarmStartsFromThePreviousDab) {
     iterations[dab] = report->values.at("iterations");
     EXPECT_LE(report->values.at("relative_residual"), 1e-7);
     EXPECT_EQ(report->notes, std::vector<std::string>{"kernel: cpu"});
-    strokes.dabs.push_back({{0.3, 0.1}, 0.2, false});
+    strokes.dabs.push_back({{0.38, 0.05}, 0.06, false});  // a small dab at the edge
   }
   EXPECT_LT(iterations[1], iterations[0]);  // warm-started from the first dab
   // The second dab's field solves its own region, whatever the start.
