@@ -33,9 +33,17 @@ bool pinched(const TriMesh& mesh, TriMesh::VertexHandle v, const std::vector<cha
 // Deselects the faces around vertices where the selection is pinched, until none is: every
 // vertex of the selection then has one fan of selected faces and the selection is a manifold.
 void removePinches(const TriMesh& mesh, std::vector<char>& selected) {
+  // A pinched vertex has faces on both sides of the selection, so it is a corner of a selected and
+  // of an unselected face: the corners of the smaller of the two sets are the candidates.
+  const auto count = std::size_t(std::count(selected.begin(), selected.end(), 1));
+  const char side = count <= selected.size() / 2 ? 1 : 0;
   std::vector<int> candidates;
-  for (auto v : mesh.vertices())
-    candidates.push_back(v.idx());
+  for (auto f : mesh.faces())
+    if (selected[std::size_t(f.idx())] == side)
+      for (auto v : mesh.fv_range(f))
+        candidates.push_back(v.idx());
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
   while (!candidates.empty()) {
     std::vector<int> next;
     for (int v : candidates) {
@@ -224,6 +232,10 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
 
   TriMesh& out = result.mesh;
   out = base->outside;
+  // Room for the whole result, so that adding faces does not reallocate the arrays.
+  const std::size_t faces = out.n_faces() + targetCanvas.n_faces() + 2 * patch.surface.n_faces();
+  out.reserve(out.n_vertices() + targetCanvas.n_vertices() + patch.surface.n_vertices(),
+              faces * 3 / 2 + 1024, faces);
   std::vector<int> canvasToOut(targetCanvas.n_vertices(), -1);
   std::vector<int> outToCanvas(out.n_vertices(), -1);
   for (std::size_t c = 0; c < canvasToOut.size(); ++c) {
