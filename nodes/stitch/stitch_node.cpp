@@ -21,8 +21,12 @@ class StitchNode final : public geobrush::Node {
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    const auto draft =
-        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : geobrush::zeroDraft(*source->canvas);
+    // Unconnected, the draft is G = 0; it is made once per source canvas, not on every dab.
+    if (!ctx.hasInput("draft") && zeroDraftCanvas_ != source->canvas) {
+      zeroDraft_ = geobrush::zeroDraft(*source->canvas);
+      zeroDraftCanvas_ = source->canvas;
+    }
+    const auto draft = ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDraft_;
     const auto target = ctx.in<Parameterization>("target");
     const auto offset = ctx.hasInput("offset") ? ctx.in<Field2D>("offset") : nullptr;
     if (offset && offset->grid != region->grid)
@@ -43,6 +47,8 @@ class StitchNode final : public geobrush::Node {
   }
 
  private:
+  std::shared_ptr<const Mesh> zeroDraft_;
+  geobrush::CanvasPtr zeroDraftCanvas_;
   std::unique_ptr<geobrush::StitchBase> base_;
   std::shared_ptr<const Parameterization> target_;
 };
