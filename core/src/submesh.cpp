@@ -1,6 +1,9 @@
 #include "geobrush/submesh.hpp"
 
 #include <algorithm>
+#include <atomic>
+
+#include "geobrush/parallel.hpp"
 
 namespace geobrush {
 
@@ -39,6 +42,108 @@ Submesh extractSubmesh(const TriMesh& mesh, const std::vector<int>& faces) {
     sub.sourceFace.push_back(faces[k]);
   }
   return sub;
+}
+
+}  // namespace geobrush
+
+namespace geobrush {
+
+AppendedFaces appendFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int>& faces) {
+  using HalfedgeHandle = TriMesh::HalfedgeHandle;
+  // Every pass walks the mesh's arrays in order, split into blocks over the cores; each item is
+  // written by one block alone, so the copy is the same for any number of threads.
+  constexpr std::size_t kBlock = 1 << 14;
+  AppendedFaces added;
+  added.firstVertex = int(out.n_vertices());
+  const int firstEdge = int(out.n_edges()), firstFace = int(out.n_faces());
+
+  // New indices: faces in the given order, edges and vertices in source order.
+  std::vector<int> faceInOut(mesh.n_faces(), -1);
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    faceInOut[std::size_t(faces[k])] = firstFace + int(k);
+  auto selected = [&](HalfedgeHandle h) {
+    const auto f = mesh.face_handle(h);
+    return f.is_valid() && faceInOut[std::size_t(f.idx())] >= 0;
+  };
+  std::vector<int> edgeInOut(mesh.n_edges(), -1);
+  std::vector<char> used(mesh.n_vertices(), 0);
+  parallelBlocks(mesh.n_edges(), kBlock, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t e = first; e < last; ++e) {
+      const auto h = HalfedgeHandle(int(2 * e)), o = HalfedgeHandle(int(2 * e + 1));
+      if (!selected(h) && !selected(o)) continue;
+      edgeInOut[e] = 0;
+      // Several edges mark one vertex, with the same value.
+      std::atomic_ref(used[std::size_t(mesh.to_vertex_handle(h).idx())])
+          .store(1, std::memory_order_relaxed);
+      std::atomic_ref(used[std::size_t(mesh.to_vertex_handle(o).idx())])
+          .store(1, std::memory_order_relaxed);
+    }
+  });
+  int edges = 0;
+  for (int& e : edgeInOut)
+    if (e == 0) e = firstEdge + edges++;
+  added.vertexInOut.assign(mesh.n_vertices(), -1);
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) {
+      added.vertexInOut[v] = added.firstVertex + int(added.sourceVertex.size());
+      added.sourceVertex.push_back(int(v));
+    }
+  out.resize(out.n_vertices() + added.sourceVertex.size(), out.n_edges() + std::size_t(edges),
+             out.n_faces() + faces.size());
+
+  // Halfedge 2e + s is side s of edge e, in OpenMesh as here.
+  auto halfedgeInOut = [&](HalfedgeHandle h) {
+    return HalfedgeHandle(2 * edgeInOut[std::size_t(h.idx() / 2)] + (h.idx() & 1));
+  };
+  parallelBlocks(added.sourceVertex.size(), kBlock, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) {
+      const auto v = TriMesh::VertexHandle(added.sourceVertex[i]);
+      const auto vOut = TriMesh::VertexHandle(added.firstVertex + int(i));
+      out.set_point(vOut, mesh.point(v));
+      // Inside the selection any outgoing halfedge will do; boundary vertices get theirs below.
+      const auto h = mesh.halfedge_handle(v);
+      if (edgeInOut[std::size_t(h.idx() / 2)] >= 0) out.set_halfedge_handle(vOut, halfedgeInOut(h));
+    }
+  });
+  parallelBlocks(faces.size(), kBlock, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t k = first; k < last; ++k)
+      out.set_halfedge_handle(TriMesh::FaceHandle(firstFace + int(k)),
+                              halfedgeInOut(mesh.halfedge_handle(TriMesh::FaceHandle(faces[k]))));
+  });
+  const std::size_t blocks = (mesh.n_halfedges() + kBlock - 1) / kBlock;
+  std::vector<std::vector<HalfedgeHandle>> boundaryOfBlock(blocks);
+  parallelBlocks(mesh.n_halfedges(), kBlock, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) {
+      const auto h = HalfedgeHandle(int(i));
+      if (edgeInOut[i / 2] < 0) continue;
+      const auto hOut = halfedgeInOut(h);
+      const auto to = mesh.to_vertex_handle(h);
+      out.set_vertex_handle(hOut, TriMesh::VertexHandle(added.vertexInOut[std::size_t(to.idx())]));
+      if (selected(h)) {
+        out.set_face_handle(hOut,
+                            TriMesh::FaceHandle(faceInOut[std::size_t(mesh.face_handle(h).idx())]));
+        // Each halfedge is the next of one other: the prev this also sets has one writer.
+        out.set_next_halfedge_handle(hOut, halfedgeInOut(mesh.next_halfedge_handle(h)));
+        continue;
+      }
+      // A boundary halfedge of the copy: its successor is the first boundary halfedge leaving
+      // `to` clockwise, past the faces not copied. With one fan at `to` that is the fan's other
+      // end; with several it joins them as add_face does, so that circulators see every fan.
+      out.set_face_handle(hOut, TriMesh::FaceHandle());
+      auto next = mesh.opposite_halfedge_handle(h);
+      do
+        next = mesh.next_halfedge_handle(mesh.opposite_halfedge_handle(next));
+      while (selected(next) || !selected(mesh.opposite_halfedge_handle(next)));
+      out.set_next_halfedge_handle(hOut, halfedgeInOut(next));
+      boundaryOfBlock[i / kBlock].push_back(hOut);
+    }
+  });
+  // OpenMesh expects a boundary vertex to hold a boundary halfedge; where a vertex has several,
+  // the last in source order, as a sequential pass would leave it.
+  for (const auto& boundary : boundaryOfBlock)
+    for (auto hOut : boundary)
+      out.set_halfedge_handle(out.from_vertex_handle(hOut), hOut);
+  return added;
 }
 
 }  // namespace geobrush

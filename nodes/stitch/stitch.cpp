@@ -32,16 +32,15 @@ bool pinched(const TriMesh& mesh, TriMesh::VertexHandle v, const std::vector<cha
 
 // Deselects the faces around vertices where the selection is pinched, until none is: every
 // vertex of the selection then has one fan of selected faces and the selection is a manifold.
-void removePinches(const TriMesh& mesh, std::vector<char>& selected) {
-  // A pinched vertex has faces on both sides of the selection, so it is a corner of a selected and
-  // of an unselected face: the corners of the smaller of the two sets are the candidates.
-  const auto count = std::size_t(std::count(selected.begin(), selected.end(), 1));
-  const char side = count <= selected.size() / 2 ? 1 : 0;
+// A pinched vertex is a corner of a selected and of an unselected face: `candidates` lists faces
+// whose corners include every such vertex (e.g. the smaller of the two sets), so that the cost
+// follows the region rather than the mesh.
+void removePinches(const TriMesh& mesh, std::vector<char>& selected,
+                   const std::vector<int>& candidateFaces) {
   std::vector<int> candidates;
-  for (auto f : mesh.faces())
-    if (selected[std::size_t(f.idx())] == side)
-      for (auto v : mesh.fv_range(f))
-        candidates.push_back(v.idx());
+  for (int f : candidateFaces)
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
+      candidates.push_back(v.idx());
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
   while (!candidates.empty()) {
@@ -67,24 +66,6 @@ std::vector<int> selectedFaces(const std::vector<char>& selected) {
   for (std::size_t f = 0; f < selected.size(); ++f)
     if (selected[f]) faces.push_back(int(f));
   return faces;
-}
-
-// Boundary loops as vertex lists in the direction of their boundary halfedges.
-std::vector<std::vector<int>> boundaryLoops(const TriMesh& mesh) {
-  std::vector<std::vector<int>> loops;
-  std::vector<char> seen(mesh.n_halfedges(), 0);
-  for (auto start : mesh.halfedges()) {
-    if (!mesh.is_boundary(start) || seen[std::size_t(start.idx())]) continue;
-    std::vector<int> loop;
-    auto h = start;
-    do {
-      seen[std::size_t(h.idx())] = 1;
-      loop.push_back(mesh.from_vertex_handle(h).idx());
-      h = mesh.next_halfedge_handle(h);
-    } while (h != start);
-    loops.push_back(std::move(loop));
-  }
-  return loops;
 }
 
 // Mean distance from the points of `a` to the nearest point of `b`.
@@ -144,31 +125,30 @@ std::string vertexText(int v) {
 StitchBase stitchBase(const Parameterization& target) {
   if (!target.canvas) throw StitchError("the target parameterization has no canvas");
   const Canvas& canvas = *target.canvas;
+  const TriMesh& mesh = canvas.source ? canvas.source->surface : canvas.surface;
   StitchBase base;
   base.canvasToMesh = canvas.sourceVertex;
+  base.canvasFaceToMesh = canvas.sourceFace;
   if (!canvas.source) {
     base.canvasToMesh.resize(canvas.surface.n_vertices());
     std::iota(base.canvasToMesh.begin(), base.canvasToMesh.end(), 0);
-    base.meshToOutside.assign(canvas.surface.n_vertices(), -1);
-    return base;
+    base.canvasFaceToMesh.resize(canvas.surface.n_faces());
+    std::iota(base.canvasFaceToMesh.begin(), base.canvasFaceToMesh.end(), 0);
   }
-  const TriMesh& mesh = canvas.source->surface;
   if (base.canvasToMesh.size() != canvas.surface.n_vertices() ||
-      canvas.sourceFace.size() != canvas.surface.n_faces() ||
+      base.canvasFaceToMesh.size() != canvas.surface.n_faces() ||
       target.uv.size() != canvas.surface.n_vertices())
     throw StitchError("the target canvas does not map its vertices and faces to the target mesh");
-  std::vector<char> inCanvas(mesh.n_faces(), 0);
-  for (int f : canvas.sourceFace)
-    inCanvas[std::size_t(f)] = 1;
-  std::vector<int> outsideFaces;
-  for (std::size_t f = 0; f < inCanvas.size(); ++f)
-    if (!inCanvas[f]) outsideFaces.push_back(int(f));
-  Submesh outside = extractSubmesh(mesh, outsideFaces);
-  if (outside.unattachedFace >= 0) throw StitchError("the target mesh is not a manifold mesh");
-  base.outside = std::move(outside.surface);
-  base.meshToOutside.assign(mesh.n_vertices(), -1);
-  for (std::size_t o = 0; o < outside.sourceVertex.size(); ++o)
-    base.meshToOutside[std::size_t(outside.sourceVertex[o])] = int(o);
+  base.meshToCanvas.assign(mesh.n_vertices(), -1);
+  for (std::size_t c = 0; c < base.canvasToMesh.size(); ++c) {
+    const int v = base.canvasToMesh[c];
+    if (v < 0 || std::size_t(v) >= mesh.n_vertices())
+      throw StitchError("the target canvas maps a vertex outside the target mesh");
+    base.meshToCanvas[std::size_t(v)] = int(c);
+  }
+  for (int f : base.canvasFaceToMesh)
+    if (f < 0 || std::size_t(f) >= mesh.n_faces())
+      throw StitchError("the target canvas maps a face outside the target mesh");
   return base;
 }
 
@@ -192,28 +172,28 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
   for (int v : region.sourceVertices)
     inRegion[std::size_t(v)] = 1;
   std::vector<char> patchSelected(canvas.n_faces(), 0);
-  for (auto f : canvas.faces()) {
-    bool all = true;
-    for (auto v : canvas.fv_range(f))
-      all = all && inRegion[std::size_t(v.idx())];
-    patchSelected[std::size_t(f.idx())] = all;
-  }
-  removePinches(canvas, patchSelected);
-  Submesh patch = extractSubmesh(canvas, selectedFaces(patchSelected));
-  if (patch.sourceFace.empty()) {
+  for (int v : region.sourceVertices)
+    for (auto f : canvas.vf_range(TriMesh::VertexHandle(v))) {
+      bool all = true;
+      for (auto corner : canvas.fv_range(f))
+        all = all && inRegion[std::size_t(corner.idx())];
+      patchSelected[std::size_t(f.idx())] = all;
+    }
+  removePinches(canvas, patchSelected, selectedFaces(patchSelected));
+  const std::vector<int> patchFaces = selectedFaces(patchSelected);
+  if (patchFaces.empty()) {
     result.mesh = targetMesh;
     return result;
   }
 
-  // The target: its part outside the canvas as it is, then the canvas faces that touch no covered
-  // vertex, made manifold.
+  // The target: every face but those of its canvas that touch a covered vertex, made manifold.
   std::optional<StitchBase> ownBase;
   if (!base) base = &ownBase.emplace(stitchBase(target));
   const TriMesh& targetCanvas = target.canvas->surface;
-  std::vector<char> covered(targetCanvas.n_vertices(), 0);
   std::vector<char> outerBoundary(targetCanvas.n_vertices(), 0);
   for (int v : target.canvas->boundary)
     outerBoundary[std::size_t(v)] = 1;
+  std::vector<char> covered(targetCanvas.n_vertices(), 0);
   for (int v : region.targetVertices) {
     // Vertices of the canvas' inner loops (holes of the target mesh) may be covered: a fill
     // replaces the faces around them.
@@ -224,115 +204,106 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
     }
     covered[std::size_t(v)] = 1;
   }
-  std::vector<char> kept(targetCanvas.n_faces(), 1);
-  for (auto f : targetCanvas.faces())
-    for (auto v : targetCanvas.fv_range(f))
-      if (covered[std::size_t(v.idx())]) kept[std::size_t(f.idx())] = 0;
-  removePinches(targetCanvas, kept);
+  std::vector<char> kept(targetMesh.n_faces(), 1);
+  std::vector<int> removedFaces;
+  for (int v : region.targetVertices)
+    for (auto f : targetCanvas.vf_range(TriMesh::VertexHandle(v))) {
+      char& k = kept[std::size_t(base->canvasFaceToMesh[std::size_t(f.idx())])];
+      if (k) removedFaces.push_back(base->canvasFaceToMesh[std::size_t(f.idx())]);
+      k = 0;
+    }
+  removePinches(targetMesh, kept, removedFaces);
+  std::vector<int> keptFaces;
+  keptFaces.reserve(kept.size());
+  removedFaces.clear();
+  for (std::size_t f = 0; f < kept.size(); ++f)
+    (kept[f] ? keptFaces : removedFaces).push_back(int(f));
+  result.removedFaces = removedFaces.size();
 
+  // The kept target faces and the patch, their connectivity copied (add_face, face by face, takes
+  // several times longer on a large target); room for the seam strips too.
   TriMesh& out = result.mesh;
-  out = base->outside;
-  // Room for the whole result, so that adding faces does not reallocate the arrays.
-  const std::size_t faces = out.n_faces() + targetCanvas.n_faces() + 2 * patch.surface.n_faces();
-  out.reserve(out.n_vertices() + targetCanvas.n_vertices() + patch.surface.n_vertices(),
-              faces * 3 / 2 + 1024, faces);
-  std::vector<int> canvasToOut(targetCanvas.n_vertices(), -1);
-  std::vector<int> outToCanvas(out.n_vertices(), -1);
-  for (std::size_t c = 0; c < canvasToOut.size(); ++c) {
-    const int o = base->meshToOutside[std::size_t(base->canvasToMesh[c])];
-    canvasToOut[c] = o;
-    if (o >= 0) outToCanvas[std::size_t(o)] = int(c);
-  }
-  auto outVertex = [&](TriMesh::VertexHandle c) {
-    int& o = canvasToOut[std::size_t(c.idx())];
-    if (o < 0) {
-      o = out.add_vertex(targetCanvas.point(c)).idx();
-      outToCanvas.push_back(c.idx());
-    }
-    return TriMesh::VertexHandle(o);
-  };
-  std::vector<char> seamCanvasVertex(targetCanvas.n_vertices(), 0);
-  for (auto f : targetCanvas.faces()) {
-    if (!kept[std::size_t(f.idx())]) {
-      ++result.removedFaces;
-      for (auto v : targetCanvas.fv_range(f))
-        seamCanvasVertex[std::size_t(v.idx())] = 1;
-      continue;
-    }
-    std::array<TriMesh::VertexHandle, 3> corners;
-    int k = 0;
-    for (auto v : targetCanvas.fv_range(f))
-      corners[std::size_t(k++)] = outVertex(v);
-    if (!out.add_face(corners[0], corners[1], corners[2]).is_valid())
-      throw StitchError("the target is not a manifold mesh around its canvas");
-  }
-  if (patch.unattachedFace >= 0) throw StitchError("the source region is not a manifold mesh");
+  const std::size_t strips = 2 * targetCanvas.n_vertices() / 8 + 1024;
+  out.reserve(targetMesh.n_vertices() + canvas.n_vertices(),
+              targetMesh.n_edges() + canvas.n_edges() + strips,
+              targetMesh.n_faces() + canvas.n_faces() + strips);
+  const AppendedFaces targetPart = appendFaces(out, targetMesh, keptFaces);
 
-  // The seam loops: boundary loops of the target through a vertex of a removed face, found
+  // The seam loops: boundary loops of the target part through a vertex of a removed face, found
   // before the patch is added.
   std::vector<std::vector<int>> seams;
   std::vector<std::vector<Vector2d>> seamUv;
   std::vector<char> traced(out.n_halfedges(), 0);
-  for (std::size_t c = 0; c < seamCanvasVertex.size(); ++c) {
-    if (!seamCanvasVertex[c] || canvasToOut[c] < 0) continue;
-    for (auto start : out.voh_range(TriMesh::VertexHandle(canvasToOut[c]))) {
-      if (!out.is_boundary(start) || traced[std::size_t(start.idx())]) continue;
-      std::vector<int> loop;
-      std::vector<Vector2d> uv;
-      auto h = start;
-      do {
-        traced[std::size_t(h.idx())] = 1;
-        const int o = out.from_vertex_handle(h).idx();
-        const int canvasVertex = outToCanvas[std::size_t(o)];
-        if (canvasVertex < 0) {
-          throw StitchError(
-              "the region reaches the edge of the target canvas: paint away from "
-              "it or grow the target canvas");
-        }
-        loop.push_back(o);
-        uv.push_back(target.uv[std::size_t(canvasVertex)]);
-        h = out.next_halfedge_handle(h);
-      } while (h != start);
-      seams.push_back(std::move(loop));
-      seamUv.push_back(std::move(uv));
+  for (int f : removedFaces)
+    for (auto corner : targetMesh.fv_range(TriMesh::FaceHandle(f))) {
+      const int o = targetPart.vertexInOut[std::size_t(corner.idx())];
+      if (o < 0 || !out.is_boundary(TriMesh::VertexHandle(o))) continue;
+      for (auto start : out.voh_range(TriMesh::VertexHandle(o))) {
+        if (!out.is_boundary(start) || traced[std::size_t(start.idx())]) continue;
+        std::vector<int> loop;
+        std::vector<Vector2d> uv;
+        auto h = start;
+        do {
+          traced[std::size_t(h.idx())] = 1;
+          const int v = out.from_vertex_handle(h).idx();
+          const int canvasVertex = base->meshToCanvas[std::size_t(
+              targetPart.sourceVertex[std::size_t(v - targetPart.firstVertex)])];
+          if (canvasVertex < 0) {
+            throw StitchError(
+                "the region reaches the edge of the target canvas: paint away from "
+                "it or grow the target canvas");
+          }
+          loop.push_back(v);
+          uv.push_back(target.uv[std::size_t(canvasVertex)]);
+          h = out.next_halfedge_handle(h);
+        } while (h != start);
+        seams.push_back(std::move(loop));
+        seamUv.push_back(std::move(uv));
+      }
     }
-  }
 
-  // The patch, after the target's vertices.
-  const int patchBase = int(out.n_vertices());
+  // The patch, after the target's vertices, each vertex at x~(E_s(v)) + G(v).
+  const AppendedFaces patch = appendFaces(out, canvas, patchFaces);
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-  for (auto v : patch.surface.vertices()) {
-    const int c = patch.sourceVertex[std::size_t(v.idx())];
+  for (std::size_t i = 0; i < patch.sourceVertex.size(); ++i) {
+    const int c = patch.sourceVertex[i];
     const auto& g = draft.point(TriMesh::VertexHandle(c));
     if (offset && !offset->sample(source.uv[std::size_t(c)], shift)) {
       throw StitchError("the offset membrane is undefined at source canvas " + vertexText(c) +
                         " of the region");
     }
-    out.add_vertex({g[0] + shift.x(), g[1] + shift.y(), g[2] + shift.z()});
+    out.set_point(TriMesh::VertexHandle(patch.firstVertex + int(i)),
+                  {g[0] + shift.x(), g[1] + shift.y(), g[2] + shift.z()});
   }
-  result.patchVertices = patch.surface.n_vertices();
-  for (auto f : patch.surface.faces()) {
-    std::vector<TriMesh::VertexHandle> corners;
-    for (auto v : patch.surface.fv_range(f))
-      corners.emplace_back(patchBase + v.idx());
-    out.add_face(corners);
+  result.patchVertices = patch.sourceVertex.size();
+  std::vector<std::vector<int>> patchLoops;
+  traced.assign(out.n_halfedges(), 0);
+  for (int v = patch.firstVertex; v < int(out.n_vertices()); ++v) {
+    if (!out.is_boundary(TriMesh::VertexHandle(v))) continue;
+    for (auto start : out.voh_range(TriMesh::VertexHandle(v))) {
+      if (!out.is_boundary(start) || traced[std::size_t(start.idx())]) continue;
+      std::vector<int> loop;
+      auto h = start;
+      do {
+        traced[std::size_t(h.idx())] = 1;
+        loop.push_back(out.from_vertex_handle(h).idx());
+        h = out.next_halfedge_handle(h);
+      } while (h != start);
+      patchLoops.push_back(std::move(loop));
+    }
   }
 
   // Pair each boundary loop of R_in with the seam loop of the target nearest to it in the domain.
-  const auto patchLoops = boundaryLoops(patch.surface);
   if (patchLoops.size() != seams.size()) {
     throw StitchError("the region has " + std::to_string(patchLoops.size()) +
                       " boundary loops on the source but " + std::to_string(seams.size()) +
                       " on the target: paint a region whose outline both canvases hold whole");
   }
   std::vector<char> paired(seams.size(), 0);
-  for (const auto& loop : patchLoops) {
-    std::vector<int> ids;
+  for (const auto& ids : patchLoops) {
     std::vector<Vector2d> uv;
-    for (int v : loop) {
-      ids.push_back(patchBase + v);
-      uv.push_back(source.uv[std::size_t(patch.sourceVertex[std::size_t(v)])]);
-    }
+    for (int v : ids)
+      uv.push_back(source.uv[std::size_t(patch.sourceVertex[std::size_t(v - patch.firstVertex)])]);
     std::size_t best = seams.size();
     double bestDistance = std::numeric_limits<double>::infinity();
     for (std::size_t s = 0; s < seams.size(); ++s) {
@@ -348,9 +319,11 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
       const auto face = out.add_face(TriMesh::VertexHandle(t[0]), TriMesh::VertexHandle(t[1]),
                                      TriMesh::VertexHandle(t[2]));
       if (!face.is_valid()) {
-        throw StitchError("the seam strip folds onto itself near target canvas " +
-                          vertexText(outToCanvas[std::size_t(t[2] < patchBase ? t[2] : t[0])]) +
-                          ": the two outlines are too far apart or too jagged to join");
+        throw StitchError(
+            "the seam strip folds onto itself near target " +
+            vertexText(
+                targetPart.sourceVertex[std::size_t(t[2] < patch.firstVertex ? t[2] : t[0])]) +
+            ": the two outlines are too far apart or too jagged to join");
       }
       ++result.gapTriangles;
     }

@@ -24,14 +24,13 @@ struct StitchResult {
   std::size_t seamLoops = 0;      // boundary loops of R_in, each zipped to one of the target
 };
 
-// The target mesh outside its canvas, which no paste changes: built once per target canvas, each
-// result starts from a copy of it.
+// How the target canvas sits in its mesh, which no paste changes: built once per target canvas.
 struct StitchBase {
-  TriMesh outside;
-  std::vector<int> canvasToMesh;   // target canvas vertex -> target mesh vertex
-  std::vector<int> meshToOutside;  // target mesh vertex -> vertex of `outside`, or -1
+  std::vector<int> canvasToMesh;      // target canvas vertex -> target mesh vertex
+  std::vector<int> meshToCanvas;      // target mesh vertex -> target canvas vertex, or -1
+  std::vector<int> canvasFaceToMesh;  // target canvas face -> target mesh face
 };
-// Throws StitchError when the canvas does not map onto its mesh or the mesh is not manifold.
+// Throws StitchError when the canvas does not map onto its mesh.
 StitchBase stitchBase(const Parameterization& target);
 
 // `draft` is G(P_s): the source canvas surface with its vertices warped (same connectivity).

@@ -1,5 +1,8 @@
-// extractSubmesh: faces copied with their vertices renumbered in source order.
+// extractSubmesh and appendFaces: faces copied with their vertices renumbered in source order.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "geobrush/submesh.hpp"
 #include "mesh_checks.hpp"
@@ -24,4 +27,121 @@ TEST(Submesh, CopiesFacesAndRenumbersVertices) {
   EXPECT_EQ(one.sourceVertex, (std::vector<int>{0, 2, 3}));
   EXPECT_EQ(one.surface.point(TriMesh::VertexHandle(1)),
             tet.surface.point(TriMesh::VertexHandle(2)));
+}
+
+namespace {
+
+// Every halfedge's links agree with each other and OpenMesh's boundary queries hold: what add_face
+// would have made.
+void expectConsistentConnectivity(const TriMesh& mesh) {
+  for (auto h : mesh.halfedges()) {
+    const auto next = mesh.next_halfedge_handle(h);
+    ASSERT_TRUE(next.is_valid());
+    EXPECT_EQ(mesh.prev_halfedge_handle(next), h);
+    EXPECT_EQ(mesh.from_vertex_handle(next), mesh.to_vertex_handle(h));
+    EXPECT_EQ(mesh.face_handle(next), mesh.face_handle(h));
+    EXPECT_NE(mesh.to_vertex_handle(h), mesh.from_vertex_handle(h));
+  }
+  for (auto f : mesh.faces())
+    EXPECT_EQ(mesh.face_handle(mesh.halfedge_handle(f)), f);
+  for (auto v : mesh.vertices()) {
+    EXPECT_EQ(mesh.from_vertex_handle(mesh.halfedge_handle(v)), v);
+    bool anyBoundary = false;
+    for (auto h : mesh.voh_range(v))
+      anyBoundary = anyBoundary || mesh.is_boundary(h);
+    EXPECT_EQ(mesh.is_boundary(v), anyBoundary) << "vertex " << v.idx();
+  }
+}
+
+// The faces of an icosphere below a wavy cut: a disc with a jagged boundary.
+std::vector<int> facesBelowWavyCut(const TriMesh& sphere) {
+  std::vector<int> faces;
+  for (auto f : sphere.faces()) {
+    const auto c = sphere.calc_face_centroid(f);
+    if (c[2] < 0.3 + 0.2 * std::sin(7 * std::atan2(c[1], c[0]))) faces.push_back(f.idx());
+  }
+  return faces;
+}
+
+}  // namespace
+
+TEST(AppendFaces, CopiesWhatExtractSubmeshBuildsFaceByFace) {
+  const TriMesh sphere = test::icosphere(3);
+  const std::vector<int> faces = facesBelowWavyCut(sphere);
+  const Submesh reference = extractSubmesh(sphere, faces);
+  ASSERT_EQ(reference.unattachedFace, -1);
+  TriMesh copy;
+  const AppendedFaces added = appendFaces(copy, sphere, faces);
+  EXPECT_EQ(added.firstVertex, 0);
+  EXPECT_EQ(added.sourceVertex, reference.sourceVertex);
+  EXPECT_TRUE(test::bitIdentical(copy, reference.surface));
+  expectConsistentConnectivity(copy);
+  const test::Topology expected = test::topology(reference.surface);
+  const test::Topology got = test::topology(copy);
+  EXPECT_EQ(got.edges, expected.edges);
+  EXPECT_EQ(got.boundaryHalfedges, expected.boundaryHalfedges);
+  EXPECT_EQ(got.boundaryLoops, 1u);
+  EXPECT_EQ(got.nonManifoldVertices, 0u);
+  for (std::size_t v = 0; v < sphere.n_vertices(); ++v) {
+    const auto it = std::lower_bound(added.sourceVertex.begin(), added.sourceVertex.end(), int(v));
+    const bool isUsed = it != added.sourceVertex.end() && *it == int(v);
+    EXPECT_EQ(added.vertexInOut[v], isUsed ? int(it - added.sourceVertex.begin()) : -1);
+  }
+}
+
+TEST(AppendFaces, AppendsAfterWhatIsThereAndKeepsTheMeshOpenToAddFace) {
+  const TriMesh sphere = test::icosphere(2);
+  std::vector<int> below = facesBelowWavyCut(sphere), above;
+  std::vector<char> isBelow(sphere.n_faces(), 0);
+  for (int f : below)
+    isBelow[std::size_t(f)] = 1;
+  for (std::size_t f = 0; f < sphere.n_faces(); ++f)
+    if (!isBelow[f]) above.push_back(int(f));
+  TriMesh both;
+  appendFaces(both, sphere, below);
+  const std::size_t verticesBelow = both.n_vertices();
+  const AppendedFaces second = appendFaces(both, sphere, above);
+  EXPECT_EQ(second.firstVertex, int(verticesBelow));
+  expectConsistentConnectivity(both);
+  const test::Topology parts = test::topology(both);
+  EXPECT_EQ(parts.components, 2u);
+  EXPECT_EQ(parts.boundaryLoops, 2u);
+  EXPECT_EQ(parts.faces, sphere.n_faces());
+
+  // The copy of the cap takes new faces at its boundary like any OpenMesh mesh: close its hole
+  // with a fan around a new centre vertex.
+  TriMesh cap;
+  appendFaces(cap, sphere, below);
+  std::vector<TriMesh::HalfedgeHandle> rim;
+  for (auto h : cap.halfedges())
+    if (cap.is_boundary(h)) rim.push_back(h);
+  const auto centre = cap.add_vertex({0, 0, 1});
+  for (auto h : rim)
+    ASSERT_TRUE(
+        cap.add_face(cap.from_vertex_handle(h), cap.to_vertex_handle(h), centre).is_valid());
+  expectConsistentConnectivity(cap);
+  const test::Topology closed = test::topology(cap);
+  EXPECT_EQ(closed.boundaryLoops, 0u);
+  EXPECT_EQ(closed.eulerCharacteristic, 2);
+}
+
+TEST(AppendFaces, GivesAPinchedSelectionAVertexThatCirculatorsGoRoundWhole) {
+  // Two opposite faces around one vertex of an icosphere share only that vertex.
+  const TriMesh sphere = test::icosphere(1);
+  const auto v = TriMesh::VertexHandle(0);
+  std::vector<int> fan;
+  for (auto f : sphere.vf_range(v))
+    fan.push_back(f.idx());
+  ASSERT_EQ(fan.size(), 5u);
+  TriMesh pinched;
+  const AppendedFaces added = appendFaces(pinched, sphere, {fan[0], fan[2]});
+  expectConsistentConnectivity(pinched);
+  const test::Topology t = test::topology(pinched);
+  EXPECT_EQ(t.nonManifoldVertices, 1u);
+  EXPECT_EQ(t.faces, 2u);
+  const auto pinch = TriMesh::VertexHandle(added.vertexInOut[0]);
+  int facesRound = 0;
+  for (auto f : pinched.vf_range(pinch))
+    facesRound += f.is_valid();
+  EXPECT_EQ(facesRound, 2);
 }

@@ -21,4 +21,18 @@ struct Submesh {
 // clearing one int per mesh vertex, so it stays cheap on large meshes.
 Submesh extractSubmesh(const TriMesh& mesh, const std::vector<int>& faces);
 
+struct AppendedFaces {
+  int firstVertex = 0;            // the first vertex of `out` that the call added
+  std::vector<int> sourceVertex;  // added vertex firstVertex + i -> mesh vertex, increasing
+  std::vector<int> vertexInOut;   // mesh vertex -> vertex of `out`, -1 where no face uses it
+};
+
+// Appends `faces` of `mesh` (each listed once), in that order, with the edges and vertices they
+// use in increasing source order, to `out`. The halfedge connectivity is copied from `mesh` rather
+// than rebuilt face by face with add_face, which makes copying most of a large mesh several times
+// faster; it walks every vertex, edge and face of `mesh` once. Where the
+// faces around a vertex form several fans, `out` gets a non-manifold vertex (as add_face would
+// refuse to make): callers that need a manifold select faces that form one fan at each vertex.
+AppendedFaces appendFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int>& faces);
+
 }  // namespace geobrush
