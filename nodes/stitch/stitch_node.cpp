@@ -14,8 +14,8 @@ using geobrush::NodeError;
 using geobrush::Parameterization;
 using geobrush::Region2D;
 
-// Every dab re-stitches into the same target: the node keeps the target's part outside its canvas
-// for as long as the target parameterization stays the same.
+// Every dab re-stitches into the same target: the node keeps how the target canvas maps into its
+// mesh for as long as the target parameterization stays the same.
 class StitchNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
