@@ -89,6 +89,74 @@ bool covers(const DomainLocator& locator, const std::vector<std::vector<Eigen::V
                      [&](const auto& hole) { return insidePolygon(hole, u); });
 }
 
+// Strokes::contains with the dabs binned over cells of the grid: each query tests only the dabs
+// that reach its cell, in stroke order, so the answer is the same and its cost stops growing
+// with the length of the stroke.
+class BinnedStrokes {
+ public:
+  BinnedStrokes(const Strokes& strokes, const DomainGrid& grid)
+      : strokes_(strokes),
+        origin_(grid.origin),
+        cellSize_(kCellNodes * grid.spacing),
+        columns_((grid.width + kCellNodes - 1) / kCellNodes),
+        rows_((grid.height + kCellNodes - 1) / kCellNodes),
+        first_(std::size_t(columns_ * rows_) + 1, 0) {
+    // Two passes over the dabs' cell ranges: counts, then the dab ids in stroke order.
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<int> filled(first_.begin(), first_.end() - 1);
+      for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
+        int c0, c1, r0, r1;
+        cellRange(strokes.dabs[d], c0, c1, r0, r1);
+        for (int r = r0; r <= r1; ++r)
+          for (int c = c0; c <= c1; ++c) {
+            const std::size_t cell = std::size_t(r * columns_ + c);
+            if (pass == 0)
+              ++first_[cell + 1];
+            else
+              dabs_[std::size_t(filled[cell]++)] = int(d);
+          }
+      }
+      if (pass == 0) {
+        for (std::size_t cell = 1; cell < first_.size(); ++cell)
+          first_[cell] += first_[cell - 1];
+        dabs_.resize(std::size_t(first_.back()));
+      }
+    }
+  }
+
+  bool contains(const Eigen::Vector2d& u) const {
+    const Eigen::Vector2d g = (u - origin_) / cellSize_;
+    const int c = int(std::floor(g.x())), r = int(std::floor(g.y()));
+    if (!(c >= 0 && r >= 0 && c < columns_ && r < rows_)) return strokes_.contains(u);
+    const std::size_t cell = std::size_t(r * columns_ + c);
+    for (int k = first_[cell + 1] - 1; k >= first_[cell]; --k) {
+      const Dab& dab = strokes_.dabs[std::size_t(dabs_[std::size_t(k)])];
+      if ((u - dab.center).squaredNorm() <= dab.radius * dab.radius) return !dab.subtract;
+    }
+    return false;
+  }
+
+ private:
+  static constexpr int kCellNodes = 4;
+
+  // The cells a dab's disc may reach (a cell holds the points within it, its edges included).
+  void cellRange(const Dab& dab, int& c0, int& c1, int& r0, int& r1) const {
+    const Eigen::Vector2d lo = (dab.center - origin_).array() / cellSize_ - dab.radius / cellSize_;
+    const Eigen::Vector2d hi = (dab.center - origin_).array() / cellSize_ + dab.radius / cellSize_;
+    c0 = std::max(0, int(std::floor(lo.x())) - 1);
+    r0 = std::max(0, int(std::floor(lo.y())) - 1);
+    c1 = std::min(columns_ - 1, int(std::floor(hi.x())) + 1);
+    r1 = std::min(rows_ - 1, int(std::floor(hi.y())) + 1);
+  }
+
+  const Strokes& strokes_;
+  Eigen::Vector2d origin_;
+  double cellSize_;
+  int columns_, rows_;
+  std::vector<int> first_;  // CSR: the dabs of cell k are dabs_[first_[k], first_[k + 1])
+  std::vector<int> dabs_;
+};
+
 }  // namespace
 
 std::vector<std::vector<Eigen::Vector2d>> canvasHoles(const Parameterization& param) {
@@ -195,19 +263,20 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
   region.grid = coverage.grid;
   const DomainGrid& grid = region.grid;
   region.inside.assign(grid.nodeCount(), 0);
+  const BinnedStrokes painted(strokes, grid);
   for (int j = 0; j < grid.height; ++j)
     for (int i = 0; i < grid.width; ++i) {
       const std::size_t n = grid.index(i, j);
       region.inside[n] =
-          coverage.source[n] && coverage.target[n] && strokes.contains(grid.position(i, j));
+          coverage.source[n] && coverage.target[n] && painted.contains(grid.position(i, j));
     }
 
   for (std::size_t v = 0; v < source.uv.size(); ++v)
-    if (strokes.contains(source.uv[v]) &&
+    if (painted.contains(source.uv[v]) &&
         covers(*coverage.targetLocator, coverage.targetHoles, source.uv[v]))
       region.sourceVertices.push_back(int(v));
   for (std::size_t v = 0; v < target.uv.size(); ++v)
-    if (strokes.contains(target.uv[v]) &&
+    if (painted.contains(target.uv[v]) &&
         covers(*coverage.sourceLocator, coverage.sourceHoles, target.uv[v]))
       region.targetVertices.push_back(int(v));
 

@@ -1,6 +1,8 @@
 // geobrush.roi: the painted region Q on its grid and the canvas vertices it selects.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
 #include "roi.hpp"
@@ -113,6 +115,32 @@ TEST(Roi, AnEraserDabRemovesWhatItCovers) {
   EXPECT_LT(erased.region.sourceVertices.size(), painted.region.sourceVertices.size());
   for (int v : erased.region.sourceVertices)
     EXPECT_GT((param->uv[std::size_t(v)] - Eigen::Vector2d(0.25, 0)).norm(), 0.2);
+}
+
+TEST(Roi, ALongStrokeOfAddedAndErasedDabsSelectsWhatItsDabsSayInOrder) {
+  // Dabs of many sizes along a spiral, every third one erasing, some reaching past the canvas:
+  // the region is what Strokes::contains says, dab by dab in stroke order.
+  auto param = flatSquare(40);
+  std::vector<Dab> dabs;
+  for (int d = 0; d < 120; ++d) {
+    const double t = 0.15 * d, r = 0.1 + 0.009 * d;
+    dabs.push_back({{r * std::cos(t), r * std::sin(t)}, 0.02 + 0.05 * (d % 5), d % 3 == 2});
+  }
+  dabs.push_back({{-0.9, 0.9}, 1.5, false});
+  dabs.push_back({{0.3, 0.3}, 0.2, true});
+  const Strokes s = strokes(dabs);
+  const RoiResult result = paintRegion(s, *param, *param, RoiOptions{96});
+  const auto all = [](const Eigen::Vector2d&) { return true; };
+  EXPECT_EQ(result.region.sourceVertices, verticesWithin(*param, s, all));
+  EXPECT_EQ(result.region.targetVertices, verticesWithin(*param, s, all));
+  const DomainGrid& grid = result.region.grid;
+  std::size_t mismatches = 0;
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i) {
+      const Eigen::Vector2d u = grid.position(i, j);
+      mismatches += (result.region.inside[grid.index(i, j)] != 0) != (inSquare(u) && s.contains(u));
+    }
+  EXPECT_EQ(mismatches, 0u);
 }
 
 TEST(Roi, DabsOutsideTheCanvasesAreReportedAndChangeNothing) {
