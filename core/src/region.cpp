@@ -1,5 +1,7 @@
 #include "geobrush/region.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <span>
 
@@ -83,6 +85,27 @@ Hash Field2D::contentHash() const {
 std::string Field2D::summary() const {
   std::string text = "field on a ";
   text += gridText(grid);
+  return text;
+}
+
+Hash PasteMap::contentHash() const {
+  Hasher hasher;
+  hasher.str(kTypeId);
+  hasher.span(std::span<const int>(targetVertex));
+  hasher.span(std::span<const int>(sourceVertex));
+  hasher.span(std::span<const int>(seamFaces));
+  return hasher.digest();
+}
+
+std::string PasteMap::summary() const {
+  const auto pasted =
+      std::count_if(sourceVertex.begin(), sourceVertex.end(), [](int v) { return v >= 0; });
+  std::string text = std::to_string(pasted);
+  text += " pasted of ";
+  text += std::to_string(sourceVertex.size());
+  text += " vertices, ";
+  text += std::to_string(seamFaces.size());
+  text += " seam faces";
   return text;
 }
 

@@ -162,10 +162,14 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
   const TriMesh& targetMesh =
       target.canvas->source ? target.canvas->source->surface : target.canvas->surface;
   StitchResult result;
-  if (region.empty()) {
+  auto unchangedTarget = [&] {
     result.mesh = targetMesh;
+    result.map.targetVertex.resize(targetMesh.n_vertices());
+    std::iota(result.map.targetVertex.begin(), result.map.targetVertex.end(), 0);
+    result.map.sourceVertex.assign(targetMesh.n_vertices(), -1);
     return result;
-  }
+  };
+  if (region.empty()) return unchangedTarget();
 
   // R_in: the source faces with every corner in the region, made manifold.
   std::vector<char> inRegion(canvas.n_vertices(), 0);
@@ -181,10 +185,7 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
     }
   removePinches(canvas, patchSelected, selectedFaces(patchSelected));
   const std::vector<int> patchFaces = selectedFaces(patchSelected);
-  if (patchFaces.empty()) {
-    result.mesh = targetMesh;
-    return result;
-  }
+  if (patchFaces.empty()) return unchangedTarget();
 
   // The target: every face but those of its canvas that touch a covered vertex, made manifold.
   std::optional<StitchBase> ownBase;
@@ -300,6 +301,7 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                       " on the target: paint a region whose outline both canvases hold whole");
   }
   std::vector<char> paired(seams.size(), 0);
+  const int firstSeamFace = int(out.n_faces());
   for (const auto& ids : patchLoops) {
     std::vector<Vector2d> uv;
     for (int v : ids)
@@ -329,6 +331,14 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
     }
     ++result.seamLoops;
   }
+  PasteMap& map = result.map;
+  map.targetVertex = targetPart.sourceVertex;
+  map.targetVertex.resize(out.n_vertices(), -1);
+  map.sourceVertex.assign(std::size_t(patch.firstVertex), -1);
+  map.sourceVertex.insert(map.sourceVertex.end(), patch.sourceVertex.begin(),
+                          patch.sourceVertex.end());
+  map.seamFaces.resize(out.n_faces() - std::size_t(firstSeamFace));
+  std::iota(map.seamFaces.begin(), map.seamFaces.end(), firstSeamFace);
   return result;
 }
 

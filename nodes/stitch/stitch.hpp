@@ -22,6 +22,7 @@ struct StitchResult {
   std::size_t removedFaces = 0;   // target faces replaced
   std::size_t gapTriangles = 0;   // triangles of the seam strips
   std::size_t seamLoops = 0;      // boundary loops of R_in, each zipped to one of the target
+  PasteMap map;                   // the origin of each vertex of `mesh`, and the seam faces
 };
 
 // How the target canvas sits in its mesh, which no paste changes: built once per target canvas.

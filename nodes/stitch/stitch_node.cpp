@@ -41,6 +41,7 @@ class StitchNode final : public geobrush::Node {
       geobrush::StitchResult result = geobrush::stitchPaste(*region, *source, draft->surface,
                                                             offset.get(), *target, base_.get());
       ctx.out("mesh", std::make_shared<const Mesh>(std::move(result.mesh)));
+      ctx.out("map", std::make_shared<const geobrush::PasteMap>(std::move(result.map)));
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("region", e.what());
     }
@@ -71,6 +72,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                                     "The offset membrane x~ on the region's grid; without it the "
                                     "draft is pasted as it is.")
             .output<Mesh>("mesh", "The target mesh with the paste stitched in.")
+            .output<geobrush::PasteMap>("map",
+                                        "Where each result vertex came from (target or source "
+                                        "canvas) and the seam faces: the input of "
+                                        "geobrush.metrics.")
             .node<StitchNode>()
             .build());
 }

@@ -113,6 +113,42 @@ TEST(Stitch, DisjointDabsArePastedEach) {
   expectOneManifoldDisc(result.mesh);
 }
 
+// The paste map names the origin of every vertex and the faces of the seam strips.
+TEST(Stitch, TheMapTellsTargetPasteAndSeamApart) {
+  auto source = flatSquare(24);
+  auto target = flatSquare(17);
+  const RoiResult roi =
+      paintRegion(strokes({{{0.1, 0.05}, 0.55, false}}), *source, *target, RoiOptions{64});
+  TriMesh draft = source->canvas->surface;
+  for (auto v : draft.vertices())
+    draft.point(v)[2] = 0.25;
+  const StitchResult result = stitchPaste(roi.region, *source, draft, nullptr, *target);
+  const PasteMap& map = result.map;
+  const TriMesh& mesh = result.mesh;
+  ASSERT_EQ(map.targetVertex.size(), mesh.n_vertices());
+  ASSERT_EQ(map.sourceVertex.size(), mesh.n_vertices());
+  std::size_t pasted = 0;
+  for (auto v : mesh.vertices()) {
+    const int t = map.targetVertex[std::size_t(v.idx())],
+              s = map.sourceVertex[std::size_t(v.idx())];
+    EXPECT_NE(t >= 0, s >= 0);
+    if (t >= 0) {
+      EXPECT_EQ(mesh.point(v), target->canvas->surface.point(TriMesh::VertexHandle(t)));
+    } else {
+      EXPECT_EQ(mesh.point(v), draft.point(TriMesh::VertexHandle(s)));
+      ++pasted;
+    }
+  }
+  EXPECT_EQ(pasted, result.patchVertices);
+  ASSERT_EQ(map.seamFaces.size(), result.gapTriangles);
+  for (int f : map.seamFaces) {
+    int fromTarget = 0;
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
+      fromTarget += map.targetVertex[std::size_t(v.idx())] >= 0;
+    EXPECT_TRUE(fromTarget == 1 || fromTarget == 2) << "face " << f;
+  }
+}
+
 TEST(Stitch, AnEmptyRegionLeavesTheTargetUnchanged) {
   auto source = flatSquare(8);
   auto target = flatSquare(9);
@@ -120,6 +156,9 @@ TEST(Stitch, AnEmptyRegionLeavesTheTargetUnchanged) {
   const StitchResult result =
       stitchPaste(roi.region, *source, source->canvas->surface, nullptr, *target);
   EXPECT_TRUE(test::bitIdentical(result.mesh, target->canvas->surface));
+  EXPECT_EQ(result.map.targetVertex.size(), target->canvas->surface.n_vertices());
+  EXPECT_EQ(result.map.targetVertex.back(), int(target->canvas->surface.n_vertices()) - 1);
+  EXPECT_TRUE(result.map.seamFaces.empty());
 }
 
 TEST(Stitch, RefusesADraftOfAnotherCanvas) {

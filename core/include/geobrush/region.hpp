@@ -90,4 +90,19 @@ class Field2D final : public Value {
 };
 using Field2DPtr = std::shared_ptr<const Field2D>;
 
+// Where each vertex of a pasted mesh came from, and which faces join the paste to the target:
+// what lets geobrush.metrics tell the seam, the pasted detail and the untouched target apart.
+class PasteMap final : public Value {
+ public:
+  static constexpr std::string_view kTypeId = "geobrush.PasteMap";
+  std::string_view typeId() const override { return kTypeId; }
+  Hash contentHash() const override;
+  std::string summary() const override;
+
+  std::vector<int> targetVertex;  // result vertex -> target mesh vertex, or -1
+  std::vector<int> sourceVertex;  // result vertex -> source canvas vertex, or -1
+  std::vector<int> seamFaces;     // result faces of the strips between the two outlines
+};
+using PasteMapPtr = std::shared_ptr<const PasteMap>;
+
 }  // namespace geobrush
