@@ -1,0 +1,42 @@
+// Quality of a paste, measured on its result mesh: the seam's continuity (C0: one manifold piece
+// whose seam shares vertices; C1: the normal jump across the seam next to the target's own
+// dihedral angles there), the fidelity of the pasted detail to the source, and the
+// self-intersections the paste made. What `geobrush compare` sets side by side.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "geobrush/canvas.hpp"
+#include "geobrush/region.hpp"
+
+namespace geobrush {
+
+struct PasteMetricsOptions {
+  // Pasted vertices closer than this many edges to the seam are left out of the detail measure:
+  // the membrane is meant to bend them.
+  int seamBand = 3;
+  // Faces closer than this fraction of the result's bounding-box diagonal count as touching; also
+  // the distance within which two vertices count as one.
+  double touchTolerance = 1e-9;
+};
+
+struct PasteMetrics {
+  std::map<std::string, double> values;  // named as in the node's documentation
+  std::vector<std::string> notes;        // what could not be measured, and why
+};
+
+// `map` describes `result` (stitch's or another paste node's PasteMap); `target` is the mesh
+// pasted into and `source` the source canvas, each optional: what needs a missing input is
+// skipped with a note. Throws std::invalid_argument when the map does not match the meshes.
+PasteMetrics measurePaste(const TriMesh& result, const PasteMap* map, const TriMesh* target,
+                          const TriMesh* source, const PasteMetricsOptions& options = {});
+
+// The angle in radians between the normals of the two faces of each interior edge listed.
+std::vector<double> normalJumps(const TriMesh& mesh, const std::vector<int>& edges);
+
+// Face pairs of `mesh` that intersect, with at least one face in `faces` and no shared vertex.
+std::size_t selfIntersections(const TriMesh& mesh, const std::vector<int>& faces, double tolerance);
+
+}  // namespace geobrush

@@ -1,0 +1,78 @@
+#include <memory>
+#include <stdexcept>
+
+#include "geobrush/node.hpp"
+#include "geobrush/registry.hpp"
+#include "geobrush/values.hpp"
+#include "metrics.hpp"
+
+namespace {
+
+using geobrush::Context;
+using geobrush::Mesh;
+using geobrush::NodeError;
+using geobrush::Parameterization;
+using geobrush::PasteMap;
+
+class MetricsNode final : public geobrush::Node {
+ public:
+  void compute(Context& ctx) override {
+    const auto mesh = ctx.in<Mesh>("mesh");
+    const auto map = ctx.hasInput("map") ? ctx.in<PasteMap>("map") : nullptr;
+    const auto target = ctx.hasInput("target") ? ctx.in<Mesh>("target") : nullptr;
+    const auto source = ctx.hasInput("source") ? ctx.in<Parameterization>("source") : nullptr;
+    if (source && !source->canvas) throw NodeError::input("source", "the map has no canvas");
+    geobrush::PasteMetricsOptions options;
+    options.seamBand = ctx.param<int>("seam_band");
+    geobrush::PasteMetrics measured;
+    try {
+      measured =
+          geobrush::measurePaste(mesh->surface, map.get(), target ? &target->surface : nullptr,
+                                 source ? &source->canvas->surface : nullptr, options);
+    } catch (const std::invalid_argument& e) {
+      throw NodeError::input("map", e.what());
+    }
+    auto metrics = std::make_shared<geobrush::Metrics>();
+    metrics->values = std::move(measured.values);
+    metrics->notes = std::move(measured.notes);
+    for (const auto& note : metrics->notes)
+      ctx.warn(note);
+    ctx.out("metrics", std::move(metrics));
+  }
+};
+
+void registerNodes(geobrush::PluginRegistrar& r) {
+  r.add(geobrush::NodeTypeBuilder("geobrush.metrics", 1)
+            .label("Paste Metrics")
+            .category("Analysis")
+            .doc("Measures a paste on its result mesh. Seam C0: manifold, non_manifold_vertices, "
+                 "components, boundary_loops (and target_boundary_loops), "
+                 "seam_unshared_vertices. Seam C1: seam_normal_jump_mean_deg and _p95_deg across "
+                 "the seam strips' edges, next to target_dihedral_mean_deg and _p95_deg, the "
+                 "target's own angles around the seam vertices. Detail: "
+                 "detail_difference_percent, the difference of Laplacian-coordinate magnitudes "
+                 "between the pasted vertices away from the seam and the source canvas', after "
+                 "scaling by scale_ratio. new_self_intersections: intersecting face pairs with a "
+                 "pasted or seam face.")
+            .input<Mesh>("mesh", "The result of a paste.")
+            .optionalInput<PasteMap>("map",
+                                     "Where each vertex came from and the seam faces (the "
+                                     "paste node's map); without it only the C0 checks run.")
+            .optionalInput<Mesh>("target",
+                                 "The mesh pasted into, for its boundary loops and "
+                                 "dihedral angles.")
+            .optionalInput<Parameterization>("source",
+                                             "The source map, whose canvas the detail is "
+                                             "compared with.")
+            .output<geobrush::Metrics>("metrics", "The measurements and notes.")
+            .paramInt("seam_band", 3,
+                      "Pasted vertices this many edges from the seam or closer are left out of "
+                      "the detail measure.")
+            .range(0, 100)
+            .node<MetricsNode>()
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)

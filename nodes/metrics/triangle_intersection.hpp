@@ -1,0 +1,19 @@
+// Whether two triangles in space intersect: the separating-axis test over the axes that can part
+// two triangles (their normals, the cross products of their edges, and for coplanar triangles
+// the in-plane edge normals; Eberly, "Intersection of Convex Objects: The Method of Separating
+// Axes", 2001).
+#pragma once
+
+#include <array>
+
+#include <Eigen/Core>
+
+namespace geobrush {
+
+using Triangle3 = std::array<Eigen::Vector3d, 3>;
+
+// True when the closed triangles share a point or come closer than `tolerance` (a length, for
+// rounding) along every axis; touching counts. Degenerate triangles never intersect.
+bool trianglesIntersect(const Triangle3& a, const Triangle3& b, double tolerance);
+
+}  // namespace geobrush

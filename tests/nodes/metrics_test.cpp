@@ -1,0 +1,190 @@
+// geobrush.metrics: the seam, detail and self-intersection measures of a paste.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "canvas_fixtures.hpp"
+#include "direct_context.hpp"
+#include "geobrush/mesh_io.hpp"
+#include "geobrush/values.hpp"
+#include "mesh_checks.hpp"
+#include "metrics.hpp"
+#include "roi.hpp"
+#include "stitch.hpp"
+#include "test_support.hpp"
+#include "triangle_intersection.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+double bumps(double x, double y) {
+  return 0.15 * std::sin(3 * x) * std::cos(2 * y);
+}
+
+Strokes disc(Eigen::Vector2d centre, double radius) {
+  Strokes s;
+  s.dabs.push_back({centre, radius, false});
+  return s;
+}
+
+// The bumpy height field pasted into itself at another resolution: an exact paste.
+struct BumpPaste {
+  std::shared_ptr<Parameterization> source = test::heightFieldParameterization(40, bumps);
+  std::shared_ptr<Parameterization> target = test::heightFieldParameterization(29, bumps);
+  StitchResult stitched;
+  explicit BumpPaste(const TriMesh* draft = nullptr) {
+    const RoiResult roi = paintRegion(disc({0.05, 0}, 0.6), *source, *target, RoiOptions{64});
+    stitched = stitchPaste(roi.region, *source, draft ? *draft : source->canvas->surface, nullptr,
+                           *target);
+  }
+};
+
+}  // namespace
+
+TEST(TriangleIntersection, AnalyticCases) {
+  const Triangle3 flat{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}};
+  // Through the middle, apart, touching at a corner, coplanar overlapping, coplanar apart.
+  EXPECT_TRUE(trianglesIntersect(flat, {{{0.2, 0.2, -1}, {0.3, 0.2, 1}, {0.2, 0.3, 1}}}, 1e-12));
+  EXPECT_FALSE(trianglesIntersect(flat, {{{0.2, 0.2, 0.1}, {0.3, 0.2, 1}, {0.2, 0.3, 1}}}, 1e-12));
+  EXPECT_TRUE(trianglesIntersect(flat, {{{1, 0, 0}, {2, 0, 1}, {2, 1, 0}}}, 1e-12));
+  EXPECT_FALSE(trianglesIntersect(flat, {{{1.001, 0, 0}, {2, 0, 1}, {2, 1, 0}}}, 1e-12));
+  EXPECT_TRUE(trianglesIntersect(flat, {{{0.3, 0.3, 0}, {1, 0.3, 0}, {0.3, 1, 0}}}, 1e-12));
+  EXPECT_FALSE(trianglesIntersect(flat, {{{0.6, 0.6, 0}, {1, 0.6, 0}, {0.6, 1, 0}}}, 1e-12));
+  // A degenerate triangle never counts.
+  EXPECT_FALSE(trianglesIntersect(flat, {{{0.2, 0.2, -1}, {0.2, 0.2, 1}, {0.2, 0.2, 0}}}, 1e-12));
+}
+
+TEST(Metrics, NormalJumpsAreTheDihedralAnglesOfACube) {
+  const TriMesh cube = test::boxCage({-1, -1, -1}, {1, 1, 1}, 2);
+  std::vector<int> edges(cube.n_edges());
+  std::iota(edges.begin(), edges.end(), 0);
+  std::size_t creases = 0;
+  for (double jump : normalJumps(cube, edges)) {
+    const bool crease = std::abs(jump - M_PI / 2) < 1e-12;
+    EXPECT_TRUE(crease || jump < 1e-12) << jump;
+    creases += crease;
+  }
+  EXPECT_EQ(creases, 12u * 2);  // 12 cube edges, each cut in two
+}
+
+TEST(Metrics, SelfIntersectionsCountCrossingFacePairsOnce) {
+  TriMesh mesh;
+  auto add = [&](const Triangle3& t) {
+    std::vector<TriMesh::VertexHandle> v;
+    for (const auto& p : t)
+      v.push_back(mesh.add_vertex({p.x(), p.y(), p.z()}));
+    mesh.add_face(v);
+  };
+  add({{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
+  add({{{0.2, 0.2, -1}, {0.3, 0.2, 1}, {0.2, 0.3, 1}}});
+  add({{{5, 5, 5}, {6, 5, 5}, {5, 6, 5}}});
+  EXPECT_EQ(selfIntersections(mesh, {0}, 1e-12), 1u);
+  EXPECT_EQ(selfIntersections(mesh, {0, 1}, 1e-12), 1u);
+  EXPECT_EQ(selfIntersections(mesh, {2}, 1e-12), 0u);
+}
+
+TEST(Metrics, AnExactPasteHasASmoothSeamAndItsSourceDetail) {
+  const BumpPaste paste;
+  const PasteMetrics m =
+      measurePaste(paste.stitched.mesh, &paste.stitched.map, &paste.target->canvas->surface,
+                   &paste.source->canvas->surface);
+  auto& v = m.values;
+  EXPECT_EQ(v.at("manifold"), 1);
+  EXPECT_EQ(v.at("components"), 1);
+  EXPECT_EQ(v.at("boundary_loops"), 1);
+  EXPECT_EQ(v.at("target_boundary_loops"), 1);
+  EXPECT_EQ(v.at("seam_unshared_vertices"), 0);
+  EXPECT_GT(v.at("seam_edges"), 50);
+  // Both sides lie on the same smooth surface: the seam bends like the target does.
+  EXPECT_LT(v.at("seam_normal_jump_p95_deg"), 3 * v.at("target_dihedral_p95_deg"));
+  EXPECT_NEAR(v.at("scale_ratio"), 1, 1e-12);
+  EXPECT_GT(v.at("detail_vertices"), 100);
+  EXPECT_NEAR(v.at("detail_difference_percent"), 0, 1e-9);
+  EXPECT_EQ(v.at("new_self_intersections"), 0);
+}
+
+TEST(Metrics, ALiftedPasteShowsAtTheSeamAndAScaledOneInTheScale) {
+  const BumpPaste exact;
+  TriMesh lifted = exact.source->canvas->surface;
+  for (auto v : lifted.vertices())
+    lifted.point(v)[2] += 0.2;
+  const BumpPaste step(&lifted);
+  const auto stepMetrics =
+      measurePaste(step.stitched.mesh, &step.stitched.map, nullptr, &step.source->canvas->surface);
+  const auto exactMetrics = measurePaste(exact.stitched.mesh, &exact.stitched.map, nullptr,
+                                         &exact.source->canvas->surface);
+  EXPECT_GT(stepMetrics.values.at("seam_normal_jump_mean_deg"),
+            5 * exactMetrics.values.at("seam_normal_jump_mean_deg"));
+  EXPECT_NEAR(stepMetrics.values.at("detail_difference_percent"), 0, 1e-9);
+
+  TriMesh doubled = exact.source->canvas->surface;
+  for (auto v : doubled.vertices())
+    doubled.point(v) *= 2;
+  const BumpPaste scaled(&doubled);
+  const auto scaledMetrics = measurePaste(scaled.stitched.mesh, &scaled.stitched.map, nullptr,
+                                          &scaled.source->canvas->surface);
+  EXPECT_NEAR(scaledMetrics.values.at("scale_ratio"), 2, 1e-9);
+  EXPECT_NEAR(scaledMetrics.values.at("detail_difference_percent"), 0, 1e-6);
+  EXPECT_TRUE(test::contains(scaledMetrics.notes.at(1), "times the source's size"));
+}
+
+TEST(Metrics, AMeshWithoutASeamGetsItsC0ChecksAndANote) {
+  const TriMesh bunny = readMesh(test::meshPath("bunny_small.obj")).mesh->surface;
+  const PasteMetrics m = measurePaste(bunny, nullptr, nullptr, nullptr);
+  EXPECT_EQ(m.values.at("manifold"), 1);
+  EXPECT_EQ(m.values.at("components"), 1);
+  EXPECT_EQ(m.values.at("boundary_loops"), 0);
+  EXPECT_EQ(m.values.count("seam_edges"), 0u);
+  ASSERT_EQ(m.notes.size(), 1u);
+  EXPECT_TRUE(test::contains(m.notes[0], "no seam"));
+  // The shared meshes were checked free of self-intersections.
+  std::vector<int> all(bunny.n_faces());
+  std::iota(all.begin(), all.end(), 0);
+  EXPECT_EQ(selfIntersections(bunny, all, 1e-9 * 15.76), 0u);
+}
+
+TEST(Metrics, ANonManifoldVertexIsReported) {
+  // Two triangles sharing one corner only: a bow tie.
+  TriMesh bowTie;
+  const auto o = bowTie.add_vertex({0, 0, 0});
+  bowTie.add_face(o, bowTie.add_vertex({1, 0, 0}), bowTie.add_vertex({1, 1, 0}));
+  bowTie.add_face(o, bowTie.add_vertex({-1, 0, 0}), bowTie.add_vertex({-1, -1, 0}));
+  const PasteMetrics m = measurePaste(bowTie, nullptr, nullptr, nullptr);
+  EXPECT_EQ(m.values.at("manifold"), 0);
+  EXPECT_EQ(m.values.at("non_manifold_vertices"), 1);
+}
+
+TEST(MetricsNode, RefusesAMapOfAnotherMesh) {
+  const NodeType* type = test::registry().find("geobrush.metrics");
+  ASSERT_TRUE(type);
+  const BumpPaste paste;
+  auto map = std::make_shared<PasteMap>(paste.stitched.map);
+  map->sourceVertex.pop_back();
+  test::DirectContext ctx(
+      *type, {{"mesh", std::make_shared<const Mesh>(paste.stitched.mesh)}, {"map", map}});
+  try {
+    type->create()->compute(ctx);
+    FAIL() << "no error";
+  } catch (const NodeError& e) {
+    EXPECT_EQ(e.where(), "input 'map'");
+    EXPECT_TRUE(test::contains(e.what(), "does not describe"));
+  }
+}
+
+TEST(MetricsNode, MeasuresAPasteFromItsInputs) {
+  const NodeType* type = test::registry().find("geobrush.metrics");
+  ASSERT_TRUE(type);
+  const BumpPaste paste;
+  test::DirectContext ctx(*type,
+                          {{"mesh", std::make_shared<const Mesh>(paste.stitched.mesh)},
+                           {"map", std::make_shared<const PasteMap>(paste.stitched.map)},
+                           {"target", std::make_shared<const Mesh>(paste.target->canvas->surface)},
+                           {"source", paste.source}});
+  type->create()->compute(ctx);
+  const auto metrics = std::dynamic_pointer_cast<const Metrics>(ctx.outputs.at("metrics"));
+  ASSERT_TRUE(metrics);
+  EXPECT_NEAR(metrics->values.at("detail_difference_percent"), 0, 1e-9);
+  EXPECT_TRUE(metrics->notes.empty());
+}
