@@ -2,10 +2,13 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "geobrush/evaluator.hpp"
+#include "geobrush/mesh.hpp"
 #include "geobrush/registry.hpp"
 #include "geobrush/render.hpp"
 
@@ -31,7 +34,31 @@ struct RenderCommandOptions {
   bool wireframe = false;
 };
 
+struct CompareOptions {
+  std::filesystem::path graphA, graphB;
+  std::vector<std::string> sets;  // NODE.PARAM=VALUE, applied to both graphs
+  std::filesystem::path outDir = ".";
+  std::filesystem::path image;  // empty: outDir / "compare.png"
+  RenderOptions render;
+  bool json = false;
+  bool quiet = false;
+};
+
+// One side of a comparison: its evaluation, every Metrics output flattened to "node.name", and
+// the mesh its metrics node measured.
+struct ComparedGraph {
+  std::filesystem::path graph;
+  EvalReport report;
+  std::map<std::string, double> metrics;
+  std::vector<std::string> notes;
+  std::shared_ptr<const Mesh> mesh;
+};
+
 int runGraph(const RunOptions& options);
+// Evaluates both graphs (each writing its files under outDir/<graph name>), prints their metrics
+// and node times side by side and writes both measured meshes into one PNG. Nothing is written
+// but the graphs' own outputs when either fails.
+int compareGraphs(const CompareOptions& options);
 int validateGraph(const std::filesystem::path& graph, bool quiet);
 int listNodes(bool json);
 int renderFiles(const RenderCommandOptions& options);
@@ -40,5 +67,7 @@ int renderFiles(const RenderCommandOptions& options);
 std::string runReportJson(const std::filesystem::path& graph, const EvalReport& report,
                           const std::vector<std::string>& pluginErrors);
 std::string nodeTypesJson(const NodeRegistry& registry);
+std::string compareReportJson(const ComparedGraph& a, const ComparedGraph& b,
+                              const std::filesystem::path& image, const std::string& error);
 
 }  // namespace geobrush::cli

@@ -18,6 +18,19 @@ int main(int argc, char** argv) {
   runCmd->add_flag("--json", run.json, "Print a machine-readable report on stdout");
   runCmd->add_flag("--quiet", run.quiet, "Print nothing but errors");
 
+  cli::CompareOptions compare;
+  auto* compareCmd = app.add_subcommand(
+      "compare", "Evaluate two graphs and set their metrics, node times and meshes side by side.");
+  compareCmd->add_option("graph_a", compare.graphA, "First graph file (.json)")->required();
+  compareCmd->add_option("graph_b", compare.graphB, "Second graph file (.json)")->required();
+  compareCmd->add_option("--set", compare.sets,
+                         "Override a parameter in both graphs: NODE.PARAM=VALUE (repeatable)");
+  compareCmd->add_option("--out", compare.outDir,
+                         "Folder for both graphs' outputs and the picture (default: .)");
+  compareCmd->add_option("--image", compare.image, "PNG of both meshes (default: OUT/compare.png)");
+  compareCmd->add_flag("--json", compare.json, "Print a machine-readable report on stdout");
+  compareCmd->add_flag("--quiet", compare.quiet, "Print nothing but errors");
+
   std::filesystem::path validatePath;
   bool validateQuiet = false;
   auto* validateCmd = app.add_subcommand("validate", "Check a graph file without evaluating it.");
@@ -57,6 +70,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*runCmd) return cli::runGraph(run);
+    if (*compareCmd) return cli::compareGraphs(compare);
     if (*validateCmd) return cli::validateGraph(validatePath, validateQuiet);
     if (*nodesCmd) return cli::listNodes(nodesJson);
     if (*renderCmd) {

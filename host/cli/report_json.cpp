@@ -86,4 +86,24 @@ std::string nodeTypesJson(const NodeRegistry& registry) {
   return json(types).dump(2) + "\n";
 }
 
+std::string compareReportJson(const ComparedGraph& a, const ComparedGraph& b,
+                              const std::filesystem::path& image, const std::string& error) {
+  auto side = [](const ComparedGraph& g) {
+    json times = json::object();
+    for (const auto& run : g.report.runs)
+      times[run.node] = run.seconds;
+    json result = {{"graph", g.graph.string()},
+                   {"ok", g.report.ok},
+                   {"metrics", g.metrics},
+                   {"notes", g.notes},
+                   {"seconds", times}};
+    if (!g.report.ok) result["error"] = g.report.error;
+    return result;
+  };
+  json root = {{"a", side(a)}, {"b", side(b)}, {"ok", error.empty()}};
+  if (!image.empty()) root["image"] = image.string();
+  if (!error.empty()) root["error"] = error;
+  return root.dump(2) + "\n";
+}
+
 }  // namespace geobrush::cli

@@ -4,6 +4,8 @@
 
 #include <fstream>
 
+#include "geobrush/image.hpp"
+#include "geobrush/render.hpp"
 #include "process.hpp"
 #include "test_support.hpp"
 
@@ -204,6 +206,43 @@ TEST(Cli, RunsTheDefaultGraphAndReportsJson) {
   EXPECT_TRUE(std::filesystem::exists(out / "default.obj"));
   EXPECT_TRUE(std::filesystem::exists(out / "default.png"));
   EXPECT_NE(result.out.find((out / "default.png").string()), std::string::npos);
+}
+
+// Two graphs side by side: their metrics and node times in one table, one picture of both.
+TEST(Cli, CompareSetsTwoGraphsSideBySide) {
+  const auto out = test::tempDir("cli-compare");
+  const auto graph = (test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json");
+  auto table = runCli({"compare", graph.string(), graph.string(), "--out", out.string()});
+  ASSERT_EQ(table.status, 0) << table.err;
+  EXPECT_NE(table.out.find("metrics.seam_normal_jump_p95_deg"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("time_ms.membrane"), std::string::npos) << table.out;
+  // The same graph twice: each side's files in a folder of its own, one picture of both.
+  EXPECT_TRUE(std::filesystem::exists(out / "compare_mountain_sphere_membrane_a" /
+                                      "compare_mountain_sphere_membrane.obj"));
+  EXPECT_TRUE(std::filesystem::exists(out / "compare_mountain_sphere_membrane_b" /
+                                      "compare_mountain_sphere_membrane.obj"));
+  const Image picture = readPng(out / "compare.png");
+  EXPECT_EQ(picture.width, 2 * RenderOptions().width);
+
+  auto json = runCli({"compare", graph.string(), graph.string(), "--out", out.string(), "--json",
+                      "--set", "membrane.derivative_constraints=false"});
+  ASSERT_EQ(json.status, 0) << json.err;
+  EXPECT_NE(json.out.find("\"ok\": true"), std::string::npos) << json.out;
+  EXPECT_NE(json.out.find("\"metrics.seam_normal_jump_mean_deg\""), std::string::npos) << json.out;
+  EXPECT_NE(json.out.find("\"membrane\":"), std::string::npos) << json.out;  // its seconds
+}
+
+TEST(Cli, CompareRefusesAGraphWithoutMetricsBeforeRunningEither) {
+  const auto out = test::tempDir("cli-compare-bad");
+  const auto measured = test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json";
+  const auto unmeasured = test::sourceDir() / "graphs" / "default.json";
+  auto result = runCli({"compare", measured.string(), unmeasured.string(), "--out", out.string()});
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.errorLines(), 1) << result.err;
+  EXPECT_NE(result.err.find("default.json: no geobrush.metrics node"), std::string::npos)
+      << result.err;
+  EXPECT_TRUE(isEmptyDir(out));
+  EXPECT_EQ(runCli({"compare", measured.string(), "/no/such/graph.json"}).status, 2);
 }
 
 TEST(Cli, SetOverridesAParam) {

@@ -3,8 +3,10 @@
 // from scratch writes bit-identical files.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <unordered_set>
 
@@ -13,6 +15,7 @@
 #include "geobrush/image.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "geobrush/surface_point.hpp"
+#include "geobrush/values.hpp"
 #include "test_support.hpp"
 
 using namespace geobrush;
@@ -373,4 +376,43 @@ TEST(FillGraphs, TheNefertitiBackFillFollowsTheRemovedSurface) {
   EXPECT_GT(m.maxDistance, 0);
   EXPECT_LT(m.meanDistance, 0.06 * radius);
   EXPECT_LT(m.maxDistance, 0.2 * radius);
+}
+
+namespace {
+
+// The Metrics output of a graph's node "metrics".
+std::map<std::string, double> graphMetrics(const std::filesystem::path& file) {
+  Graph graph = readGraphFile(file);
+  prepareGraph(graph, test::registry());
+  EvalOptions options;
+  options.outputDir = test::tempDir("metrics-" + file.stem().string());
+  Evaluator evaluator(test::registry());
+  const EvalReport report = evaluator.evaluate(graph, options);
+  EXPECT_TRUE(report.ok) << report.error;
+  const auto metrics =
+      std::dynamic_pointer_cast<const Metrics>(evaluator.output("metrics", "metrics"));
+  return metrics ? metrics->values : std::map<std::string, double>{};
+}
+
+}  // namespace
+
+// The comparison pair: the same clone with and without the membrane's derivative constraints.
+// Both are measured, both results are single closed manifolds with shared seam vertices, and the
+// C0 seam bends more than the C1 seam.
+TEST(CompareGraphs, TheC0SeamJumpsMoreThanTheC1Seam) {
+  const auto c1 =
+      graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json");
+  const auto c0 =
+      graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane_c0.json");
+  for (const auto* m : {&c1, &c0}) {
+    ASSERT_TRUE(m->count("seam_normal_jump_mean_deg"));
+    EXPECT_EQ(m->at("manifold"), 1);
+    EXPECT_EQ(m->at("components"), 1);
+    EXPECT_EQ(m->at("boundary_loops"), 0);
+    EXPECT_EQ(m->at("seam_unshared_vertices"), 0);
+    EXPECT_GT(m->at("seam_edges"), 100);
+    EXPECT_GT(m->at("detail_vertices"), 100);
+    EXPECT_TRUE(std::isfinite(m->at("detail_difference_percent")));
+  }
+  EXPECT_GT(c0.at("seam_normal_jump_mean_deg"), 1.1 * c1.at("seam_normal_jump_mean_deg"));
 }
