@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <utility>
 
 #include "membrane_levels.hpp"
+#include "membrane_vulkan.hpp"
 
 namespace geobrush {
 namespace membrane_detail {
@@ -176,6 +178,24 @@ struct CycleVectors {
   std::vector<float> c, e;     // right-hand side and solution of a repeated coarse cycle
 };
 
+// The Chebyshev smoother's steps on one level: x += p(D^-1 A) D^-1 (b - A x) with the polynomial
+// of the settings' degree that is smallest on [lambdaMax / ratio, lambdaMax], one step of the
+// three-term recurrence (see chebyshevStep) per degree.
+std::vector<membrane_detail::ChebyshevStep> chebyshevSteps(
+    const Level& level, const MembraneMultigridSettings& settings) {
+  const double upper = level.lambdaMax, lower = upper / settings.smootherRatio;
+  const double theta = (upper + lower) / 2, delta = (upper - lower) / 2;
+  const double sigma = theta / delta;
+  double rho = 1 / sigma;
+  std::vector<membrane_detail::ChebyshevStep> steps{{0.0f, float(1 / theta)}};
+  for (int step = 1; step < settings.smootherDegree; ++step) {
+    const double rhoNext = 1 / (2 * sigma - rho);
+    steps.push_back({float(rhoNext * rho), float(2 * rhoNext / delta)});
+    rho = rhoNext;
+  }
+  return steps;
+}
+
 // One cycle of the Galerkin multigrid as a symmetric preconditioner: the post-smoother is the
 // adjoint of the pre-smoother (the same Chebyshev polynomial; the band sweeps in reverse order)
 // and every coarse correction is symmetric, so CG may use it.
@@ -183,12 +203,19 @@ struct CycleVectors {
 // Each level's coarse problem gets `coarseCycles` cycles (2: a W-cycle). With the B-spline
 // prolongation a V-cycle already keeps CG's iteration count flat from 64^2 to 256^2; the W-cycle
 // saves two or three iterations and costs twice as much per iteration.
+//
+// The smoother and the residual of a level with device kernels (see deviceKernels) run on the
+// Vulkan device; the rest of the cycle runs here.
 class Preconditioner {
  public:
-  Preconditioner(const MembraneHierarchy& hierarchy, const MembraneMultigridSettings& settings)
-      : hierarchy_(hierarchy), settings_(settings) {
-    for (const Level& level : hierarchy.levels())
+  Preconditioner(const MembraneHierarchy& hierarchy, const MembraneMultigridSettings& settings,
+                 std::vector<membrane_detail::VulkanLevelKernels*> device)
+      : hierarchy_(hierarchy), settings_(settings), device_(std::move(device)) {
+    for (const Level& level : hierarchy.levels()) {
       vectors_.emplace_back(level.grid.size(), settings.coarseCycles > 1);
+      steps_.push_back(chebyshevSteps(level, settings));
+    }
+    device_.resize(hierarchy.levels().size(), nullptr);
   }
 
   // z = M r on the finest level.
@@ -210,58 +237,62 @@ class Preconditioner {
       return;
     }
     CycleVectors& v = vectors_[index];
-    smooth(level, b, x, v, true);
+    smooth(index, b, x, true);
     sweepBand(level, b, x, true);
-    membrane_detail::subtractOperator(level, b, x, v.r.data());
+    residual(index, b, x, v.r.data());
     const Level& coarse = levels[index + 1];
     CycleVectors& next = vectors_[index + 1];
     membrane_detail::restrictToCoarse(level, coarse, v.r.data(), next.b.data());
     cycle(index + 1, next.b.data(), next.x.data());
     const bool coarseIsExact = index + 2 == levels.size();
     for (int repeat = 1; repeat < settings_.coarseCycles && !coarseIsExact; ++repeat) {
-      membrane_detail::subtractOperator(coarse, next.b.data(), next.x.data(), next.c.data());
+      residual(index + 1, next.b.data(), next.x.data(), next.c.data());
       cycle(index + 1, next.c.data(), next.e.data());
       for (int i = coarse.activeBegin; i < coarse.activeEnd; ++i)
         next.x[std::size_t(i)] += next.e[std::size_t(i)];
     }
     membrane_detail::prolongAdd(coarse, level, next.x.data(), x);
     sweepBand(level, b, x, false);
-    smooth(level, b, x, v, false);
+    smooth(index, b, x, false);
   }
 
-  // x += p(D^-1 A) D^-1 (b - A x) with the Chebyshev polynomial of the settings' degree that is
-  // smallest on [lambdaMax / ratio, lambdaMax]; zeroStart: x is taken as zero and overwritten.
-  // The iterates alternate between x and v.t, arranged so that the last lands in x.
-  void smooth(const Level& level, const float* b, float* x, CycleVectors& v, bool zeroStart) {
-    const double upper = level.lambdaMax, lower = upper / settings_.smootherRatio;
-    const double theta = (upper + lower) / 2, delta = (upper - lower) / 2;
-    const double sigma = theta / delta;
-    double rho = 1 / sigma;
-    float* d = v.d.data();
-    int steps = settings_.smootherDegree;
-    float* current = x;
-    float* other = v.t.data();
+  void residual(std::size_t index, const float* b, const float* x, float* out) {
+    if (device_[index])
+      device_[index]->subtract(b, x, out);
+    else
+      membrane_detail::subtractOperator(hierarchy_.levels()[index], b, x, out);
+  }
+
+  // Runs the level's Chebyshev steps on x; zeroStart: x is taken as zero and overwritten.
+  void smooth(std::size_t index, const float* b, float* x, bool zeroStart) {
+    const Level& level = hierarchy_.levels()[index];
+    std::span<const membrane_detail::ChebyshevStep> steps = steps_[index];
+    float* d = vectors_[index].d.data();
     if (zeroStart) {
-      // The first step from zero needs no stencil: d = D^-1 b / theta.
-      --steps;
-      if (steps % 2 == 1) std::swap(current, other);
+      // The first step from zero needs no stencil: d = gain D^-1 b, x = d.
       const float* inverseDiagonal = level.single.inverseDiagonal.data();
-      const float gain = float(1 / theta);
+      const float gain = steps.front().gain;
       for (int i = level.activeBegin; i < level.activeEnd; ++i) {
         d[i] = gain * inverseDiagonal[i] * b[i];
-        current[i] = d[i];
+        x[i] = d[i];
       }
-    } else {
-      membrane_detail::chebyshevStep(level, b, current, other, d, 0.0f, float(1 / theta));
-      std::swap(current, other);
-      --steps;
+      steps = steps.subspan(1);
     }
-    for (; steps > 0; --steps) {
-      const double rhoNext = 1 / (2 * sigma - rho);
-      membrane_detail::chebyshevStep(level, b, current, other, d, float(rhoNext * rho),
-                                     float(2 * rhoNext / delta));
+    if (steps.empty()) return;
+    if (device_[index])
+      device_[index]->chebyshev(b, x, d, steps);
+    else
+      smoothOnCpu(level, b, x, vectors_[index], steps);
+  }
+
+  // The iterates alternate between x and v.t; the last is copied to x when it lands in v.t.
+  static void smoothOnCpu(const Level& level, const float* b, float* x, CycleVectors& v,
+                          std::span<const membrane_detail::ChebyshevStep> steps) {
+    float* current = x;
+    float* other = v.t.data();
+    for (const membrane_detail::ChebyshevStep& step : steps) {
+      membrane_detail::chebyshevStep(level, b, current, other, v.d.data(), step.keep, step.gain);
       std::swap(current, other);
-      rho = rhoNext;
     }
     if (current != x) copyActive(level, current, x);
   }
@@ -282,9 +313,27 @@ class Preconditioner {
 
   const MembraneHierarchy& hierarchy_;
   MembraneMultigridSettings settings_;
+  std::vector<membrane_detail::VulkanLevelKernels*> device_;  // per level; null: on the CPU
   std::vector<CycleVectors> vectors_;
+  std::vector<std::vector<membrane_detail::ChebyshevStep>> steps_;  // per level
   Eigen::VectorXd coarseScratch_;
 };
+
+// Per level, its Vulkan kernels where the options run it on the device, else null: the finest
+// level and the coarse ones with at least vulkanMinUnknowns unknowns, never the coarsest (solved
+// densely). Empty for the CPU kernel.
+std::vector<membrane_detail::VulkanLevelKernels*> deviceKernels(const MembraneHierarchy& hierarchy,
+                                                                const MembraneOptions& options) {
+  std::vector<membrane_detail::VulkanLevelKernels*> device;
+  if (options.kernel != MembraneKernel::Vulkan) return device;
+  const auto& levels = hierarchy.levels();
+  membrane_detail::VulkanCycleKernels& kernels = hierarchy.vulkanKernels();
+  device.assign(levels.size(), nullptr);
+  for (std::size_t l = 0; l + 1 < levels.size(); ++l)
+    if (l == 0 || levels[l].unknowns.size() >= std::size_t(options.vulkanMinUnknowns))
+      device[l] = &kernels.level(l);
+  return device;
+}
 
 struct KrylovVectors {
   explicit KrylovVectors(std::size_t size)
@@ -361,7 +410,7 @@ void solveChannels(const MembraneProblem& problem, const MembraneOptions& option
                    const MembraneHierarchy& hierarchy, const std::vector<MembraneNode>& roles,
                    std::size_t first, std::size_t step, MembraneResult& result) {
   const Level& finest = hierarchy.levels().front();
-  Preconditioner preconditioner(hierarchy, options.multigrid);
+  Preconditioner preconditioner(hierarchy, options.multigrid, deviceKernels(hierarchy, options));
   KrylovVectors krylov(finest.grid.size());
   for (std::size_t c = first; c < problem.channels.size(); c += step) {
     const std::vector<double>& field = problem.channels[c];
@@ -396,6 +445,8 @@ void validateOptions(const MembraneOptions& options, const MembraneProblem& prob
   if (options.maxIterations < 0)
     throw std::invalid_argument("membrane: maxIterations must not be negative");
   if (options.threads < 0) throw std::invalid_argument("membrane: threads must not be negative");
+  if (options.vulkanMinUnknowns < 0)
+    throw std::invalid_argument("membrane: vulkanMinUnknowns must not be negative");
   const MembraneMultigridSettings& m = options.multigrid;
   if (m.smootherDegree < 1 || !(m.smootherRatio > 1) || !std::isfinite(m.smootherRatio) ||
       m.bandWidth < 0 || m.bandSweeps < 0 || m.coarseCycles < 1 || m.coarsestUnknowns < 1)
@@ -445,6 +496,10 @@ MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptio
   const Level& finest = levels.front();
   result.levels = int(levels.size());
   result.unknowns = int(finest.unknowns.size());
+  result.kernel = options.kernel;
+  // Made here, before the workers start, so that a missing device throws on this thread.
+  for (const auto* device : deviceKernels(*result.hierarchy, options))
+    result.vulkanLevels += device != nullptr;
 
   const std::size_t channels = problem.channels.size();
   result.channels.resize(channels);

@@ -28,6 +28,15 @@
 // solveMembraneDirect solves the same linear system with a sparse LDL^T factorization: the exact
 // reference. The paper's appendix iteration (plain damped Richardson, ~N^4 iterations) is not
 // implemented.
+//
+// Kernels. The cycle's stencil work runs on the CPU (vectorized loops) or, with
+// MembraneKernel::Vulkan, as Vulkan compute passes (shaders/membrane_level.comp): the Chebyshev
+// smoother and the residual of the finest level and of the coarse levels large enough to pay for
+// a round trip (MembraneOptions::vulkanMinUnknowns). The band Gauss-Seidel sweeps (a
+// sequential recurrence), the transfers between levels, the coarsest dense solve and CG in
+// double stay on the CPU, so every smoothed level is one round trip to the device per kernel.
+// Both kernels run in single precision; they round differently, and CG reaches the same solution
+// with either. preferredMembraneKernel (membrane_vulkan.hpp) picks one for the machine.
 #pragma once
 
 #include <cstdint>
@@ -42,6 +51,12 @@ enum class MembraneContinuity {
 };
 
 enum class MembraneNode : std::uint8_t { Unused, Fixed, Unknown };
+
+// Where the multigrid cycle's stencil kernels run (see "Kernels" above).
+enum class MembraneKernel {
+  Cpu,
+  Vulkan,  // the shared Vulkan device (gpu::VulkanContext), whatever its type
+};
 
 struct MembraneProblem {
   int width = 0;
@@ -101,6 +116,15 @@ struct MembraneOptions {
   // Threads solving the channels side by side (each channel on one thread); 0 picks the
   // hardware's. The values are bit-identical for every thread count.
   int threads = 0;
+  // Vulkan: the device kernels are made on the hierarchy's first Vulkan solve and kept with it,
+  // so its coefficients are uploaded once. Deterministic on one device, but not bit-identical to
+  // the CPU kernel (within the tolerance of it).
+  MembraneKernel kernel = MembraneKernel::Cpu;
+  // With the Vulkan kernel, coarse levels with fewer unknowns than this run on the CPU all the
+  // same: a round trip to the device (submission, fence, readback) costs tens of microseconds on
+  // any device, the CPU kernel about a nanosecond per unknown and step. The finest level always
+  // runs on the device.
+  int vulkanMinUnknowns = 4096;
 };
 
 struct MembraneChannelReport {
@@ -120,6 +144,8 @@ struct MembraneResult {
   bool hierarchyReused = false;
   int levels = 0;  // multigrid levels, the finest included
   int unknowns = 0;
+  MembraneKernel kernel = MembraneKernel::Cpu;  // the kernel that ran (the options')
+  int vulkanLevels = 0;  // levels whose smoother and residual ran on the Vulkan device
 };
 
 // Solves the membrane for every channel (Eqs. 4-5 discretized as described above). A channel that
@@ -128,7 +154,8 @@ struct MembraneResult {
 // smaller than 5 x 5 or larger than 2^28 nodes, a wrong array size, an empty Q, Q within two nodes
 // of the array border, no channels, a non-finite fixed value or initial guess, a channel count of
 // the initial guess different from the problem's, a non-positive tolerance or negative
-// maxIterations, or bad multigrid settings.
+// maxIterations or vulkanMinUnknowns, or bad multigrid settings; std::runtime_error for the Vulkan
+// kernel when no Vulkan device exists or a Vulkan call fails.
 MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptions& options = {});
 
 struct MembraneDirectResult {

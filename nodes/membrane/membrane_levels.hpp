@@ -7,11 +7,15 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "membrane.hpp"
 
 namespace geobrush::membrane_detail {
+
+class VulkanCycleKernels;  // membrane_vulkan.hpp
 
 // Stencils reach at most three nodes each way (the finest level's 13-point plate two, the
 // 49-point Galerkin coarse operators three). Unknowns are at least one node inside every level's
@@ -159,8 +163,19 @@ class MembraneHierarchy {
   bool fits(const MembraneProblem& problem, const MembraneMultigridSettings& settings) const;
   const std::vector<membrane_detail::Level>& levels() const { return levels_; }
   const membrane_detail::CoarsestSolver& coarsest() const { return coarsest_; }
+  // The Vulkan kernels of the levels, made on the first call and kept with the hierarchy, so that
+  // every solve on it shares one upload of the coefficients. Thread-safe. Throws
+  // std::runtime_error without a Vulkan device. Defined in membrane_vulkan.cpp. They hold device
+  // buffers: a hierarchy that made them must not outlive the Vulkan context, which static
+  // destruction ends at exit (do not keep one in a static made before the context).
+  membrane_detail::VulkanCycleKernels& vulkanKernels() const;
 
  private:
+  struct VulkanCache {
+    std::mutex mutex;
+    std::shared_ptr<membrane_detail::VulkanCycleKernels> kernels;  // null until first used
+  };
+
   int width_;
   int height_;
   std::vector<std::uint8_t> inside_;  // as given: any nonzero value marks Q
@@ -169,6 +184,7 @@ class MembraneHierarchy {
   int coarsestUnknowns_;
   std::vector<membrane_detail::Level> levels_;
   membrane_detail::CoarsestSolver coarsest_;
+  std::unique_ptr<VulkanCache> vulkan_ = std::make_unique<VulkanCache>();
 };
 
 }  // namespace geobrush

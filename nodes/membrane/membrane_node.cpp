@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "geobrush/domain_locator.hpp"
@@ -9,6 +10,7 @@
 #include "geobrush/values.hpp"
 #include "membrane.hpp"
 #include "membrane_boundary.hpp"
+#include "membrane_vulkan.hpp"
 
 namespace {
 
@@ -18,6 +20,32 @@ using geobrush::Mesh;
 using geobrush::NodeError;
 using geobrush::Parameterization;
 using geobrush::Region2D;
+
+// The kernel the `kernel` param asks for on this machine. "auto" follows the device's type (see
+// preferredMembraneKernel), so a graph computes the same way on every run on one machine.
+geobrush::MembraneKernel chooseKernel(const std::string& choice) {
+  if (choice == "auto") return geobrush::preferredMembraneKernel();
+  if (choice == "cpu") return geobrush::MembraneKernel::Cpu;
+  if (choice != "vulkan")
+    throw NodeError::param("kernel", "'" + choice + "' is not one of: auto, cpu, vulkan");
+  const geobrush::MembraneVulkanDevice device = geobrush::membraneVulkanDevice();
+  if (!device.available)
+    throw NodeError::param(
+        "kernel", "vulkan needs a Vulkan device, and there is none: " + device.unavailableReason);
+  return geobrush::MembraneKernel::Vulkan;
+}
+
+// "kernel: cpu", or "kernel: vulkan (<device name>)".
+std::string kernelNote(geobrush::MembraneKernel kernel) {
+  std::string note = "kernel: ";
+  note += geobrush::membraneKernelName(kernel);
+  if (kernel == geobrush::MembraneKernel::Vulkan) {
+    note += " (";
+    note += geobrush::membraneVulkanDevice().name;
+    note += ")";
+  }
+  return note;
+}
 
 // Each dab changes Q a little: the node keeps the locators of both canvases while they stay the
 // same, and the last solution and multigrid hierarchy on the same grid, so that the next solve
@@ -38,6 +66,7 @@ class MembraneNode final : public geobrush::Node {
     const auto continuity = ctx.param<bool>("derivative_constraints")
                                 ? geobrush::MembraneContinuity::C1
                                 : geobrush::MembraneContinuity::C0;
+    const geobrush::MembraneKernel kernel = chooseKernel(ctx.param<std::string>("kernel"));
     auto field = std::make_shared<Field2D>();
     field->grid = region->grid;
     field->values.assign(region->grid.nodeCount(), Eigen::Vector3d::Zero());
@@ -65,6 +94,7 @@ class MembraneNode final : public geobrush::Node {
     geobrush::MembraneOptions options;
     options.tolerance = ctx.param<double>("tolerance");
     options.maxIterations = ctx.param<int>("max_iterations");
+    options.kernel = kernel;
     if (previousGrid_ == region->grid && previousContinuity_ == continuity) {
       options.initialGuess = previous_;
       options.hierarchy = hierarchy_;
@@ -74,6 +104,10 @@ class MembraneNode final : public geobrush::Node {
       result = geobrush::solveMembrane(setup.problem, options);
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("region", e.what());
+    } catch (const std::runtime_error& e) {
+      // A failing device call of the Vulkan kernel.
+      if (kernel != geobrush::MembraneKernel::Vulkan) throw;
+      throw NodeError::param("kernel", e.what());
     }
     if (!result.converged) {
       std::ostringstream message;
@@ -86,9 +120,7 @@ class MembraneNode final : public geobrush::Node {
                       {"unknowns", result.unknowns},
                       {"levels", result.levels},
                       {"hierarchy_reused", result.hierarchyReused ? 1 : 0}};
-    // The Vulkan kernels cover one level's operator and smoother; a whole cycle on the device is
-    // not written yet, and on lavapipe those kernels are far slower than the CPU's.
-    report->notes.push_back("kernel: cpu");
+    report->notes.push_back(kernelNote(result.kernel));
     previous_ = result.values;
     hierarchy_ = result.hierarchy;
     previousGrid_ = region->grid;
@@ -117,7 +149,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                  "region's grid, the biharmonic function that equals R_out - g_in outside Q, value "
                  "and slope, so that g_in + x~ meets the target smoothly. Solved by conjugate "
                  "gradients with a Galerkin multigrid preconditioner, warm-started from the "
-                 "previous dab.")
+                 "previous dab. The preconditioner's stencil kernels run on the CPU or as Vulkan "
+                 "compute passes; auto picks Vulkan on a GPU and the CPU on a CPU Vulkan device "
+                 "such as lavapipe, where the CPU kernel is far faster.")
             .input<Region2D>("region", "Q on its grid, with R_in.")
             .input<Parameterization>("source", "E_s: the source canvas and its map.")
             .optionalInput<Mesh>("draft",
@@ -128,7 +162,7 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .output<geobrush::Metrics>("report",
                                        "The solve: CG iterations, relative residual, unknowns, "
                                        "multigrid levels, whether the hierarchy was reused, and "
-                                       "the kernel that ran.")
+                                       "the kernel that ran (and the Vulkan device it ran on).")
             .paramBool("derivative_constraints", true,
                        "On: biharmonic with value and slope fixed (C1). Off: harmonic with the "
                        "value only (C0), the paper's Fig. 10 comparison.")
@@ -136,6 +170,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .range(1e-12, 1e-2)
             .paramInt("max_iterations", 100, "Conjugate-gradient iterations at most.")
             .range(1, 10000)
+            .paramEnum("kernel", "auto", {"auto", "cpu", "vulkan"},
+                       "Where the multigrid's smoother and residuals run: vulkan (the Vulkan "
+                       "device, an error without one), cpu, or auto: vulkan on a discrete or "
+                       "integrated GPU, else cpu. The two agree within the tolerance.")
             .node<MembraneNode>()
             .build());
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -62,12 +63,88 @@ void computeBarrier(VkCommandBuffer commands, VkAccessFlags dstAccess,
                        nullptr, 0, nullptr);
 }
 
+constexpr std::uint32_t kBindings = 3;  // vectors, coefficients, customOf
+
+// The shader's pipeline and layouts: the same for every level, so made once per process (a
+// pipeline takes lavapipe milliseconds to compile, and every dab makes a new hierarchy). Made
+// after the Vulkan context, so destroyed before it at exit.
+struct Program {
+  DescriptorSetLayout setLayout;
+  gpu::PipelineLayout layout;
+  gpu::Pipeline pipeline;
+};
+
+DescriptorSetLayout createSetLayout(VkDevice device) {
+  VkDescriptorSetLayoutBinding bindings[kBindings] = {};
+  for (std::uint32_t b = 0; b < kBindings; ++b) {
+    bindings[b].binding = b;
+    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[b].descriptorCount = 1;
+    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  auto setInfo = gpu::makeInfo<VkDescriptorSetLayoutCreateInfo>(
+      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  setInfo.bindingCount = kBindings;
+  setInfo.pBindings = bindings;
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  gpu::check(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout),
+             "vkCreateDescriptorSetLayout");
+  return {device, setLayout};
+}
+
+std::unique_ptr<Program> createProgram(gpu::VulkanContext& context) {
+  const VkDevice device = context.device();
+  auto program = std::make_unique<Program>();
+  program->setLayout = createSetLayout(device);
+  const VkDescriptorSetLayout setLayout = program->setLayout.get();
+
+  const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Pass)};
+  auto layoutInfo =
+      gpu::makeInfo<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  layoutInfo.setLayoutCount = 1;
+  layoutInfo.pSetLayouts = &setLayout;
+  layoutInfo.pushConstantRangeCount = 1;
+  layoutInfo.pPushConstantRanges = &range;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  gpu::check(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout),
+             "vkCreatePipelineLayout");
+  program->layout = {device, layout};
+
+  const gpu::ShaderModule shader = context.createShaderModule(membrane_level_comp);
+  auto pipelineInfo =
+      gpu::makeInfo<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+  pipelineInfo.stage = gpu::makeInfo<VkPipelineShaderStageCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+  pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  pipelineInfo.stage.module = shader.get();
+  pipelineInfo.stage.pName = "main";
+  pipelineInfo.layout = layout;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  gpu::check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &pipeline),
+             "vkCreateComputePipelines");
+  program->pipeline = {device, pipeline};
+  return program;
+}
+
+// The process's program, made on first use; context is the shared one. A failed creation throws
+// and is retried on the next call.
+const Program& sharedProgram(gpu::VulkanContext& context) {
+  static std::mutex mutex;
+  static std::unique_ptr<Program> program;
+  const std::lock_guard lock(mutex);
+  if (!program) program = createProgram(context);
+  return *program;
+}
+
 }  // namespace
 
 struct VulkanLevelKernels::Resources {
-  explicit Resources(gpu::VulkanContext& vulkan) : context(vulkan) {}
+  explicit Resources(gpu::VulkanContext& vulkan)
+      : context(vulkan), program(sharedProgram(vulkan)) {}
 
   gpu::VulkanContext& context;
+  const Program& program;
+  std::mutex mutex;  // held by every call: the vectors have one home on the device
   int size = 0;
   int begin = 0;  // the level's active range
   int count = 0;
@@ -75,11 +152,8 @@ struct VulkanLevelKernels::Resources {
   Shape shape = kFull;
   int inverseDiagonalOffset = 0, regularOffset = 0, customOffset = 0;  // in `coefficients`
   gpu::Buffer vectors, coefficients, customOf;
-  DescriptorSetLayout setLayout;
   DescriptorPool pool;
   VkDescriptorSet set = VK_NULL_HANDLE;  // freed with the pool
-  gpu::PipelineLayout layout;
-  gpu::Pipeline pipeline;
 
   float* vector(VectorSlot slot) const {
     return static_cast<float*>(vectors.mapped()) + std::size_t(slot) * std::size_t(size);
@@ -112,15 +186,16 @@ struct VulkanLevelKernels::Resources {
   }
 
   void dispatch(VkCommandBuffer commands, const Pass& p) const {
-    vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.get());
-    vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout.get(), 0, 1, &set, 0,
+    const VkPipelineLayout layout = program.layout.get();
+    vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline.get());
+    vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0,
                             nullptr);
-    vkCmdPushConstants(commands, layout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Pass), &p);
+    vkCmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Pass), &p);
     vkCmdDispatch(commands, std::uint32_t((count + kGroupSize - 1) / kGroupSize), 1, 1);
   }
 
   void uploadCoefficients(const Level& level);
-  void createPipeline();
+  void createDescriptorSet();
 
   // Runs the passes in one submission, a barrier after each.
   void run(std::span<const Pass> passes) const {
@@ -161,26 +236,10 @@ void VulkanLevelKernels::Resources::uploadCoefficients(const Level& level) {
   std::memset(r.vectors.mapped(), 0, r.vectors.size());
 }
 
-void VulkanLevelKernels::Resources::createPipeline() {
+void VulkanLevelKernels::Resources::createDescriptorSet() {
   Resources& r = *this;
   const VkDevice device = r.context.device();
-  VkDescriptorSetLayoutBinding bindings[3] = {};
-  for (std::uint32_t b = 0; b < 3; ++b) {
-    bindings[b].binding = b;
-    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[b].descriptorCount = 1;
-    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-  }
-  auto setInfo = gpu::makeInfo<VkDescriptorSetLayoutCreateInfo>(
-      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-  setInfo.bindingCount = 3;
-  setInfo.pBindings = bindings;
-  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-  gpu::check(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout),
-             "vkCreateDescriptorSetLayout");
-  r.setLayout = {device, setLayout};
-
-  const VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
+  const VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings};
   auto poolInfo =
       gpu::makeInfo<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
   poolInfo.maxSets = 1;
@@ -190,17 +249,18 @@ void VulkanLevelKernels::Resources::createPipeline() {
   gpu::check(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool), "vkCreateDescriptorPool");
   r.pool = {device, pool};
 
+  const VkDescriptorSetLayout setLayout = r.program.setLayout.get();
   auto allocInfo =
       gpu::makeInfo<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
   allocInfo.descriptorPool = pool;
   allocInfo.descriptorSetCount = 1;
   allocInfo.pSetLayouts = &setLayout;
   gpu::check(vkAllocateDescriptorSets(device, &allocInfo, &r.set), "vkAllocateDescriptorSets");
-  const VkDescriptorBufferInfo buffers[3] = {{r.vectors.handle(), 0, VK_WHOLE_SIZE},
-                                             {r.coefficients.handle(), 0, VK_WHOLE_SIZE},
-                                             {r.customOf.handle(), 0, VK_WHOLE_SIZE}};
-  VkWriteDescriptorSet writes[3] = {};
-  for (std::uint32_t b = 0; b < 3; ++b) {
+  const VkDescriptorBufferInfo buffers[kBindings] = {{r.vectors.handle(), 0, VK_WHOLE_SIZE},
+                                                     {r.coefficients.handle(), 0, VK_WHOLE_SIZE},
+                                                     {r.customOf.handle(), 0, VK_WHOLE_SIZE}};
+  VkWriteDescriptorSet writes[kBindings] = {};
+  for (std::uint32_t b = 0; b < kBindings; ++b) {
     writes[b] = gpu::makeInfo<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
     writes[b].dstSet = r.set;
     writes[b].dstBinding = b;
@@ -208,33 +268,7 @@ void VulkanLevelKernels::Resources::createPipeline() {
     writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     writes[b].pBufferInfo = &buffers[b];
   }
-  vkUpdateDescriptorSets(device, 3, writes, 0, nullptr);
-
-  const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Pass)};
-  auto layoutInfo =
-      gpu::makeInfo<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-  layoutInfo.setLayoutCount = 1;
-  layoutInfo.pSetLayouts = &setLayout;
-  layoutInfo.pushConstantRangeCount = 1;
-  layoutInfo.pPushConstantRanges = &range;
-  VkPipelineLayout layout = VK_NULL_HANDLE;
-  gpu::check(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout),
-             "vkCreatePipelineLayout");
-  r.layout = {device, layout};
-
-  const gpu::ShaderModule shader = r.context.createShaderModule(membrane_level_comp);
-  auto pipelineInfo =
-      gpu::makeInfo<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
-  pipelineInfo.stage = gpu::makeInfo<VkPipelineShaderStageCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
-  pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  pipelineInfo.stage.module = shader.get();
-  pipelineInfo.stage.pName = "main";
-  pipelineInfo.layout = layout;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  gpu::check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &pipeline),
-             "vkCreateComputePipelines");
-  r.pipeline = {device, pipeline};
+  vkUpdateDescriptorSets(device, kBindings, writes, 0, nullptr);
 }
 
 bool VulkanLevelKernels::available() {
@@ -256,13 +290,14 @@ VulkanLevelKernels::VulkanLevelKernels(const Level& level) {
   r.stride = level.grid.stride();
   r.shape = shapeOf(level.shape);
   r.uploadCoefficients(level);
-  r.createPipeline();
+  r.createDescriptorSet();
 }
 
 VulkanLevelKernels::~VulkanLevelKernels() = default;
 
 void VulkanLevelKernels::apply(const float* x, float* out) {
   Resources& r = *resources_;
+  const std::lock_guard lock(r.mutex);
   r.upload(kX, x);
   const Pass pass = r.pass(kApply, kX, kOut);
   r.run({&pass, 1});
@@ -271,6 +306,7 @@ void VulkanLevelKernels::apply(const float* x, float* out) {
 
 void VulkanLevelKernels::subtract(const float* b, const float* x, float* out) {
   Resources& r = *resources_;
+  const std::lock_guard lock(r.mutex);
   r.upload(kB, b);
   r.upload(kX, x);
   const Pass pass = r.pass(kSubtract, kX, kOut);
@@ -281,6 +317,7 @@ void VulkanLevelKernels::subtract(const float* b, const float* x, float* out) {
 void VulkanLevelKernels::chebyshev(const float* b, float* x, float* d,
                                    std::span<const ChebyshevStep> steps) {
   Resources& r = *resources_;
+  const std::lock_guard lock(r.mutex);
   r.upload(kB, b);
   r.upload(kX, x);
   r.upload(kD, d);
@@ -298,4 +335,48 @@ void VulkanLevelKernels::chebyshev(const float* b, float* x, float* d,
   r.download(kD, d);
 }
 
+VulkanCycleKernels::VulkanCycleKernels(const MembraneHierarchy& hierarchy) {
+  const auto& levels = hierarchy.levels();
+  for (std::size_t l = 0; l + 1 < levels.size(); ++l)
+    levels_.push_back(std::make_unique<VulkanLevelKernels>(levels[l]));
+}
+
 }  // namespace geobrush::membrane_detail
+
+namespace geobrush {
+
+membrane_detail::VulkanCycleKernels& MembraneHierarchy::vulkanKernels() const {
+  const std::lock_guard lock(vulkan_->mutex);
+  if (!vulkan_->kernels)
+    vulkan_->kernels = std::make_shared<membrane_detail::VulkanCycleKernels>(*this);
+  return *vulkan_->kernels;
+}
+
+MembraneVulkanDevice membraneVulkanDevice() {
+  MembraneVulkanDevice device;
+  const gpu::VulkanContext* context = gpu::VulkanContext::shared();
+  if (context == nullptr) {
+    device.unavailableReason = gpu::VulkanContext::unavailableReason();
+    return device;
+  }
+  const VkPhysicalDeviceType type = context->properties().deviceType;
+  device.available = true;
+  device.name = context->deviceName();
+  device.gpu = type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ||
+               type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU;
+  return device;
+}
+
+MembraneKernel preferredMembraneKernel(const MembraneVulkanDevice& device) {
+  return device.available && device.gpu ? MembraneKernel::Vulkan : MembraneKernel::Cpu;
+}
+
+MembraneKernel preferredMembraneKernel() {
+  return preferredMembraneKernel(membraneVulkanDevice());
+}
+
+const char* membraneKernelName(MembraneKernel kernel) {
+  return kernel == MembraneKernel::Vulkan ? "vulkan" : "cpu";
+}
+
+}  // namespace geobrush

@@ -4,6 +4,15 @@
 //   BM_MembraneAfterDab/threads  the next dab: Q grew, the hierarchy is updated from the previous
 //                                one, and the solve starts from the previous dab's solution;
 //   BM_MembraneDirect            the sparse LDL^T reference: factor once, solve three channels;
+//   BM_MembraneKernel/kernel:0 (cpu), BM_MembraneKernel/kernel:1 (vulkan)
+//                                a solve from zero on a hierarchy built beforehand (its Vulkan
+//                                kernels made and uploaded once), channels on the hardware's
+//                                threads, with the cycle's smoother and residuals on the CPU or as
+//                                Vulkan passes (on the levels with at least 4096 unknowns: 2 of
+//                                6 here): with BM_MembraneDirect, the three ways to solve one grid
+//                                in one run;
+//   BM_VulkanKernelsSetup        making the hierarchy's Vulkan kernels (descriptor sets and
+//                                coefficient uploads; the pipeline is made once per process);
 //   BM_SmootherCpu/level, BM_SmootherVulkan/level
 //                                three Chebyshev smoother steps on one multigrid level, on the CPU
 //                                and as Vulkan passes in one submission (uploads and readback
@@ -141,6 +150,37 @@ void BM_MembraneDirect(benchmark::State& state) {
 }
 BENCHMARK(BM_MembraneDirect)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly();
 
+void BM_MembraneKernel(benchmark::State& state) {
+  MembraneOptions options;
+  options.kernel = geobrush::MembraneKernel(state.range(0));
+  if (options.kernel == geobrush::MembraneKernel::Vulkan &&
+      !geobrush::membrane_detail::VulkanLevelKernels::available()) {
+    state.SkipWithError("no Vulkan device");
+    return;
+  }
+  // Built (and its device kernels made) outside the timed loop; a local, so that it is destroyed
+  // before the Vulkan context at exit.
+  options.hierarchy = geobrush::solveMembrane(problem(false), options).hierarchy;
+  int iterations = 0, deviceLevels = 0;
+  timeAgainstDirect(state, [&] {
+    const auto result = geobrush::solveMembrane(problem(false), options);
+    iterations = result.iterations;
+    deviceLevels = result.vulkanLevels;
+    benchmark::DoNotOptimize(result.values.data());
+  });
+  state.counters["cg_iterations"] = iterations;
+  state.counters["vulkan_levels"] = deviceLevels;
+  state.SetLabel(geobrush::membraneKernelName(options.kernel));
+}
+BENCHMARK(BM_MembraneKernel)
+    ->ArgName("kernel")
+    ->Arg(int(geobrush::MembraneKernel::Cpu))
+    ->Arg(int(geobrush::MembraneKernel::Vulkan))
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly();
+
 const geobrush::MembraneHierarchy& hierarchy() {
   static const auto built = geobrush::solveMembrane(problem(false)).hierarchy;
   return *built;
@@ -168,7 +208,20 @@ void BM_SmootherCpu(benchmark::State& state) {
     }
   state.counters["unknowns"] = double(level.unknowns.size());
 }
-BENCHMARK(BM_SmootherCpu)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SmootherCpu)->Arg(0)->Arg(1)->Arg(4)->Unit(benchmark::kMicrosecond);
+
+// Making the Vulkan kernels of the 256^2 hierarchy: what a Vulkan solve on a new hierarchy (the
+// next dab) pays once. The first iteration also makes the process's pipeline.
+void BM_VulkanKernelsSetup(benchmark::State& state) {
+  if (!geobrush::membrane_detail::VulkanLevelKernels::available()) {
+    state.SkipWithError("no Vulkan device");
+    return;
+  }
+  for (auto _ : state)
+    geobrush::membrane_detail::VulkanCycleKernels kernels(hierarchy());
+  state.counters["levels"] = double(hierarchy().levels().size() - 1);
+}
+BENCHMARK(BM_VulkanKernelsSetup)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 void BM_SmootherVulkan(benchmark::State& state) {
   using geobrush::membrane_detail::VulkanLevelKernels;
@@ -184,6 +237,6 @@ void BM_SmootherVulkan(benchmark::State& state) {
     kernels.chebyshev(b.data(), x.data(), d.data(), kSteps);
   state.counters["unknowns"] = double(level.unknowns.size());
 }
-BENCHMARK(BM_SmootherVulkan)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SmootherVulkan)->Arg(0)->Arg(1)->Arg(4)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace

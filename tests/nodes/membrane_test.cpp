@@ -9,6 +9,7 @@
 #include <limits>
 #include <ostream>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -506,6 +507,10 @@ TEST(Membrane, RefusesBadInput) {
   badTolerance.tolerance = 0;
   EXPECT_NE(invalidArgumentMessage(solveWith(good, badTolerance)).find("tolerance"),
             std::string::npos);
+  MembraneOptions badThreshold;
+  badThreshold.vulkanMinUnknowns = -1;
+  EXPECT_NE(invalidArgumentMessage(solveWith(good, badThreshold)).find("vulkanMinUnknowns"),
+            std::string::npos);
   MembraneOptions badSettings;
   badSettings.multigrid.smootherRatio = 1;
   EXPECT_NE(invalidArgumentMessage(solveWith(good, badSettings)).find("multigrid"),
@@ -607,6 +612,89 @@ TEST(MembraneVulkan, KernelsMatchTheCpuKernels) {
     EXPECT_LE(relativeDifference(gpuX, cpuX), 1e-6) << "smoothed x on level " << l;
     EXPECT_LE(relativeDifference(gpuD, cpuD), 1e-6) << "last step on level " << l;
   }
+}
+
+// With the Vulkan kernel the cycle's smoother and residuals run on the device: on the finest level
+// only (the default threshold at 96^2) or on every level but the coarsest. CG converges as with
+// the CPU kernel, in as many iterations, to the same solution.
+class MembraneVulkanSolve : public ::testing::TestWithParam<Shape> {};
+
+TEST_P(MembraneVulkanSolve, AgreesWithTheCpuKernel) {
+  if (!membrane_detail::VulkanLevelKernels::available())
+    GTEST_SKIP() << "Vulkan is unavailable: " << gpu::VulkanContext::unavailableReason();
+  const int n = 96;
+  const MembraneProblem problem = problemOn(n, GetParam().make(n));
+  MembraneOptions options;
+  options.tolerance = 1e-9;
+  const MembraneResult cpu = solveMembrane(problem, options);
+  ASSERT_TRUE(cpu.converged);
+  EXPECT_EQ(cpu.kernel, MembraneKernel::Cpu);
+  EXPECT_EQ(cpu.vulkanLevels, 0);
+  options.kernel = MembraneKernel::Vulkan;
+  options.hierarchy = cpu.hierarchy;
+  for (const int minUnknowns : {MembraneOptions().vulkanMinUnknowns, 0}) {
+    options.vulkanMinUnknowns = minUnknowns;
+    const MembraneResult vulkan = solveMembrane(problem, options);
+    ASSERT_TRUE(vulkan.converged) << "residual " << vulkan.residual;
+    EXPECT_EQ(vulkan.kernel, MembraneKernel::Vulkan);
+    ASSERT_GE(vulkan.levels, 3);
+    EXPECT_EQ(vulkan.vulkanLevels, minUnknowns == 0 ? vulkan.levels - 1 : 1);
+    EXPECT_NEAR(vulkan.iterations, cpu.iterations, 2);
+    double largest = 0;
+    for (std::size_t c = 0; c < problem.channels.size(); ++c) {
+      const double difference = relativeError(problem, vulkan.values[c], cpu.values[c]);
+      EXPECT_LE(difference, 1e-6) << "channel " << c;
+      largest = std::max(largest, difference);
+    }
+    const std::string suffix = "_" + std::to_string(vulkan.vulkanLevels) + "_levels";
+    RecordProperty("iterations_cpu", cpu.iterations);
+    RecordProperty("iterations_vulkan" + suffix, vulkan.iterations);
+    std::ostringstream difference;
+    difference << largest;
+    RecordProperty("relative_difference" + suffix, difference.str());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shapes, MembraneVulkanSolve,
+                         ::testing::Values(Shape{"disc", disc},
+                                           Shape{"annulus_with_notch", annulusWithNotch},
+                                           Shape{"channel", channel}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+// The channels' threads share the hierarchy's device kernels: the values do not depend on the
+// thread count, and a second solve on the hierarchy reuses its kernels (one upload).
+TEST(MembraneVulkan, ReusesTheHierarchyKernelsAcrossThreadsAndSolves) {
+  if (!membrane_detail::VulkanLevelKernels::available())
+    GTEST_SKIP() << "Vulkan is unavailable: " << gpu::VulkanContext::unavailableReason();
+  const MembraneProblem problem = problemOn(64, notchedDisc(64));
+  MembraneOptions options;
+  options.kernel = MembraneKernel::Vulkan;
+  options.threads = 1;
+  const MembraneResult single = solveMembrane(problem, options);
+  const membrane_detail::VulkanCycleKernels* kernels = &single.hierarchy->vulkanKernels();
+  options.threads = 3;
+  options.hierarchy = single.hierarchy;
+  const MembraneResult threaded = solveMembrane(problem, options);
+  EXPECT_TRUE(threaded.hierarchyReused);
+  EXPECT_EQ(&threaded.hierarchy->vulkanKernels(), kernels);
+  EXPECT_EQ(threaded.values, single.values);
+  EXPECT_EQ(threaded.iterations, single.iterations);
+}
+
+TEST(MembraneVulkan, PrefersVulkanOnlyOnAGpu) {
+  MembraneVulkanDevice device;
+  EXPECT_EQ(preferredMembraneKernel(device), MembraneKernel::Cpu);  // none
+  device.available = true;
+  device.name = "llvmpipe";
+  EXPECT_EQ(preferredMembraneKernel(device), MembraneKernel::Cpu);  // a CPU device
+  device.gpu = true;
+  EXPECT_EQ(preferredMembraneKernel(device), MembraneKernel::Vulkan);
+  // This machine's choice follows its device, the same on every call.
+  const MembraneVulkanDevice found = membraneVulkanDevice();
+  EXPECT_EQ(found.available, found.unavailableReason.empty());
+  EXPECT_EQ(found.available, !found.name.empty());
+  EXPECT_EQ(preferredMembraneKernel(), preferredMembraneKernel(found));
+  EXPECT_EQ(preferredMembraneKernel(), preferredMembraneKernel());
 }
 
 // The node's data: outside Q the membrane carries the draft onto the target.
@@ -771,6 +859,93 @@ TEST(MembraneNode, WarmStartsFromThePreviousDab) {
   for (std::size_t n = 0; n < fresh.values.size(); ++n) {
     if (!fresh.defined[n]) continue;
     EXPECT_NEAR((last->values[n] - fresh.values[n]).norm(), 0, 1e-5) << n;
+  }
+}
+
+// One dab through the node with the given params.
+struct NodeRun {
+  std::shared_ptr<const Field2D> offset;
+  std::shared_ptr<const Metrics> report;
+};
+
+NodeRun runMembraneNode(const ParamMap& params) {
+  const NodeType* type = test::registry().find("geobrush.membrane");
+  EXPECT_TRUE(type);
+  auto source = heightField(30, [](double, double) { return 0.0; });
+  auto target = heightField(30, [](double x, double y) { return 0.2 * x * y + 0.1 * x; });
+  auto region = std::make_shared<Region2D>(
+      paintRegion(disc({0.05, 0}, 0.45), *source, *target, RoiOptions{64}).region);
+  test::DirectContext ctx(*type,
+                          {{"region", region},
+                           {"source", source},
+                           {"draft", std::make_shared<const Mesh>(source->canvas->surface)},
+                           {"target", target}},
+                          params);
+  type->create()->compute(ctx);
+  return {std::dynamic_pointer_cast<const Field2D>(ctx.outputs["offset"]),
+          std::dynamic_pointer_cast<const Metrics>(ctx.outputs["report"])};
+}
+
+TEST(MembraneNode, VulkanKernelAgreesWithTheCpuKernel) {
+  const MembraneVulkanDevice device = membraneVulkanDevice();
+  if (!device.available) GTEST_SKIP() << "Vulkan is unavailable: " << device.unavailableReason;
+  const NodeRun cpu = runMembraneNode({{"kernel", std::string("cpu")}, {"tolerance", 1e-10}});
+  const NodeRun vulkan = runMembraneNode({{"kernel", std::string("vulkan")}, {"tolerance", 1e-10}});
+  ASSERT_TRUE(cpu.offset && vulkan.offset && cpu.report && vulkan.report);
+  EXPECT_EQ(cpu.report->notes, std::vector<std::string>{"kernel: cpu"});
+  EXPECT_EQ(vulkan.report->notes, std::vector<std::string>{"kernel: vulkan (" + device.name + ")"});
+  ASSERT_EQ(vulkan.offset->defined, cpu.offset->defined);
+  std::size_t defined = 0;
+  for (std::size_t n = 0; n < cpu.offset->values.size(); ++n) {
+    if (!cpu.offset->defined[n]) continue;
+    ++defined;
+    EXPECT_NEAR((vulkan.offset->values[n] - cpu.offset->values[n]).norm(), 0, 1e-6) << n;
+  }
+  EXPECT_GT(defined, 100u);
+}
+
+// On lavapipe (a CPU device) auto runs the CPU kernel; on a GPU, Vulkan.
+TEST(MembraneNode, AutoPicksTheKernelForTheDevice) {
+  const NodeRun run = runMembraneNode({});  // kernel = auto, the default
+  ASSERT_TRUE(run.report);
+  const MembraneVulkanDevice device = membraneVulkanDevice();
+  const std::string expected = device.available && device.gpu
+                                   ? "kernel: vulkan (" + device.name + ")"
+                                   : std::string("kernel: cpu");
+  EXPECT_EQ(run.report->notes, std::vector<std::string>{expected});
+}
+
+// Runs where there is no Vulkan device (GEOBRUSH_VK_DEVICE=none forces that).
+TEST(MembraneNode, VulkanWithoutADeviceIsAnErrorOnTheParam) {
+  const MembraneVulkanDevice device = membraneVulkanDevice();
+  if (device.available) GTEST_SKIP() << "a Vulkan device exists: " << device.name;
+  EXPECT_EQ(runMembraneNode({}).report->notes, std::vector<std::string>{"kernel: cpu"});
+  try {
+    runMembraneNode({{"kernel", std::string("vulkan")}});
+    ADD_FAILURE() << "kernel = vulkan was accepted without a device";
+  } catch (const NodeError& e) {
+    EXPECT_EQ(e.where(), "param 'kernel'");
+  }
+  MembraneOptions options;
+  options.kernel = MembraneKernel::Vulkan;
+  EXPECT_THROW(solveMembrane(problemOn(32, disc(32)), options), std::runtime_error);
+}
+
+TEST(MembraneNode, RefusesAnUnknownKernel) {
+  const NodeType* type = test::registry().find("geobrush.membrane");
+  ASSERT_TRUE(type);
+  const auto decl = std::find_if(type->params.begin(), type->params.end(),
+                                 [](const ParamDecl& p) { return p.name == "kernel"; });
+  ASSERT_NE(decl, type->params.end());
+  EXPECT_EQ(decl->choices, (std::vector<std::string>{"auto", "cpu", "vulkan"}));
+  EXPECT_TRUE(checkParam(*decl, ParamValue(std::string("gpu"))).has_value());
+  // A value that reaches the node anyway is refused by name.
+  try {
+    runMembraneNode({{"kernel", std::string("gpu")}});
+    ADD_FAILURE() << "kernel = gpu was accepted";
+  } catch (const NodeError& e) {
+    EXPECT_EQ(e.where(), "param 'kernel'");
+    EXPECT_NE(std::string(e.what()).find("gpu"), std::string::npos) << e.what();
   }
 }
 
