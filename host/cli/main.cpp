@@ -2,10 +2,12 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "geobrush/memory.hpp"
 
 using namespace geobrush;
 
 int main(int argc, char** argv) {
+  geobrush::reuseFreedMemory();
   CLI::App app{"GeoBrush: clone 3D surface geometry with node graphs, headless."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "geobrush 0.1.0");

@@ -15,6 +15,7 @@
 #include "gc_warp.hpp"
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/exponential_map.hpp"
+#include "geobrush/memory.hpp"
 #include "membrane.hpp"
 #include "membrane_boundary.hpp"
 #include "mesh_checks.hpp"
@@ -22,6 +23,9 @@
 #include "stitch.hpp"
 
 using namespace geobrush;
+
+// The pipeline runs as the hosts run it: freed meshes stay in the heap for the next dab.
+static const bool kReusesFreedMemory = geobrush::reuseFreedMemory();
 
 namespace {
 
