@@ -1,0 +1,130 @@
+// The real-time paste (C1 offset membrane on the region's grid + stitch) against the variational
+// paste (the paper's Eq. 3 solved on the stitched mesh with Ceres) on the same region, at about
+// 5k, 20k and 50k pasted vertices: a fine relief height field, its draft lifted and tilted off
+// the target, pasted into a bowl-shaped height field of 0.8 times its resolution through a disc
+// of radius 0.6. Each run reports both times and both seams' C1 (the 95th percentile of the
+// normal jump across the seam edges, geobrush::measurePaste), and their ratios: goals
+// membrane >= 50x faster, its seam no worse than 1.5x the variational one.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "canvas_fixtures.hpp"
+#include "geobrush/domain_locator.hpp"
+#include "membrane.hpp"
+#include "membrane_boundary.hpp"
+#include "metrics.hpp"
+#include "roi.hpp"
+#include "stitch.hpp"
+#include "variational_paste.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+double relief(double x, double y) {
+  return 0.04 * std::sin(11 * x) * std::cos(9 * y) + 0.1 * std::exp(-6 * (x * x + y * y));
+}
+
+double bowl(double x, double y) {
+  return 0.3 * (x * x + y * y) + 0.1 * y;
+}
+
+// Source and target canvases, the painted region and the draft for `side` quads per source side.
+struct Scene {
+  std::shared_ptr<Parameterization> source, target;
+  Region2D region;
+  TriMesh draft;
+  StitchBase base;
+  std::unique_ptr<DomainLocator> sourceLocator, targetLocator;
+
+  explicit Scene(int side) {
+    source = test::heightFieldParameterization(side, relief);
+    target = test::heightFieldParameterization(int(0.8 * side), bowl);
+    Strokes strokes;
+    strokes.dabs.push_back({{0.05, 0}, 0.6, false});
+    // A grid as fine as the source mesh.
+    region = paintRegion(strokes, *source, *target, RoiOptions{side}).region;
+    draft = source->canvas->surface;
+    for (auto v : draft.vertices())
+      draft.point(v)[2] += 0.15 + 0.1 * draft.point(v)[0];
+    base = stitchBase(*target);
+    sourceLocator = std::make_unique<DomainLocator>(*source);
+    targetLocator = std::make_unique<DomainLocator>(*target);
+  }
+
+  // Membrane (C1, cold start: one paste, no previous dab) and stitch, as the real-time nodes run.
+  StitchResult membranePaste() const {
+    const MembraneSetup setup = membraneSetup(region, *source, draft, *sourceLocator,
+                                              *targetLocator, MembraneContinuity::C1);
+    MembraneOptions options;
+    options.tolerance = 1e-7;
+    const MembraneResult solved = solveMembrane(setup.problem, options);
+    if (!solved.converged) throw std::runtime_error("the membrane did not converge");
+    const Field2D offset = membraneField(region, setup, solved.values);
+    return stitchPaste(region, *source, draft, &offset, *target, &base);
+  }
+
+  VariationalPasteResult variational() const {
+    return variationalPaste(region, *source, draft, *target, {}, &base);
+  }
+
+  double seamP95(const TriMesh& mesh, const PasteMap& map) const {
+    return measurePaste(mesh, &map, nullptr, nullptr).values.at("seam_normal_jump_p95_deg");
+  }
+};
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// Timed: the variational paste. The membrane + stitch of the same region is timed alongside
+// (mean of 5 runs, not in the benchmark's time) so that the counters carry both and the ratios.
+void BM_PasteComparison(benchmark::State& state) {
+  const Scene scene(int(state.range(0)));
+  double membraneMs = 0;
+  StitchResult membrane;
+  constexpr int kMembraneRuns = 5;
+  for (int run = 0; run < kMembraneRuns; ++run) {
+    const auto start = std::chrono::steady_clock::now();
+    membrane = scene.membranePaste();
+    membraneMs += millisecondsSince(start) / kMembraneRuns;
+  }
+  VariationalPasteResult variational;
+  double variationalMs = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    variational = scene.variational();
+    variationalMs += millisecondsSince(start);
+  }
+  variationalMs /= double(state.iterations());
+  const double membraneSeam = scene.seamP95(membrane.mesh, membrane.map);
+  const double variationalSeam = scene.seamP95(variational.mesh, variational.map);
+  state.counters["roi_vertices"] = double(scene.region.sourceVertices.size());
+  state.counters["unknowns"] = double(variational.report.unknownVertices);
+  state.counters["ceres_iterations"] = variational.report.linearIterations;
+  state.counters["membrane_ms"] = membraneMs;
+  state.counters["variational_ms"] = variationalMs;
+  state.counters["speedup"] = variationalMs / membraneMs;
+  state.counters["membrane_seam_p95_deg"] = membraneSeam;
+  state.counters["variational_seam_p95_deg"] = variationalSeam;
+  state.counters["seam_ratio"] = membraneSeam / variationalSeam;
+}
+
+}  // namespace
+
+// Quads per source side: about 0.283 side^2 pasted vertices (5k, 20k, 50k). The 50k case runs
+// once: the variational paste takes seconds there.
+BENCHMARK(BM_PasteComparison)
+    ->Arg(133)
+    ->Arg(266)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
+BENCHMARK(BM_PasteComparison)
+    ->Arg(420)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
