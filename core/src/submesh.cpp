@@ -58,14 +58,16 @@ AppendedFaces appendFaces(TriMesh& out, const TriMesh& mesh, const std::vector<i
   const int firstEdge = int(out.n_edges()), firstFace = int(out.n_faces());
 
   // New indices: faces in the given order, edges and vertices in source order.
-  std::vector<int> faceInOut(mesh.n_faces(), -1);
+  std::vector<int>& faceInOut = added.faceInOut;
+  faceInOut.assign(mesh.n_faces(), -1);
   for (std::size_t k = 0; k < faces.size(); ++k)
     faceInOut[std::size_t(faces[k])] = firstFace + int(k);
   auto selected = [&](HalfedgeHandle h) {
     const auto f = mesh.face_handle(h);
     return f.is_valid() && faceInOut[std::size_t(f.idx())] >= 0;
   };
-  std::vector<int> edgeInOut(mesh.n_edges(), -1);
+  std::vector<int>& edgeInOut = added.edgeInOut;
+  edgeInOut.assign(mesh.n_edges(), -1);
   std::vector<char> used(mesh.n_vertices(), 0);
   parallelBlocks(mesh.n_edges(), kBlock, 0, [&](std::size_t first, std::size_t last) {
     for (std::size_t e = first; e < last; ++e) {
@@ -143,6 +145,106 @@ AppendedFaces appendFaces(TriMesh& out, const TriMesh& mesh, const std::vector<i
   for (const auto& boundary : boundaryOfBlock)
     for (auto hOut : boundary)
       out.set_halfedge_handle(out.from_vertex_handle(hOut), hOut);
+  return added;
+}
+
+AppendedFaces joinFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int>& faces,
+                        const AppendedFaces& joined) {
+  using HalfedgeHandle = TriMesh::HalfedgeHandle;
+  using VertexHandle = TriMesh::VertexHandle;
+  AppendedFaces added;
+  added.firstVertex = int(out.n_vertices());
+  added.vertexInOut = joined.vertexInOut;
+  added.edgeInOut = joined.edgeInOut;
+  added.faceInOut = joined.faceInOut;
+  const int firstFace = int(out.n_faces());
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    added.faceInOut[std::size_t(faces[k])] = firstFace + int(k);
+  auto selected = [&](HalfedgeHandle h) {
+    const auto f = mesh.face_handle(h);
+    return f.is_valid() && added.faceInOut[std::size_t(f.idx())] >= 0;
+  };
+
+  // The new edges and vertices in the order the new faces first use them, and every vertex the
+  // new faces reach.
+  std::vector<int> newEdges, newVertices, reached;
+  std::vector<char> isReached(mesh.n_vertices(), 0);
+  for (int f : faces)
+    for (auto h : mesh.fh_range(TriMesh::FaceHandle(f))) {
+      int& e = added.edgeInOut[std::size_t(h.idx() / 2)];
+      if (e < 0) {
+        e = int(out.n_edges() + newEdges.size());
+        newEdges.push_back(h.idx() / 2);
+      }
+      const int v = mesh.to_vertex_handle(h).idx();
+      if (isReached[std::size_t(v)]) continue;
+      isReached[std::size_t(v)] = 1;
+      reached.push_back(v);
+      int& vOut = added.vertexInOut[std::size_t(v)];
+      if (vOut < 0) {
+        vOut = added.firstVertex + int(newVertices.size());
+        newVertices.push_back(v);
+      }
+    }
+  added.sourceVertex = newVertices;
+  out.resize(out.n_vertices() + newVertices.size(), out.n_edges() + newEdges.size(),
+             out.n_faces() + faces.size());
+
+  auto halfedgeInOut = [&](HalfedgeHandle h) {
+    return HalfedgeHandle(2 * added.edgeInOut[std::size_t(h.idx() / 2)] + (h.idx() & 1));
+  };
+  auto vertexInOut = [&](VertexHandle v) {
+    return VertexHandle(added.vertexInOut[std::size_t(v.idx())]);
+  };
+  // A boundary halfedge's successor, as appendFaces finds it.
+  auto boundaryNext = [&](HalfedgeHandle h) {
+    auto next = mesh.opposite_halfedge_handle(h);
+    do
+      next = mesh.next_halfedge_handle(mesh.opposite_halfedge_handle(next));
+    while (selected(next) || !selected(mesh.opposite_halfedge_handle(next)));
+    return halfedgeInOut(next);
+  };
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    const auto f = TriMesh::FaceHandle(faces[k]);
+    out.set_halfedge_handle(TriMesh::FaceHandle(firstFace + int(k)),
+                            halfedgeInOut(mesh.halfedge_handle(f)));
+    // The new faces' own halfedges, on new and on shared edges alike.
+    for (auto h : mesh.fh_range(f)) {
+      const auto hOut = halfedgeInOut(h);
+      out.set_vertex_handle(hOut, vertexInOut(mesh.to_vertex_handle(h)));
+      out.set_face_handle(hOut, TriMesh::FaceHandle(firstFace + int(k)));
+      out.set_next_halfedge_handle(hOut, halfedgeInOut(mesh.next_halfedge_handle(h)));
+    }
+  }
+  // The other side of each new edge: a face of `joined` or of this call (set above), or the
+  // boundary.
+  for (int e : newEdges)
+    for (int side = 0; side < 2; ++side) {
+      const auto h = mesh.halfedge_handle(TriMesh::EdgeHandle(e), side);
+      if (selected(h)) continue;
+      const auto hOut = halfedgeInOut(h);
+      out.set_vertex_handle(hOut, vertexInOut(mesh.to_vertex_handle(h)));
+      out.set_face_handle(hOut, TriMesh::FaceHandle());
+    }
+  // Every boundary halfedge that ends at a vertex the new faces reach gets its successor anew:
+  // the faces may have closed the gap it led into. Their vertices hold a boundary halfedge where
+  // they have one.
+  for (int v : reached) {
+    const auto vh = VertexHandle(v);
+    HalfedgeHandle outgoing, boundary;
+    for (auto h : mesh.voh_range(vh)) {
+      if (added.edgeInOut[std::size_t(h.idx() / 2)] < 0) continue;
+      const auto incoming = mesh.opposite_halfedge_handle(h);
+      if (!selected(incoming))
+        out.set_next_halfedge_handle(halfedgeInOut(incoming), boundaryNext(incoming));
+      if (!outgoing.is_valid()) outgoing = halfedgeInOut(h);
+      if (!selected(h)) boundary = halfedgeInOut(h);
+    }
+    out.set_halfedge_handle(vertexInOut(vh), boundary.is_valid() ? boundary : outgoing);
+  }
+  for (std::size_t i = 0; i < newVertices.size(); ++i)
+    out.set_point(VertexHandle(added.firstVertex + int(i)),
+                  mesh.point(VertexHandle(newVertices[i])));
   return added;
 }
 

@@ -146,9 +146,16 @@ StitchBase stitchBase(const Parameterization& target) {
       throw StitchError("the target canvas maps a vertex outside the target mesh");
     base.meshToCanvas[std::size_t(v)] = int(c);
   }
-  for (int f : base.canvasFaceToMesh)
+  std::vector<char> inCanvas(mesh.n_faces(), 0);
+  for (int f : base.canvasFaceToMesh) {
     if (f < 0 || std::size_t(f) >= mesh.n_faces())
       throw StitchError("the target canvas maps a face outside the target mesh");
+    inCanvas[std::size_t(f)] = 1;
+  }
+  std::vector<int> outsideFaces;
+  for (std::size_t f = 0; f < inCanvas.size(); ++f)
+    (inCanvas[f] ? base.canvasMeshFaces : outsideFaces).push_back(int(f));
+  base.outsideFaces = appendFaces(base.outside, mesh, outsideFaces);
   return base;
 }
 
@@ -214,21 +221,38 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
       k = 0;
     }
   removePinches(targetMesh, kept, removedFaces);
-  std::vector<int> keptFaces;
-  keptFaces.reserve(kept.size());
-  removedFaces.clear();
-  for (std::size_t f = 0; f < kept.size(); ++f)
-    (kept[f] ? keptFaces : removedFaces).push_back(int(f));
-  result.removedFaces = removedFaces.size();
-
-  // The kept target faces and the patch, their connectivity copied (add_face, face by face, takes
-  // several times longer on a large target); room for the seam strips too.
+  // The kept target faces, then the patch, their connectivity copied (add_face, face by face,
+  // takes several times longer on a large target); room for the seam strips too. The part
+  // outside the canvas is copied whole from the base, unless pinches reached it.
   TriMesh& out = result.mesh;
   const std::size_t strips = 2 * targetCanvas.n_vertices() / 8 + 1024;
-  out.reserve(targetMesh.n_vertices() + canvas.n_vertices(),
-              targetMesh.n_edges() + canvas.n_edges() + strips,
-              targetMesh.n_faces() + canvas.n_faces() + strips);
-  const AppendedFaces targetPart = appendFaces(out, targetMesh, keptFaces);
+  auto reserve = [&] {
+    out.reserve(targetMesh.n_vertices() + canvas.n_vertices(),
+                targetMesh.n_edges() + canvas.n_edges() + strips,
+                targetMesh.n_faces() + canvas.n_faces() + strips);
+  };
+  std::vector<int> keptFaces;
+  removedFaces.clear();
+  for (int f : base->canvasMeshFaces)
+    (kept[std::size_t(f)] ? keptFaces : removedFaces).push_back(f);
+  AppendedFaces targetPart;
+  std::vector<int> outToMesh;  // vertex of `out` -> target mesh vertex
+  if (std::size_t(std::count(kept.begin(), kept.end(), 0)) == removedFaces.size()) {
+    // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
+    reserve();
+    out = base->outside;
+    targetPart = joinFaces(out, targetMesh, keptFaces, base->outsideFaces);
+    outToMesh = base->outsideFaces.sourceVertex;
+  } else {
+    keptFaces.clear();
+    removedFaces.clear();
+    for (std::size_t f = 0; f < kept.size(); ++f)
+      (kept[f] ? keptFaces : removedFaces).push_back(int(f));
+    reserve();
+    targetPart = appendFaces(out, targetMesh, keptFaces);
+  }
+  outToMesh.insert(outToMesh.end(), targetPart.sourceVertex.begin(), targetPart.sourceVertex.end());
+  result.removedFaces = removedFaces.size();
 
   // The seam loops: boundary loops of the target part through a vertex of a removed face, found
   // before the patch is added.
@@ -247,8 +271,7 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
         do {
           traced[std::size_t(h.idx())] = 1;
           const int v = out.from_vertex_handle(h).idx();
-          const int canvasVertex = base->meshToCanvas[std::size_t(
-              targetPart.sourceVertex[std::size_t(v - targetPart.firstVertex)])];
+          const int canvasVertex = base->meshToCanvas[std::size_t(outToMesh[std::size_t(v)])];
           if (canvasVertex < 0) {
             throw StitchError(
                 "the region reaches the edge of the target canvas: paint away from "
@@ -264,7 +287,12 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
     }
 
   // The patch, after the target's vertices, each vertex at x~(E_s(v)) + G(v).
-  const AppendedFaces patch = appendFaces(out, canvas, patchFaces);
+  // Joined to nothing: the copy costs the region's size, not the canvas'.
+  AppendedFaces nothing;
+  nothing.vertexInOut.assign(canvas.n_vertices(), -1);
+  nothing.edgeInOut.assign(canvas.n_edges(), -1);
+  nothing.faceInOut.assign(canvas.n_faces(), -1);
+  const AppendedFaces patch = joinFaces(out, canvas, patchFaces, nothing);
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < patch.sourceVertex.size(); ++i) {
     const int c = patch.sourceVertex[i];
@@ -323,8 +351,7 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
       if (!face.is_valid()) {
         throw StitchError(
             "the seam strip folds onto itself near target " +
-            vertexText(
-                targetPart.sourceVertex[std::size_t(t[2] < patch.firstVertex ? t[2] : t[0])]) +
+            vertexText(outToMesh[std::size_t(t[2] < patch.firstVertex ? t[2] : t[0])]) +
             ": the two outlines are too far apart or too jagged to join");
       }
       ++result.gapTriangles;
@@ -332,7 +359,7 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
     ++result.seamLoops;
   }
   PasteMap& map = result.map;
-  map.targetVertex = targetPart.sourceVertex;
+  map.targetVertex = outToMesh;
   map.targetVertex.resize(out.n_vertices(), -1);
   map.sourceVertex.assign(std::size_t(patch.firstVertex), -1);
   map.sourceVertex.insert(map.sourceVertex.end(), patch.sourceVertex.begin(),

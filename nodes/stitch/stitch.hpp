@@ -9,6 +9,7 @@
 
 #include "geobrush/canvas.hpp"
 #include "geobrush/region.hpp"
+#include "geobrush/submesh.hpp"
 
 namespace geobrush {
 
@@ -25,11 +26,16 @@ struct StitchResult {
   PasteMap map;                   // the origin of each vertex of `mesh`, and the seam faces
 };
 
-// How the target canvas sits in its mesh, which no paste changes: built once per target canvas.
+// How the target canvas sits in its mesh, and the mesh outside the canvas, which no paste
+// changes: built once per target canvas. Each result starts as a copy of `outside`, and the
+// canvas faces that stay are joined to it.
 struct StitchBase {
   std::vector<int> canvasToMesh;      // target canvas vertex -> target mesh vertex
   std::vector<int> meshToCanvas;      // target mesh vertex -> target canvas vertex, or -1
   std::vector<int> canvasFaceToMesh;  // target canvas face -> target mesh face
+  std::vector<int> canvasMeshFaces;   // the target mesh faces of the canvas, increasing
+  TriMesh outside;                    // the target mesh's faces outside the canvas
+  AppendedFaces outsideFaces;         // how `outside` maps to the target mesh
 };
 // Throws StitchError when the canvas does not map onto its mesh.
 StitchBase stitchBase(const Parameterization& target);

@@ -145,3 +145,61 @@ TEST(AppendFaces, GivesAPinchedSelectionAVertexThatCirculatorsGoRoundWhole) {
     facesRound += f.is_valid();
   EXPECT_EQ(facesRound, 2);
 }
+
+// A cap copied first and the rest of the sphere joined to it close into the whole sphere; joining
+// a ring of faces leaves two boundary loops where the parts meet nothing.
+TEST(JoinFaces, ClosesTheBoundaryBetweenTheCopiedParts) {
+  const TriMesh sphere = test::icosphere(3);
+  std::vector<int> below = facesBelowWavyCut(sphere), above;
+  std::vector<char> isBelow(sphere.n_faces(), 0);
+  for (int f : below)
+    isBelow[std::size_t(f)] = 1;
+  for (std::size_t f = 0; f < sphere.n_faces(); ++f)
+    if (!isBelow[f]) above.push_back(int(f));
+  TriMesh whole;
+  const AppendedFaces cap = appendFaces(whole, sphere, below);
+  const AppendedFaces all = joinFaces(whole, sphere, above, cap);
+  expectConsistentConnectivity(whole);
+  const test::Topology t = test::topology(whole);
+  EXPECT_EQ(t.vertices, sphere.n_vertices());
+  EXPECT_EQ(t.faces, sphere.n_faces());
+  EXPECT_EQ(t.edges, sphere.n_edges());
+  EXPECT_EQ(t.boundaryLoops, 0u);
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_EQ(t.eulerCharacteristic, 2);
+  // Every face has its source face's corners.
+  for (std::size_t f = 0; f < sphere.n_faces(); ++f) {
+    auto a = whole.cfv_begin(TriMesh::FaceHandle(all.faceInOut[f]));
+    auto b = sphere.cfv_begin(TriMesh::FaceHandle(int(f)));
+    for (int k = 0; k < 3; ++k, ++a, ++b)
+      EXPECT_EQ(a->idx(), all.vertexInOut[std::size_t(b->idx())]);
+  }
+  for (auto v : whole.vertices())
+    EXPECT_FALSE(whole.is_boundary(v));
+
+  // Only the faces touching the cut: a band with boundary on both sides.
+  std::vector<int> band;
+  for (int f : above) {
+    bool touchesCap = false;
+    for (auto v : sphere.fv_range(TriMesh::FaceHandle(f)))
+      touchesCap = touchesCap || cap.vertexInOut[std::size_t(v.idx())] >= 0;
+    if (touchesCap) band.push_back(f);
+  }
+  TriMesh capAndBand;
+  const AppendedFaces first = appendFaces(capAndBand, sphere, below);
+  joinFaces(capAndBand, sphere, band, first);
+  expectConsistentConnectivity(capAndBand);
+  const test::Topology b = test::topology(capAndBand);
+  EXPECT_EQ(b.components, 1u);
+  EXPECT_EQ(b.faces, below.size() + band.size());
+  EXPECT_EQ(b.boundaryLoops, test::topology(extractSubmesh(sphere,
+                                                           [&] {
+                                                             auto both = below;
+                                                             both.insert(both.end(), band.begin(),
+                                                                         band.end());
+                                                             return both;
+                                                           }())
+                                                .surface)
+                                 .boundaryLoops);
+  EXPECT_EQ(b.nonManifoldVertices, 0u);
+}

@@ -25,6 +25,8 @@ struct AppendedFaces {
   int firstVertex = 0;            // the first vertex of `out` that the call added
   std::vector<int> sourceVertex;  // added vertex firstVertex + i -> mesh vertex, increasing
   std::vector<int> vertexInOut;   // mesh vertex -> vertex of `out`, -1 where no face uses it
+  std::vector<int> edgeInOut;     // mesh edge -> edge of `out`, -1 where no face uses it
+  std::vector<int> faceInOut;     // mesh face -> face of `out`, -1 where not copied
 };
 
 // Appends `faces` of `mesh` (each listed once), in that order, with the edges and vertices they
@@ -34,5 +36,16 @@ struct AppendedFaces {
 // faces around a vertex form several fans, `out` gets a non-manifold vertex (as add_face would
 // refuse to make): callers that need a manifold select faces that form one fan at each vertex.
 AppendedFaces appendFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int>& faces);
+
+// Appends more `faces` of `mesh` to `out`, which already holds `joined` (appendFaces' or
+// joinFaces' account of other faces of `mesh` in `out`): vertices and edges the two share are
+// reused and the boundary between them closes, as if all had been copied at once. New edges and
+// vertices come in the order the faces first use them. Costs O(1)
+// per new face plus copying the three index maps: a large unchanging part of a mesh can be
+// copied once and the rest joined to a copy of it. The result accounts for both: sourceVertex
+// and firstVertex for the vertices this call added, the maps for all. The new faces must not be
+// in `joined`.
+AppendedFaces joinFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int>& faces,
+                        const AppendedFaces& joined);
 
 }  // namespace geobrush
