@@ -15,11 +15,17 @@
 // bi-Laplacian LᵀL x = Lᵀδ of Eq. 3 with both rings fixed. δ_v = L(g)_v is the Laplacian, with
 // the same operator on the same mesh, of the draft g: at a pasted vertex its draft position G(v),
 // at a fixed vertex of rings 1-2 the draft sampled at that vertex's target uv, G(E_s^-1(E_t(w)))
-// (barycentric on the source canvas, extrapolated from the nearest triangle outside it). So at a
-// pasted vertex away from the seam δ_v is the draft's Laplacian over its source-canvas one-ring
-// (δ_in = Δg_in), and E = Σ ‖L(x − g)‖²: the offset x − g is the discrete biharmonic function
-// equal to R_out − g_in on both rings, the membrane's Eq. 4 posed on the mesh. An exact draft
-// (G = the target surface) has zero energy at x = the target.
+// (barycentric on the source canvas). So at a pasted vertex away from the seam δ_v is the
+// draft's Laplacian over its source-canvas one-ring (δ_in = Δg_in), and E = Σ ‖L(x − g)‖²: the
+// offset x − g is the discrete biharmonic function equal to R_out − g_in on both rings, the
+// membrane's Eq. 4 posed on the mesh. An exact draft (G = the target surface) has zero energy at
+// x = the target.
+// The draft is read only on R_in and the region's draft support, all that a warp of the region
+// moves (the rest stays at its source positions: in a clone, on the source mesh). A ring vertex
+// whose source triangle reaches past the support (a target coarser than the region's grid) gets
+// R_out(w) plus the draft's detail over the target, G − E_t^-1, extended affinely in (u, v) from
+// the nearest supported vertices; read there, the unwarped draft made the mountain clone onto a
+// sphere a spike 12 times the paste's size.
 // Why mean-value weights: they are fixed (independent of x, so Eq. 3 stays linear), positive on
 // any fan, also on the seam strips' long thin triangles where cotangents blow up or turn
 // negative, and they have linear precision in (u, v): an offset affine in the domain has zero
@@ -117,7 +123,8 @@ struct VariationalPasteResult {
   VariationalPasteReport report;
 };
 
-// `draft` is G(P_s) with the source canvas' connectivity. An empty region gives the target mesh
+// `draft` is G(P_s) with the source canvas' connectivity; only its vertices in R_in and
+// region.draftSupport are read (see the header comment). An empty region gives the target mesh
 // unchanged. `base`, when given, must be stitchBase(target). Throws VariationalPasteError when
 // the inputs do not fit (see stitchPaste) or a fixed vertex of the two rings lies outside the
 // target canvas, and VariationalPasteSolveError when the solve does not converge within

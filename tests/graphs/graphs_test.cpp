@@ -416,3 +416,26 @@ TEST(CompareGraphs, TheC0SeamJumpsMoreThanTheC1Seam) {
   }
   EXPECT_GT(c0.at("seam_normal_jump_mean_deg"), 1.1 * c1.at("seam_normal_jump_mean_deg"));
 }
+
+// The same clone pasted by membrane + stitch and by the variational paste (Eq. 3 with Ceres): both
+// give a sane paste of the same size, with no new self-intersections, and the membrane's seam is
+// no worse than 1.5 times the variational one.
+TEST(CompareGraphs, TheMembraneAndTheVariationalPasteAgree) {
+  const auto membrane =
+      graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json");
+  const auto variational =
+      graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_variational.json");
+  for (const auto* m : {&membrane, &variational}) {
+    ASSERT_TRUE(m->count("seam_normal_jump_p95_deg"));
+    EXPECT_EQ(m->at("manifold"), 1);
+    EXPECT_EQ(m->at("components"), 1);
+    EXPECT_EQ(m->at("new_self_intersections"), 0);
+  }
+  EXPECT_NEAR(variational.at("scale_ratio"), membrane.at("scale_ratio"),
+              0.05 * membrane.at("scale_ratio"));
+  EXPECT_LT(membrane.at("seam_normal_jump_p95_deg"),
+            1.5 * variational.at("seam_normal_jump_p95_deg"));
+  EXPECT_LT(std::abs(membrane.at("detail_difference_percent") -
+                     variational.at("detail_difference_percent")),
+            5);
+}

@@ -254,8 +254,9 @@ TEST(VariationalPaste, AnExactDraftReproducesTheTarget) {
 }
 
 // At another resolution the draft's samples at the fixed rings are linear interpolations of the
-// bumps: the paste stays on the target surface to that accuracy, its detail is the source's, and
-// its seam is as smooth as the target.
+// bumps, and past the draft support the target plus an affine extension of the draft's height
+// over the target's linear interpolation: the paste stays on the target surface to about that
+// interpolation's error, its detail is the source's, and its seam is as smooth as the target.
 TEST(VariationalPaste, ABumpPasteAtAnotherResolutionStaysOnTheSurface) {
   const Paste paste(test::heightFieldParameterization(40, bumps),
                     test::heightFieldParameterization(29, bumps));
@@ -265,10 +266,10 @@ TEST(VariationalPaste, ABumpPasteAtAnotherResolutionStaysOnTheSurface) {
     const auto& p = result.mesh.point(v);
     largest = std::max(largest, std::abs(p[2] - bumps(p[0], p[1])));
   }
-  EXPECT_LT(largest, 2e-3);
+  EXPECT_LT(largest, 3e-3);
   const PasteMetrics m = measure(result, paste);
   EXPECT_EQ(m.values.at("manifold"), 1);
-  EXPECT_LT(m.values.at("detail_difference_percent"), 2);
+  EXPECT_LT(m.values.at("detail_difference_percent"), 3);
   EXPECT_LT(m.values.at("seam_normal_jump_p95_deg"), 3 * m.values.at("target_dihedral_p95_deg"));
   RecordProperty("largest_height_error", std::to_string(largest));
 }
@@ -405,6 +406,48 @@ TEST(VariationalPaste, ClosesAConstantGapOnARealTerrain) {
   const PasteMetrics m = measurePaste(result.mesh, &result.map, &surface, &surface);
   EXPECT_EQ(m.values.at("manifold"), 1);
   EXPECT_EQ(m.values.at("new_self_intersections"), 0);
+}
+
+// A warp of the region (geobrush.gc_warp with its region connected) moves only the draft
+// support, R_in and the source vertices under two grid nodes around Q, and leaves every other
+// draft vertex at its source position, far from the target in a real clone. On a target coarser
+// than the region's grid the fixed rings reach past that support: the paste reads the draft
+// there by its extension, so the vertices outside the support change nothing, and the relief
+// lands on the coarse flat target as the whole draft's paste does.
+TEST(VariationalPaste, ReadsTheDraftOnlyOnItsSupport) {
+  const Paste paste(test::heightFieldParameterization(40, relief),
+                    test::heightFieldParameterization(12, [](double, double) { return 0.0; }));
+  const TriMesh& whole = paste.source->canvas->surface;
+  std::vector<char> support(whole.n_vertices(), 0);
+  for (int v : paste.region.draftSupport)
+    support[std::size_t(v)] = 1;
+  TriMesh partial = whole;
+  std::size_t unwarped = 0;
+  for (auto v : partial.vertices())
+    if (!support[std::size_t(v.idx())]) {
+      partial.point(v)[1] += 20;
+      partial.point(v)[2] += 50;
+      ++unwarped;
+    }
+  ASSERT_GT(unwarped, 100u);
+
+  const VariationalPasteResult result = paste.solve(partial);
+  EXPECT_EQ(largestPastedDistance(result, paste.solve(whole)), 0);
+  double lowest = 0, highest = 0;
+  for (std::size_t v = 0; v < result.mesh.n_vertices(); ++v)
+    if (result.map.sourceVertex[v] >= 0) {
+      lowest = std::min(lowest, point(result.mesh, int(v)).z());
+      highest = std::max(highest, point(result.mesh, int(v)).z());
+    }
+  // The relief peaks at 0.18 and falls to 1e-3 at Q's outline.
+  EXPECT_GT(lowest, -0.01);
+  EXPECT_LT(highest, 0.2);
+  const PasteMetrics m = measure(result, paste);
+  EXPECT_EQ(m.values.at("new_self_intersections"), 0);
+  EXPECT_NEAR(m.values.at("scale_ratio"), 1, 0.05);
+  EXPECT_LT(m.values.at("detail_difference_percent"), 2.5);
+  RecordProperty("detail_difference_percent",
+                 std::to_string(m.values.at("detail_difference_percent")));
 }
 
 TEST(VariationalPasteNode, OutputsTheSolvedPasteAndItsReport) {
