@@ -1,0 +1,67 @@
+// geobrush-studio [GRAPH] [--screenshot PNG]: the interactive host. With --screenshot it opens
+// the graph, evaluates it, writes a picture of the whole window and exits (for docs and tests).
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QEventLoop>
+#include <QTimer>
+#include <cstdio>
+
+#include "geobrush/memory.hpp"
+#include "studio_window.hpp"
+
+int main(int argc, char** argv) {
+  geobrush::reuseFreedMemory();
+  QApplication app(argc, argv);
+  QApplication::setApplicationName("geobrush-studio");
+  QCommandLineParser parser;
+  parser.setApplicationDescription("GeoBrush Studio: wire clone graphs and evaluate them.");
+  parser.addHelpOption();
+  parser.addPositionalArgument("graph", "Graph file (.json) to open.");
+  QCommandLineOption screenshot(
+      "screenshot", "Evaluate the graph, write a screenshot of the window, exit.", "png");
+  parser.addOption(screenshot);
+  parser.process(app);
+
+  geobrush::NodeRegistry registry;
+  for (const auto& error : registry.loadPlugins(geobrush::defaultPluginDirs()).errors)
+    std::fprintf(stderr, "warning: %s\n", error.c_str());
+  geobrush::studio::StudioWindow window(registry);
+  const QStringList args = parser.positionalArguments();
+  const bool opened = !args.isEmpty() && window.openFile(args.front());
+  if (!parser.isSet(screenshot)) {
+    window.show();
+    return app.exec();
+  }
+  if (args.isEmpty()) {
+    std::fprintf(stderr, "error: --screenshot needs a graph file\n");
+    return 2;
+  }
+  if (!opened) {
+    std::fprintf(stderr, "error: %s: the graph could not be opened (see the log)\n",
+                 args.front().toLocal8Bit().constData());
+    return 2;
+  }
+  window.show();
+  bool ok = true;
+  if (window.document().evaluable()) {
+    QEventLoop loop;
+    QObject::connect(&window, &geobrush::studio::StudioWindow::evaluated, &loop,
+                     [&](bool evaluatedOk) {
+                       ok = evaluatedOk;
+                       loop.quit();
+                     });
+    QTimer::singleShot(0, &window, [&] { window.evaluate(); });
+    loop.exec();
+  }
+  QApplication::processEvents();
+  const QString png = parser.value(screenshot);
+  if (!window.grab().save(png, "PNG")) {
+    std::fprintf(stderr, "error: %s: cannot write the screenshot\n", png.toLocal8Bit().constData());
+    return 1;
+  }
+  if (!ok) {
+    std::fprintf(stderr, "error: %s\n", window.lastReport().error.c_str());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,174 @@
+#include "node_editor.hpp"
+
+#include <QGraphicsPathItem>
+#include <QGraphicsRectItem>
+#include <QGraphicsSimpleTextItem>
+#include <QPainterPath>
+#include <QPen>
+#include <set>
+
+namespace geobrush::studio {
+namespace {
+
+constexpr double kWidth = 190;
+constexpr double kTitle = 24;
+constexpr double kRow = 18;
+constexpr double kPort = 5;
+
+QColor stateColor(NodeState state) {
+  switch (state) {
+    case NodeState::Ok:
+      return QColor(70, 150, 90);
+    case NodeState::Warning:
+      return QColor(220, 150, 30);
+    case NodeState::Error:
+    case NodeState::Missing:
+      return QColor(200, 50, 50);
+    case NodeState::Idle:
+      break;
+  }
+  return QColor(110, 110, 120);
+}
+
+struct Ports {
+  std::vector<std::string> inputs, outputs;
+};
+
+// The ports of a node: its type's, or for a missing type the ones its connections name.
+Ports portsOf(const NodeRegistry& registry, const Graph& graph, const std::string& name) {
+  Ports ports;
+  if (const NodeType* type = registry.find(graph.nodes.at(name).type)) {
+    for (const auto& port : type->inputs)
+      ports.inputs.push_back(port.name);
+    for (const auto& port : type->outputs)
+      ports.outputs.push_back(port.name);
+    return ports;
+  }
+  std::set<std::string> in, out;
+  for (const auto& c : graph.connections) {
+    if (c.to.node == name) in.insert(c.to.port);
+    if (c.from.node == name) out.insert(c.from.port);
+  }
+  ports.inputs.assign(in.begin(), in.end());
+  ports.outputs.assign(out.begin(), out.end());
+  return ports;
+}
+
+// Where nodes without a saved position go: a column per depth in the graph (sources left), in
+// name order down each column.
+std::map<std::string, QPointF> layered(const Graph& graph) {
+  std::map<std::string, int> depth;
+  std::vector<std::string> order;
+  try {
+    order = topologicalOrder(graph);
+  } catch (const GraphError&) {
+    for (const auto& [name, node] : graph.nodes)
+      order.push_back(name);
+  }
+  for (const auto& name : order) {
+    int d = 0;
+    for (const auto& c : graph.connections)
+      if (c.to.node == name && depth.count(c.from.node)) d = std::max(d, depth[c.from.node] + 1);
+    depth[name] = d;
+  }
+  std::map<int, int> filled;
+  std::map<std::string, QPointF> at;
+  for (const auto& [name, node] : graph.nodes) {
+    const int d = depth[name];
+    at[name] = QPointF(250.0 * d, 130.0 * filled[d]++);
+  }
+  return at;
+}
+
+}  // namespace
+
+NodeEditor::NodeEditor(const NodeRegistry& registry, QWidget* parent)
+    : QGraphicsView(parent), registry_(registry) {
+  setScene(&scene_);
+  setRenderHint(QPainter::Antialiasing);
+  setDragMode(QGraphicsView::RubberBandDrag);
+}
+
+void NodeEditor::show(const StudioDocument& document,
+                      const std::map<std::string, NodeStatus>& statuses) {
+  scene_.clear();
+  boxes_.clear();
+  placed_.clear();
+  saved_.clear();
+  const Graph& graph = document.graph();
+  std::map<std::pair<std::string, std::string>, QPointF> inputAt, outputAt;
+  const std::map<std::string, QPointF> automatic = layered(graph);
+  for (const auto& [name, node] : graph.nodes) {
+    const Ports ports = portsOf(registry_, graph, name);
+    const double height =
+        kTitle + kRow * double(std::max(ports.inputs.size(), ports.outputs.size())) + 8;
+    const auto saved = graph.ui.find(name);
+    const QPointF at =
+        saved != graph.ui.end() ? QPointF(saved->second.x, saved->second.y) : automatic.at(name);
+    const auto found = statuses.find(name);
+    const NodeStatus status = found != statuses.end() ? found->second : NodeStatus{};
+    auto* box = scene_.addRect(0, 0, kWidth, height);
+    box->setPos(at);
+    box->setFlags(QGraphicsItem::ItemIsMovable | QGraphicsItem::ItemIsSelectable);
+    QPen pen(stateColor(status.state), status.state == NodeState::Idle ? 1.5 : 3);
+    if (status.state == NodeState::Missing) pen.setStyle(Qt::DashLine);
+    box->setPen(pen);
+    box->setBrush(QColor(245, 245, 248));
+    std::string tip = node.type;
+    if (!status.message.empty()) tip += "\n" + status.message;
+    box->setToolTip(QString::fromStdString(tip));
+    auto* title = new QGraphicsSimpleTextItem(QString::fromStdString(name), box);
+    title->setPos(6, 4);
+    auto* type = new QGraphicsSimpleTextItem(
+        QString::fromStdString(status.state == NodeState::Missing ? "missing: " + node.type
+                                                                  : node.type),
+        box);
+    type->setScale(0.75);
+    type->setPos(6 + title->boundingRect().width() + 6, 6);
+    for (std::size_t i = 0; i < ports.inputs.size(); ++i) {
+      const QPointF p(0, kTitle + kRow * (double(i) + 0.5));
+      scene_
+          .addEllipse(-kPort, p.y() - kPort, 2 * kPort, 2 * kPort, QPen(Qt::black),
+                      QBrush(QColor(90, 140, 220)))
+          ->setParentItem(box);
+      auto* label = new QGraphicsSimpleTextItem(QString::fromStdString(ports.inputs[i]), box);
+      label->setScale(0.8);
+      label->setPos(8, p.y() - 7);
+      inputAt[{name, ports.inputs[i]}] = at + p;
+    }
+    for (std::size_t i = 0; i < ports.outputs.size(); ++i) {
+      const QPointF p(kWidth, kTitle + kRow * (double(i) + 0.5));
+      scene_
+          .addEllipse(kWidth - kPort, p.y() - kPort, 2 * kPort, 2 * kPort, QPen(Qt::black),
+                      QBrush(QColor(230, 170, 60)))
+          ->setParentItem(box);
+      auto* label = new QGraphicsSimpleTextItem(QString::fromStdString(ports.outputs[i]), box);
+      label->setScale(0.8);
+      label->setPos(kWidth - 8 - 0.8 * label->boundingRect().width(), p.y() - 7);
+      outputAt[{name, ports.outputs[i]}] = at + p;
+    }
+    boxes_[name] = box;
+    placed_[name] = at;
+    if (saved != graph.ui.end()) saved_.insert(name);
+  }
+  for (const auto& c : graph.connections) {
+    const auto from = outputAt.find({c.from.node, c.from.port});
+    const auto to = inputAt.find({c.to.node, c.to.port});
+    if (from == outputAt.end() || to == inputAt.end()) continue;
+    QPainterPath path(from->second);
+    const double bend = std::max(40.0, std::abs(to->second.x() - from->second.x()) / 2);
+    path.cubicTo(from->second + QPointF(bend, 0), to->second - QPointF(bend, 0), to->second);
+    auto* curve = scene_.addPath(path, QPen(QColor(60, 60, 70), 1.5));
+    curve->setZValue(-1);
+  }
+  scene_.setSceneRect(scene_.itemsBoundingRect().adjusted(-40, -40, 40, 40));
+  fitInView(scene_.sceneRect(), Qt::KeepAspectRatio);
+}
+
+void NodeEditor::storePositions(Graph& graph) const {
+  for (const auto& [name, box] : boxes_)
+    if (saved_.count(name) || box->pos() != placed_.at(name))
+      graph.ui[name] = {box->pos().x(), box->pos().y()};
+}
+
+}  // namespace geobrush::studio

@@ -1,0 +1,54 @@
+// The studio's model of one open graph file: the graph as read (kept whole, also where a node's
+// plugin is missing, so that it saves back unchanged), which nodes are missing, and the state
+// of each node after the last evaluation. No widgets here: tests drive it directly.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
+#include "geobrush/registry.hpp"
+
+namespace geobrush::studio {
+
+enum class NodeState { Idle, Ok, Warning, Error, Missing };
+
+struct NodeStatus {
+  NodeState state = NodeState::Idle;
+  std::string message;  // the error, the warnings, or why the node is missing
+  double seconds = 0;
+};
+
+class StudioDocument {
+ public:
+  explicit StudioDocument(const NodeRegistry& registry) : registry_(registry) {}
+
+  // Reads a graph file. A node whose type no plugin provides stays in the graph, marked
+  // missing; the rest of the graph is checked as the CLI checks it. Returns the error (one line
+  // naming the file, node and port) or an empty string; on error the document is unchanged.
+  std::string open(const std::filesystem::path& path);
+  // Writes the graph in the CLI's format (UI positions in the "ui" block). Returns the error or
+  // an empty string.
+  std::string save(const std::filesystem::path& path);
+
+  const Graph& graph() const { return graph_; }
+  Graph& graph() { return graph_; }
+  const std::filesystem::path& path() const { return path_; }
+  const std::set<std::string>& missingNodes() const { return missing_; }
+  bool evaluable() const { return missing_.empty(); }
+
+  // The statuses after an evaluation (or the missing marks); every node has one.
+  std::map<std::string, NodeStatus> statuses(const EvalReport* report) const;
+
+ private:
+  const NodeRegistry& registry_;
+  Graph graph_;
+  std::filesystem::path path_;
+  std::set<std::string> missing_;
+};
+
+}  // namespace geobrush::studio

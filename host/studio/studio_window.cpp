@@ -1,0 +1,164 @@
+#include "studio_window.hpp"
+
+#include <QAction>
+#include <QDockWidget>
+#include <QFileDialog>
+#include <QMenuBar>
+#include <QPlainTextEdit>
+#include <QStatusBar>
+#include <QTreeWidget>
+#include <map>
+
+namespace geobrush::studio {
+
+StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
+    : QMainWindow(parent),
+      registry_(registry),
+      document_(registry),
+      editor_(new NodeEditor(registry, this)),
+      palette_(new QTreeWidget(this)),
+      log_(new QPlainTextEdit(this)),
+      evaluator_(std::make_unique<Evaluator>(registry)) {
+  setWindowTitle("GeoBrush Studio");
+  resize(1280, 800);
+  setCentralWidget(editor_);
+
+  // The palette lists the types the plugins declared, by category.
+  palette_->setHeaderLabel("Nodes");
+  std::map<std::string, QTreeWidgetItem*> categories;
+  for (const NodeType* type : registry.types()) {
+    const std::string category = type->category.empty() ? "Other" : type->category;
+    QTreeWidgetItem*& group = categories[category];
+    if (!group) group = new QTreeWidgetItem(palette_, {QString::fromStdString(category)});
+    auto* item = new QTreeWidgetItem(
+        group, {QString::fromStdString(type->label.empty() ? type->id : type->label)});
+    item->setToolTip(0, QString::fromStdString(type->id + "\n" + type->doc));
+  }
+  palette_->expandAll();
+  auto* paletteDock = new QDockWidget("Palette", this);
+  paletteDock->setWidget(palette_);
+  addDockWidget(Qt::LeftDockWidgetArea, paletteDock);
+  log_->setReadOnly(true);
+  auto* logDock = new QDockWidget("Log", this);
+  logDock->setWidget(log_);
+  addDockWidget(Qt::BottomDockWidgetArea, logDock);
+
+  QMenu* file = menuBar()->addMenu("&File");
+  file->addAction("&Open...", QKeySequence::Open, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, "Open graph", {}, "Graphs (*.json)");
+    if (!path.isEmpty()) openFile(path);
+  });
+  file->addAction("&Save", QKeySequence::Save, [this] {
+    if (!document_.path().empty()) saveFile(QString::fromStdString(document_.path().string()));
+  });
+  file->addAction("Save &As...", QKeySequence::SaveAs, [this] {
+    const QString path = QFileDialog::getSaveFileName(this, "Save graph", {}, "Graphs (*.json)");
+    if (!path.isEmpty()) saveFile(path);
+  });
+  QMenu* graph = menuBar()->addMenu("&Graph");
+  graph->addAction("&Evaluate", QKeySequence(Qt::Key_F5), [this] { evaluate(); });
+  statusBar()->showMessage("Open a graph (File > Open)");
+}
+
+StudioWindow::~StudioWindow() {
+  stopWorker();
+}
+
+bool StudioWindow::openFile(const QString& path) {
+  stopWorker();
+  const std::string error = document_.open(path.toStdString());
+  if (!error.empty()) {
+    log("error: " + QString::fromStdString(error));
+    statusBar()->showMessage(QString::fromStdString(error));
+    return false;
+  }
+  evaluator_ = std::make_unique<Evaluator>(registry_);
+  report_ = {};
+  for (const auto& name : document_.missingNodes())
+    log("warning: " + path + ": node '" + QString::fromStdString(name) +
+        "': no loaded plugin provides '" +
+        QString::fromStdString(document_.graph().nodes.at(name).type) + "'");
+  setWindowTitle("GeoBrush Studio - " + path);
+  refresh(nullptr);
+  statusBar()->showMessage("Opened " + path);
+  return true;
+}
+
+bool StudioWindow::saveFile(const QString& path) {
+  editor_->storePositions(document_.graph());
+  const std::string error = document_.save(path.toStdString());
+  if (!error.empty()) {
+    log("error: " + QString::fromStdString(error));
+    return false;
+  }
+  statusBar()->showMessage("Saved " + path);
+  return true;
+}
+
+void StudioWindow::evaluate() {
+  stopWorker();
+  if (!document_.evaluable()) {
+    log("error: the graph has nodes whose plugin is missing: it cannot be evaluated");
+    emit evaluated(false);
+    return;
+  }
+  Graph graph = document_.graph();
+  try {
+    prepareGraph(graph, registry_);
+  } catch (const GraphError& e) {
+    log("error: " + QString::fromStdString(e.what()));
+    emit evaluated(false);
+    return;
+  }
+  cancel_ = false;
+  finished_ = false;
+  statusBar()->showMessage("Evaluating...");
+  const int generation = ++generation_;
+  worker_ = std::thread([this, generation, graph = std::move(graph)] {
+    EvalOptions options;
+    options.cancel = &cancel_;
+    EvalReport report = evaluator_->evaluate(graph, options);
+    QMetaObject::invokeMethod(
+        this,
+        [this, generation, report = std::move(report)]() mutable {
+          finishEvaluation(generation, std::move(report));
+        },
+        Qt::QueuedConnection);
+  });
+}
+
+void StudioWindow::finishEvaluation(int generation, EvalReport report) {
+  if (generation != generation_) return;
+  finished_ = true;
+  if (worker_.joinable()) worker_.join();
+  report_ = std::move(report);
+  for (const auto& run : report_.runs)
+    for (const auto& warning : run.warnings)
+      log("warning: node '" + QString::fromStdString(run.node) +
+          "': " + QString::fromStdString(warning));
+  if (!report_.ok) log("error: " + QString::fromStdString(report_.error));
+  refresh(&report_);
+  statusBar()->showMessage(report_.ok ? QString("Evaluated: %1 nodes computed, %2 cached")
+                                            .arg(report_.computed())
+                                            .arg(report_.cacheHits())
+                                      : QString::fromStdString(report_.error));
+  emit evaluated(report_.ok);
+}
+
+void StudioWindow::stopWorker() {
+  ++generation_;
+  if (!worker_.joinable()) return;
+  cancel_ = true;
+  worker_.join();
+  finished_ = true;
+}
+
+void StudioWindow::refresh(const EvalReport* report) {
+  editor_->show(document_, document_.statuses(report));
+}
+
+void StudioWindow::log(const QString& line) {
+  log_->appendPlainText(line);
+}
+
+}  // namespace geobrush::studio

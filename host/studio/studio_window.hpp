@@ -1,0 +1,60 @@
+// The studio's main window: the palette of every loaded node type (from the plugins), the node
+// editor, and a log; graphs open and save in the CLI's format, and evaluate on a worker thread
+// with the same evaluator as `geobrush run`, so the window never blocks.
+#pragma once
+
+#include <QMainWindow>
+#include <atomic>
+#include <memory>
+#include <thread>
+
+#include "node_editor.hpp"
+#include "studio_document.hpp"
+
+class QPlainTextEdit;
+class QTreeWidget;
+
+namespace geobrush::studio {
+
+class StudioWindow : public QMainWindow {
+  Q_OBJECT
+
+ public:
+  explicit StudioWindow(const NodeRegistry& registry, QWidget* parent = nullptr);
+  ~StudioWindow() override;
+
+  // Opens a graph file; errors go to the log and the status bar. Returns whether it opened.
+  bool openFile(const QString& path);
+  bool saveFile(const QString& path);
+  // Starts an evaluation of the open graph on the worker thread (cancelling one under way);
+  // `evaluated` is emitted when it ends.
+  void evaluate();
+  bool evaluating() const { return worker_.joinable() && !finished_; }
+  const StudioDocument& document() const { return document_; }
+  const EvalReport& lastReport() const { return report_; }
+
+ signals:
+  void evaluated(bool ok);
+
+ private:
+  void log(const QString& line);
+  void refresh(const EvalReport* report);
+  void finishEvaluation(int generation, EvalReport report);
+  void stopWorker();
+
+  const NodeRegistry& registry_;
+  StudioDocument document_;
+  NodeEditor* editor_;
+  QTreeWidget* palette_;
+  QPlainTextEdit* log_;
+  EvalReport report_;
+  std::unique_ptr<Evaluator> evaluator_;
+  std::thread worker_;
+  std::atomic<bool> cancel_{false};
+  bool finished_ = true;
+  // Counts evaluations: a result that arrives after a newer one started, or after the graph was
+  // replaced, is dropped.
+  int generation_ = 0;
+};
+
+}  // namespace geobrush::studio
