@@ -1,5 +1,6 @@
-// geobrush-studio [GRAPH] [--screenshot PNG]: the interactive host. With --screenshot it opens
-// the graph, evaluates it, writes a picture of the whole window and exits (for docs and tests).
+// geobrush-studio [GRAPH] [--out DIR] [--screenshot PNG]: the interactive host. With --screenshot
+// it opens the graph, evaluates it, writes a picture of the whole window and exits (for docs and
+// tests).
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QEventLoop>
@@ -20,12 +21,16 @@ int main(int argc, char** argv) {
   QCommandLineOption screenshot(
       "screenshot", "Evaluate the graph, write a screenshot of the window, exit.", "png");
   parser.addOption(screenshot);
+  QCommandLineOption out("out", "Folder for the graph's output files (default: the graph's).",
+                         "dir");
+  parser.addOption(out);
   parser.process(app);
 
   geobrush::NodeRegistry registry;
   for (const auto& error : registry.loadPlugins(geobrush::defaultPluginDirs()).errors)
     std::fprintf(stderr, "warning: %s\n", error.c_str());
   geobrush::studio::StudioWindow window(registry);
+  if (parser.isSet(out)) window.setOutputDir(parser.value(out).toStdString());
   const QStringList args = parser.positionalArguments();
   const bool opened = !args.isEmpty() && window.openFile(args.front());
   if (!parser.isSet(screenshot)) {

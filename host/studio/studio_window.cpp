@@ -114,9 +114,10 @@ void StudioWindow::evaluate() {
   finished_ = false;
   statusBar()->showMessage("Evaluating...");
   const int generation = ++generation_;
-  worker_ = std::thread([this, generation, graph = std::move(graph)] {
+  worker_ = std::thread([this, generation, outputDir = outputDir_, graph = std::move(graph)] {
     EvalOptions options;
     options.cancel = &cancel_;
+    options.outputDir = outputDir;
     EvalReport report = evaluator_->evaluate(graph, options);
     QMetaObject::invokeMethod(
         this,

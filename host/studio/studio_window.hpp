@@ -29,6 +29,9 @@ class StudioWindow : public QMainWindow {
   // Starts an evaluation of the open graph on the worker thread (cancelling one under way);
   // `evaluated` is emitted when it ends.
   void evaluate();
+  // Where the graph's output files go; empty (the default): the graph file's folder, as for
+  // `geobrush run` without --out.
+  void setOutputDir(const std::filesystem::path& dir) { outputDir_ = dir; }
   bool evaluating() const { return worker_.joinable() && !finished_; }
   const StudioDocument& document() const { return document_; }
   const EvalReport& lastReport() const { return report_; }
@@ -52,6 +55,7 @@ class StudioWindow : public QMainWindow {
   std::thread worker_;
   std::atomic<bool> cancel_{false};
   bool finished_ = true;
+  std::filesystem::path outputDir_;
   // Counts evaluations: a result that arrives after a newer one started, or after the graph was
   // replaced, is dropped.
   int generation_ = 0;

@@ -94,9 +94,12 @@ TEST(StudioDocument, ABrokenFileIsRefusedAndTheOpenGraphKept) {
 
 TEST(StudioWindow, EvaluatesOnItsWorkerAndShowsEachNodesState) {
   StudioWindow window(test::registry());
+  const auto dir = test::tempDir("studio-evaluate");
+  window.setOutputDir(dir);
   ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("default.json").string())));
   window.show();
   ASSERT_TRUE(evaluateAndWait(window)) << window.lastReport().error;
+  EXPECT_TRUE(std::filesystem::exists(dir / "default.obj"));
   const auto statuses = window.document().statuses(&window.lastReport());
   for (const auto& [name, status] : statuses)
     EXPECT_TRUE(status.state == NodeState::Ok || status.state == NodeState::Warning) << name;
@@ -116,6 +119,7 @@ TEST(StudioWindow, AFailingNodeIsReportedAndTheWindowStaysUsable) {
   graph.connections.push_back({{"load", "mesh"}, {"save_loaded", "mesh"}});
   writeGraphFile(graph, dir / "failing.json");
   StudioWindow window(test::registry());
+  window.setOutputDir(dir);
   ASSERT_TRUE(window.openFile(QString::fromStdString((dir / "failing.json").string())));
   EXPECT_FALSE(evaluateAndWait(window));
   const auto statuses = window.document().statuses(&window.lastReport());
@@ -129,12 +133,13 @@ TEST(StudioCommand, WritesAScreenshotOfTheEvaluatedGraph) {
   const auto dir = test::tempDir("studio-screenshot");
   const auto png = dir / "studio.png";
   const std::string command = (test::cliPath().parent_path() / "geobrush-studio").string() + " " +
-                              graphFile("default.json").string() + " --screenshot " + png.string() +
-                              " 2> " + (dir / "err.txt").string();
+                              graphFile("default.json").string() + " --out " + dir.string() +
+                              " --screenshot " + png.string() + " 2> " + (dir / "err.txt").string();
   EXPECT_EQ(std::system(command.c_str()), 0) << bytes(dir / "err.txt");
   const QImage shot(QString::fromStdString(png.string()));
   EXPECT_GT(shot.width(), 600);
   EXPECT_GT(shot.height(), 400);
+  EXPECT_TRUE(std::filesystem::exists(dir / "default.png"));
   const std::string missing = (test::cliPath().parent_path() / "geobrush-studio").string() +
                               " /no/such/graph.json --screenshot " + png.string() + " 2> " +
                               (dir / "err2.txt").string();
