@@ -1,8 +1,11 @@
 #include "node_editor.hpp"
 
+#include <QGraphicsLineItem>
 #include <QGraphicsPathItem>
 #include <QGraphicsRectItem>
 #include <QGraphicsSimpleTextItem>
+#include <QKeyEvent>
+#include <QMouseEvent>
 #include <QPainterPath>
 #include <QPen>
 #include <set>
@@ -14,6 +17,11 @@ constexpr double kWidth = 190;
 constexpr double kTitle = 24;
 constexpr double kRow = 18;
 constexpr double kPort = 5;
+
+// Item data keys: a box holds its node name; a port its node, port and side.
+constexpr int kNodeKey = 0;
+constexpr int kPortKey = 1;
+constexpr int kSideKey = 2;  // "in" or "out"
 
 QColor stateColor(NodeState state) {
   switch (state) {
@@ -91,12 +99,16 @@ NodeEditor::NodeEditor(const NodeRegistry& registry, QWidget* parent)
 
 void NodeEditor::show(const StudioDocument& document,
                       const std::map<std::string, NodeStatus>& statuses) {
+  pulling_ = nullptr;
   scene_.clear();
   boxes_.clear();
   placed_.clear();
   saved_.clear();
   const Graph& graph = document.graph();
-  std::map<std::pair<std::string, std::string>, QPointF> inputAt, outputAt;
+  auto& inputAt = inputAt_;
+  auto& outputAt = outputAt_;
+  inputAt.clear();
+  outputAt.clear();
   const std::map<std::string, QPointF> automatic = layered(graph);
   for (const auto& [name, node] : graph.nodes) {
     const Ports ports = portsOf(registry_, graph, name);
@@ -127,10 +139,12 @@ void NodeEditor::show(const StudioDocument& document,
     type->setPos(6 + title->boundingRect().width() + 6, 6);
     for (std::size_t i = 0; i < ports.inputs.size(); ++i) {
       const QPointF p(0, kTitle + kRow * (double(i) + 0.5));
-      scene_
-          .addEllipse(-kPort, p.y() - kPort, 2 * kPort, 2 * kPort, QPen(Qt::black),
-                      QBrush(QColor(90, 140, 220)))
-          ->setParentItem(box);
+      auto* dot = scene_.addEllipse(-kPort, p.y() - kPort, 2 * kPort, 2 * kPort, QPen(Qt::black),
+                                    QBrush(QColor(90, 140, 220)));
+      dot->setParentItem(box);
+      dot->setData(kNodeKey, QString::fromStdString(name));
+      dot->setData(kPortKey, QString::fromStdString(ports.inputs[i]));
+      dot->setData(kSideKey, "in");
       auto* label = new QGraphicsSimpleTextItem(QString::fromStdString(ports.inputs[i]), box);
       label->setScale(0.8);
       label->setPos(8, p.y() - 7);
@@ -138,15 +152,18 @@ void NodeEditor::show(const StudioDocument& document,
     }
     for (std::size_t i = 0; i < ports.outputs.size(); ++i) {
       const QPointF p(kWidth, kTitle + kRow * (double(i) + 0.5));
-      scene_
-          .addEllipse(kWidth - kPort, p.y() - kPort, 2 * kPort, 2 * kPort, QPen(Qt::black),
-                      QBrush(QColor(230, 170, 60)))
-          ->setParentItem(box);
+      auto* dot = scene_.addEllipse(kWidth - kPort, p.y() - kPort, 2 * kPort, 2 * kPort,
+                                    QPen(Qt::black), QBrush(QColor(230, 170, 60)));
+      dot->setParentItem(box);
+      dot->setData(kNodeKey, QString::fromStdString(name));
+      dot->setData(kPortKey, QString::fromStdString(ports.outputs[i]));
+      dot->setData(kSideKey, "out");
       auto* label = new QGraphicsSimpleTextItem(QString::fromStdString(ports.outputs[i]), box);
       label->setScale(0.8);
       label->setPos(kWidth - 8 - 0.8 * label->boundingRect().width(), p.y() - 7);
       outputAt[{name, ports.outputs[i]}] = at + p;
     }
+    box->setData(kNodeKey, QString::fromStdString(name));
     boxes_[name] = box;
     placed_[name] = at;
     if (saved != graph.ui.end()) saved_.insert(name);
@@ -169,6 +186,83 @@ void NodeEditor::storePositions(Graph& graph) const {
   for (const auto& [name, box] : boxes_)
     if (saved_.count(name) || box->pos() != placed_.at(name))
       graph.ui[name] = {box->pos().x(), box->pos().y()};
+}
+
+namespace {
+
+// The port under a scene position, if any.
+QGraphicsItem* portAt(const QGraphicsScene& scene, QPointF at) {
+  for (QGraphicsItem* item : scene.items(at))
+    if (item->data(kSideKey).isValid()) return item;
+  return nullptr;
+}
+
+Endpoint endpointOf(const QGraphicsItem* port) {
+  return {port->data(kNodeKey).toString().toStdString(),
+          port->data(kPortKey).toString().toStdString()};
+}
+
+}  // namespace
+
+void NodeEditor::mousePressEvent(QMouseEvent* event) {
+  const QPointF at = mapToScene(event->pos());
+  if (const QGraphicsItem* port = portAt(scene_, at);
+      port && event->button() == Qt::LeftButton && port->data(kSideKey).toString() == "out") {
+    pulledFrom_ = endpointOf(port);
+    pulling_ = scene_.addLine(QLineF(at, at), QPen(QColor(60, 60, 70), 1.5, Qt::DashLine));
+    return;
+  }
+  QGraphicsView::mousePressEvent(event);
+  if (onSelected) {
+    const auto selected = scene_.selectedItems();
+    onSelected(selected.isEmpty() ? std::string()
+                                  : selected.front()->data(kNodeKey).toString().toStdString());
+  }
+}
+
+void NodeEditor::mouseMoveEvent(QMouseEvent* event) {
+  if (pulling_) {
+    pulling_->setLine(QLineF(pulling_->line().p1(), mapToScene(event->pos())));
+    return;
+  }
+  QGraphicsView::mouseMoveEvent(event);
+}
+
+void NodeEditor::mouseReleaseEvent(QMouseEvent* event) {
+  if (pulling_) {
+    const QGraphicsItem* port = portAt(scene_, mapToScene(event->pos()));
+    delete pulling_;
+    pulling_ = nullptr;
+    if (port && port->data(kSideKey).toString() == "in" && onConnect)
+      onConnect(pulledFrom_, endpointOf(port));
+    return;
+  }
+  QGraphicsView::mouseReleaseEvent(event);
+  if (!onMoved) return;
+  for (const auto& [name, box] : boxes_)
+    if (box->pos() != placed_.at(name)) {
+      placed_[name] = box->pos();
+      onMoved(name, box->pos().x(), box->pos().y());
+    }
+}
+
+void NodeEditor::keyPressEvent(QKeyEvent* event) {
+  if ((event->key() == Qt::Key_Delete || event->key() == Qt::Key_Backspace) && onDelete) {
+    std::vector<std::string> names;
+    for (const QGraphicsItem* item : scene_.selectedItems())
+      if (item->data(kNodeKey).isValid())
+        names.push_back(item->data(kNodeKey).toString().toStdString());
+    if (!names.empty()) onDelete(names);
+    return;
+  }
+  QGraphicsView::keyPressEvent(event);
+}
+
+std::optional<QPoint> NodeEditor::portInView(const Endpoint& port, bool input) const {
+  const auto& at = input ? inputAt_ : outputAt_;
+  const auto it = at.find({port.node, port.port});
+  if (it == at.end()) return std::nullopt;
+  return mapFromScene(it->second);
 }
 
 }  // namespace geobrush::studio

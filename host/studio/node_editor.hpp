@@ -6,9 +6,12 @@
 
 #include <QGraphicsScene>
 #include <QGraphicsView>
+#include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "studio_document.hpp"
 
@@ -18,18 +21,39 @@ class NodeEditor : public QGraphicsView {
  public:
   NodeEditor(const NodeRegistry& registry, QWidget* parent = nullptr);
 
+  // What the user did; the window turns each into a document edit. A drag from an output port
+  // dropped on an input port connects them; Delete removes the selected nodes; a moved box
+  // reports where it went; a click on a box selects its node (an empty string: none).
+  std::function<void(const Endpoint& from, const Endpoint& to)> onConnect;
+  std::function<void(const std::vector<std::string>& nodes)> onDelete;
+  std::function<void(const std::string& node, double x, double y)> onMoved;
+  std::function<void(const std::string& node)> onSelected;
+  // Where a port's dot is in view coordinates (for scripted input); null when not shown.
+  std::optional<QPoint> portInView(const Endpoint& port, bool input) const;
+  // The scene position at the middle of the view, where new nodes go.
+  QPointF centre() const { return mapToScene(viewport()->rect().center()); }
+
   // Rebuilds the scene from the document's graph and the statuses.
   void show(const StudioDocument& document, const std::map<std::string, NodeStatus>& statuses);
   // Writes the boxes' positions into the graph's "ui" block: those it held, and those of boxes
   // that were moved (an untouched graph saves back as it was read).
   void storePositions(Graph& graph) const;
 
+ protected:
+  void mousePressEvent(QMouseEvent* event) override;
+  void mouseMoveEvent(QMouseEvent* event) override;
+  void mouseReleaseEvent(QMouseEvent* event) override;
+  void keyPressEvent(QKeyEvent* event) override;
+
  private:
   const NodeRegistry& registry_;
   QGraphicsScene scene_;
   std::map<std::string, QGraphicsItem*> boxes_;
   std::map<std::string, QPointF> placed_;  // where each box was put
-  std::set<std::string> saved_;            // the nodes whose position the graph held
+  std::map<std::pair<std::string, std::string>, QPointF> inputAt_, outputAt_;
+  std::set<std::string> saved_;           // the nodes whose position the graph held
+  QGraphicsLineItem* pulling_ = nullptr;  // the line drawn while dragging from an output
+  Endpoint pulledFrom_;
 };
 
 }  // namespace geobrush::studio

@@ -18,6 +18,8 @@ std::string StudioDocument::open(const std::filesystem::path& path) {
   graph_ = std::move(graph);
   path_ = path;
   missing_ = std::move(missing);
+  undo_.clear();
+  redo_.clear();
   return {};
 }
 
@@ -30,6 +32,131 @@ std::string StudioDocument::save(const std::filesystem::path& path) {
   }
   path_ = path;
   return {};
+}
+
+namespace {
+
+std::string nodeText(const std::string& node) {
+  return "node '" + node + "'";
+}
+
+}  // namespace
+
+void StudioDocument::updateMissing() {
+  missing_.clear();
+  for (const auto& [name, node] : graph_.nodes)
+    if (!registry_.find(node.type)) missing_.insert(name);
+}
+
+void StudioDocument::commit(Graph edited) {
+  undo_.push_back(std::move(graph_));
+  redo_.clear();
+  graph_ = std::move(edited);
+  updateMissing();
+}
+
+bool StudioDocument::undo() {
+  if (undo_.empty()) return false;
+  redo_.push_back(std::move(graph_));
+  graph_ = std::move(undo_.back());
+  undo_.pop_back();
+  updateMissing();
+  return true;
+}
+
+bool StudioDocument::redo() {
+  if (redo_.empty()) return false;
+  undo_.push_back(std::move(graph_));
+  graph_ = std::move(redo_.back());
+  redo_.pop_back();
+  updateMissing();
+  return true;
+}
+
+std::string StudioDocument::addNode(const std::string& typeId, double x, double y,
+                                    std::string* name) {
+  const NodeType* type = registry_.find(typeId);
+  if (!type) return "no loaded plugin provides '" + typeId + "'";
+  // "geobrush.load_mesh" -> "load_mesh", "load_mesh_2", ...
+  const std::string stem = typeId.substr(typeId.rfind('.') + 1);
+  std::string unique = stem;
+  for (int k = 2; graph_.nodes.count(unique); ++k)
+    unique = stem + "_" + std::to_string(k);
+  Graph edited = graph_;
+  edited.nodes[unique] = GraphNode{typeId, type->version, {}};
+  edited.ui[unique] = {x, y};
+  commit(std::move(edited));
+  if (name) *name = unique;
+  return {};
+}
+
+std::string StudioDocument::removeNodes(const std::vector<std::string>& names) {
+  Graph edited = graph_;
+  for (const auto& node : names) {
+    if (!edited.nodes.erase(node)) return nodeText(node) + ": no such node";
+    edited.ui.erase(node);
+    std::erase_if(edited.connections,
+                  [&](const Connection& c) { return c.from.node == node || c.to.node == node; });
+  }
+  commit(std::move(edited));
+  return {};
+}
+
+std::string StudioDocument::connect(const Endpoint& from, const Endpoint& to) {
+  const auto source = graph_.nodes.find(from.node), sink = graph_.nodes.find(to.node);
+  if (source == graph_.nodes.end()) return nodeText(from.node) + ": no such node";
+  if (sink == graph_.nodes.end()) return nodeText(to.node) + ": no such node";
+  const NodeType* sourceType = registry_.find(source->second.type);
+  const NodeType* sinkType = registry_.find(sink->second.type);
+  const PortDecl* output = sourceType ? sourceType->findOutput(from.port) : nullptr;
+  const PortDecl* input = sinkType ? sinkType->findInput(to.port) : nullptr;
+  if (sourceType && !output) return nodeText(from.node) + " has no output '" + from.port + "'";
+  if (sinkType && !input) return nodeText(to.node) + " has no input '" + to.port + "'";
+  if (output && input && output->typeId != input->typeId) {
+    return nodeText(to.node) + " input '" + to.port + "' takes " + input->typeId + ", not the " +
+           output->typeId + " of " + nodeText(from.node) + " output '" + from.port + "'";
+  }
+  Graph edited = graph_;
+  std::erase_if(edited.connections, [&](const Connection& c) { return c.to == to; });
+  edited.connections.push_back({from, to});
+  try {
+    topologicalOrder(edited);
+  } catch (const GraphError&) {
+    return "connecting " + nodeText(from.node) + " to " + nodeText(to.node) + " makes a cycle";
+  }
+  commit(std::move(edited));
+  return {};
+}
+
+std::string StudioDocument::setParam(const std::string& node, const std::string& param,
+                                     ParamValue value) {
+  const auto it = graph_.nodes.find(node);
+  if (it == graph_.nodes.end()) return nodeText(node) + ": no such node";
+  const NodeType* type = registry_.find(it->second.type);
+  const ParamDecl* decl = type ? type->findParam(param) : nullptr;
+  if (!decl) return nodeText(node) + " has no param '" + param + "'";
+  try {
+    value = coerceParam(*decl, value);
+  } catch (const std::invalid_argument& e) {
+    return nodeText(node) + " param '" + param + "': " + e.what();
+  }
+  if (const auto problem = checkParam(*decl, value))
+    return nodeText(node) + " param '" + param + "': " + *problem;
+  const auto current = it->second.params.find(param);
+  if ((current != it->second.params.end() ? current->second : decl->defaultValue) == value)
+    return {};
+  Graph edited = graph_;
+  edited.nodes[node].params[param] = std::move(value);
+  commit(std::move(edited));
+  return {};
+}
+
+void StudioDocument::moveNode(const std::string& node, double x, double y) {
+  const auto it = graph_.ui.find(node);
+  if (it != graph_.ui.end() && it->second.x == x && it->second.y == y) return;
+  Graph edited = graph_;
+  edited.ui[node] = {x, y};
+  commit(std::move(edited));
 }
 
 std::map<std::string, NodeStatus> StudioDocument::statuses(const EvalReport* report) const {

@@ -11,6 +11,7 @@
 
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
+#include "geobrush/param.hpp"
 #include "geobrush/registry.hpp"
 
 namespace geobrush::studio {
@@ -41,6 +42,25 @@ class StudioDocument {
   const std::set<std::string>& missingNodes() const { return missing_; }
   bool evaluable() const { return missing_.empty(); }
 
+  // Graph edits. Each returns an error for the user (naming the node and port) and leaves the
+  // graph unchanged, or returns an empty string; a successful edit can be undone.
+  // A node of `typeId` at (x, y), named after the type and numbered to be unique.
+  std::string addNode(const std::string& typeId, double x, double y, std::string* name = nullptr);
+  // Removes the nodes and every connection to or from them.
+  std::string removeNodes(const std::vector<std::string>& names);
+  // Connects an output to an input whose value types match; a connection already feeding the
+  // input is replaced. Refuses unknown nodes or ports, mismatched types and cycles.
+  std::string connect(const Endpoint& from, const Endpoint& to);
+  // A param value, checked against the node type's declaration (kind, range, choices).
+  std::string setParam(const std::string& node, const std::string& param, ParamValue value);
+  void moveNode(const std::string& node, double x, double y);
+
+  // Steps back through the edits and forward again; false when there is nothing to step to.
+  bool undo();
+  bool redo();
+  bool canUndo() const { return !undo_.empty(); }
+  bool canRedo() const { return !redo_.empty(); }
+
   // The statuses after an evaluation (or the missing marks); every node has one.
   std::map<std::string, NodeStatus> statuses(const EvalReport* report) const;
 
@@ -49,6 +69,11 @@ class StudioDocument {
   Graph graph_;
   std::filesystem::path path_;
   std::set<std::string> missing_;
+  std::vector<Graph> undo_, redo_;  // the graph before each edit, and the edits undone
+
+  // Replaces the graph by an edited copy, keeping the current one for undo.
+  void commit(Graph edited);
+  void updateMissing();
 };
 
 }  // namespace geobrush::studio

@@ -6,6 +6,7 @@
 #include <QMenuBar>
 #include <QPlainTextEdit>
 #include <QStatusBar>
+#include <QTimer>
 #include <QTreeWidget>
 #include <map>
 
@@ -18,6 +19,7 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
       editor_(new NodeEditor(registry, this)),
       palette_(new QTreeWidget(this)),
       log_(new QPlainTextEdit(this)),
+      params_(new ParamPanel(registry, this)),
       evaluator_(std::make_unique<Evaluator>(registry)) {
   setWindowTitle("GeoBrush Studio");
   resize(1280, 800);
@@ -33,8 +35,35 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
     auto* item = new QTreeWidgetItem(
         group, {QString::fromStdString(type->label.empty() ? type->id : type->label)});
     item->setToolTip(0, QString::fromStdString(type->id + "\n" + type->doc));
+    item->setData(0, Qt::UserRole, QString::fromStdString(type->id));
   }
   palette_->expandAll();
+  connect(palette_, &QTreeWidget::itemDoubleClicked, this, [this](QTreeWidgetItem* item) {
+    const QString id = item->data(0, Qt::UserRole).toString();
+    if (!id.isEmpty()) addNode(id.toStdString());
+  });
+  params_->setMinimumWidth(280);
+  auto* paramsDock = new QDockWidget("Parameters", this);
+  paramsDock->setWidget(params_);
+  addDockWidget(Qt::RightDockWidgetArea, paramsDock);
+  params_->onChange = [this](const std::string& node, const std::string& param,
+                             const ParamValue& value) {
+    edited(document_.setParam(node, param, value));
+  };
+  editor_->onConnect = [this](const Endpoint& from, const Endpoint& to) {
+    edited(document_.connect(from, to));
+  };
+  editor_->onDelete = [this](const std::vector<std::string>& nodes) {
+    edited(document_.removeNodes(nodes));
+  };
+  editor_->onMoved = [this](const std::string& node, double x, double y) {
+    document_.moveNode(node, x, y);
+    undoAction_->setEnabled(document_.canUndo());
+  };
+  editor_->onSelected = [this](const std::string& node) {
+    selected_ = node;
+    params_->showNode(document_, node);
+  };
   auto* paletteDock = new QDockWidget("Palette", this);
   paletteDock->setWidget(palette_);
   addDockWidget(Qt::LeftDockWidgetArea, paletteDock);
@@ -55,6 +84,11 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
     const QString path = QFileDialog::getSaveFileName(this, "Save graph", {}, "Graphs (*.json)");
     if (!path.isEmpty()) saveFile(path);
   });
+  QMenu* edit = menuBar()->addMenu("&Edit");
+  undoAction_ = edit->addAction("&Undo", QKeySequence::Undo, [this] { undoRedo(true); });
+  redoAction_ = edit->addAction("&Redo", QKeySequence::Redo, [this] { undoRedo(false); });
+  undoAction_->setEnabled(false);
+  redoAction_->setEnabled(false);
   QMenu* graph = menuBar()->addMenu("&Graph");
   graph->addAction("&Evaluate", QKeySequence(Qt::Key_F5), [this] { evaluate(); });
   statusBar()->showMessage("Open a graph (File > Open)");
@@ -74,6 +108,10 @@ bool StudioWindow::openFile(const QString& path) {
   }
   evaluator_ = std::make_unique<Evaluator>(registry_);
   report_ = {};
+  selected_.clear();
+  params_->showNode(document_, selected_);
+  undoAction_->setEnabled(false);
+  redoAction_->setEnabled(false);
   for (const auto& name : document_.missingNodes())
     log("warning: " + path + ": node '" + QString::fromStdString(name) +
         "': no loaded plugin provides '" +
@@ -160,6 +198,33 @@ void StudioWindow::refresh(const EvalReport* report) {
 
 void StudioWindow::log(const QString& line) {
   log_->appendPlainText(line);
+}
+
+std::string StudioWindow::addNode(const std::string& typeId) {
+  const QPointF at = editor_->centre();
+  const std::string error = document_.addNode(typeId, at.x(), at.y());
+  edited(error);
+  return error;
+}
+
+void StudioWindow::edited(const std::string& error) {
+  if (!error.empty()) {
+    log("error: " + QString::fromStdString(error));
+    statusBar()->showMessage(QString::fromStdString(error));
+    params_->showNode(document_, selected_);
+    return;
+  }
+  undoAction_->setEnabled(document_.canUndo());
+  redoAction_->setEnabled(document_.canRedo());
+  QTimer::singleShot(0, this, [this] {
+    refresh(nullptr);
+    params_->showNode(document_, selected_);
+  });
+}
+
+void StudioWindow::undoRedo(bool undo) {
+  if (!(undo ? document_.undo() : document_.redo())) return;
+  edited({});
 }
 
 }  // namespace geobrush::studio

@@ -9,9 +9,11 @@
 #include <thread>
 
 #include "node_editor.hpp"
+#include "param_panel.hpp"
 #include "studio_document.hpp"
 
 class QPlainTextEdit;
+class QAction;
 class QTreeWidget;
 
 namespace geobrush::studio {
@@ -26,6 +28,11 @@ class StudioWindow : public QMainWindow {
   // Opens a graph file; errors go to the log and the status bar. Returns whether it opened.
   bool openFile(const QString& path);
   bool saveFile(const QString& path);
+  // Adds a node of the type at the middle of the editor (what a double click in the palette
+  // does); returns the error or an empty string.
+  std::string addNode(const std::string& typeId);
+  StudioDocument& document() { return document_; }
+  NodeEditor& editor() { return *editor_; }
   // Starts an evaluation of the open graph on the worker thread (cancelling one under way);
   // `evaluated` is emitted when it ends.
   void evaluate();
@@ -41,6 +48,10 @@ class StudioWindow : public QMainWindow {
 
  private:
   void log(const QString& line);
+  // Applies the outcome of a document edit: the error to the log and status bar, or the new
+  // graph to the editor (after the current event, which may come from an item being replaced).
+  void edited(const std::string& error);
+  void undoRedo(bool undo);
   void refresh(const EvalReport* report);
   void finishEvaluation(int generation, EvalReport report);
   void stopWorker();
@@ -50,6 +61,10 @@ class StudioWindow : public QMainWindow {
   NodeEditor* editor_;
   QTreeWidget* palette_;
   QPlainTextEdit* log_;
+  ParamPanel* params_;
+  QAction* undoAction_;
+  QAction* redoAction_;
+  std::string selected_;
   EvalReport report_;
   std::unique_ptr<Evaluator> evaluator_;
   std::thread worker_;

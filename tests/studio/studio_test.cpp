@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QComboBox>
 #include <QEventLoop>
 #include <QImage>
+#include <QTest>
 #include <QTimer>
 #include <fstream>
 #include <sstream>
@@ -14,6 +16,7 @@
 #include "test_support.hpp"
 
 using namespace geobrush;
+using geobrush::studio::NodeEditor;
 using geobrush::studio::NodeState;
 using geobrush::studio::StudioDocument;
 using geobrush::studio::StudioWindow;
@@ -145,6 +148,113 @@ TEST(StudioCommand, WritesAScreenshotOfTheEvaluatedGraph) {
                               (dir / "err2.txt").string();
   EXPECT_NE(std::system(missing.c_str()), 0);
   EXPECT_NE(bytes(dir / "err2.txt").find("graph.json"), std::string::npos);
+}
+
+TEST(StudioDocument, EditsAreCheckedAndUndoable) {
+  StudioDocument document(test::registry());
+  ASSERT_EQ(document.open(graphFile("default.json")), "");
+  const std::string original = serializeGraph(document.graph());
+  std::string load, save, load2;
+  ASSERT_EQ(document.addNode("geobrush.load_mesh", 0, 0, &load), "");
+  ASSERT_EQ(document.addNode("geobrush.load_mesh", 0, 100, &load2), "");
+  ASSERT_EQ(document.addNode("geobrush.save_mesh", 300, 0, &save), "");
+  EXPECT_EQ(load, "load_mesh");
+  EXPECT_EQ(load2, "load_mesh_2");
+  EXPECT_NE(document.addNode("acme.nothing", 0, 0), "");
+
+  // Ports are checked by type, and by existence.
+  ASSERT_EQ(document.connect({load, "mesh"}, {save, "mesh"}), "");
+  const std::string mismatch = document.connect({"render", "image"}, {save, "mesh"});
+  EXPECT_NE(mismatch.find("takes geobrush.Mesh"), std::string::npos) << mismatch;
+  EXPECT_NE(document.connect({load, "nothing"}, {save, "mesh"}).find("no output 'nothing'"),
+            std::string::npos);
+  // A second source for one input replaces the first.
+  ASSERT_EQ(document.connect({load2, "mesh"}, {save, "mesh"}), "");
+  EXPECT_EQ(document.graph().source(save, "mesh")->from.node, load2);
+
+  // Params: the declaration's range is enforced; an unchanged value is no edit.
+  const std::string resolution = document.graph().nodes.begin()->first;
+  EXPECT_NE(document.setParam(resolution, "no_such_param", 1.0), "");
+  ASSERT_EQ(document.setParam(load, "path", std::string("mesh.obj")), "");
+  const std::string afterPath = serializeGraph(document.graph());
+  ASSERT_EQ(document.setParam(load, "path", std::string("mesh.obj")), "");
+  EXPECT_TRUE(document.undo());
+  EXPECT_NE(serializeGraph(document.graph()), afterPath);
+  EXPECT_TRUE(document.redo());
+  EXPECT_EQ(serializeGraph(document.graph()), afterPath);
+
+  ASSERT_EQ(document.removeNodes({load2}), "");
+  EXPECT_EQ(document.graph().source(save, "mesh"), nullptr);
+  while (document.undo()) {
+  }
+  EXPECT_EQ(serializeGraph(document.graph()), original);
+  EXPECT_FALSE(document.canUndo());
+  EXPECT_TRUE(document.canRedo());
+}
+
+TEST(StudioDocument, AConnectionThatClosesACycleIsRefused) {
+  StudioDocument document(test::registry());
+  ASSERT_EQ(document.open(graphFile("default.json")), "");
+  std::string a, b;
+  ASSERT_EQ(document.addNode("geobrush.transform", 0, 0, &a), "");
+  ASSERT_EQ(document.addNode("geobrush.transform", 0, 0, &b), "");
+  ASSERT_EQ(document.connect({a, "mesh"}, {b, "mesh"}), "");
+  const std::string cycle = document.connect({b, "mesh"}, {a, "mesh"});
+  EXPECT_NE(cycle.find("cycle"), std::string::npos) << cycle;
+  EXPECT_EQ(document.graph().source(a, "mesh"), nullptr);
+}
+
+// Scripted input: a node added from the palette's action, a drag from an output port to an input
+// port connects them, undo takes it back, Delete removes the selected node.
+TEST(StudioWindow, MouseAndKeysEditTheGraph) {
+  StudioWindow window(test::registry());
+  ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("default.json").string())));
+  window.show();
+  window.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
+  ASSERT_EQ(window.addNode("geobrush.transform"), "");
+  QTest::qWait(50);
+  const std::string shape = "shape";
+  ASSERT_TRUE(window.document().graph().nodes.count(shape));
+  NodeEditor& editor = window.editor();
+  const auto from = editor.portInView({shape, "mesh"}, false);
+  const auto to = editor.portInView({"transform", "mesh"}, true);
+  ASSERT_TRUE(from && to);
+  QWidget* viewport = editor.viewport();
+  QTest::mousePress(viewport, Qt::LeftButton, {}, *from);
+  QTest::mouseMove(viewport, (*from + *to) / 2);
+  QTest::mouseMove(viewport, *to);
+  QTest::mouseRelease(viewport, Qt::LeftButton, {}, *to);
+  QTest::qWait(50);
+  const Connection* made = window.document().graph().source("transform", "mesh");
+  ASSERT_NE(made, nullptr);
+  EXPECT_EQ(made->from.node, shape);
+
+  QTest::keyClick(window.editor().viewport(), Qt::Key_Z, Qt::ControlModifier);
+  QTest::qWait(50);
+  EXPECT_EQ(window.document().graph().source("transform", "mesh"), nullptr);
+
+  // Clicking a node shows its params; choosing another value edits the graph.
+  const auto shapeOut = editor.portInView({shape, "mesh"}, false);
+  ASSERT_TRUE(shapeOut);
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, *shapeOut + QPoint(-60, -20));
+  QTest::qWait(50);
+  auto* choice = window.findChild<QComboBox*>();
+  ASSERT_NE(choice, nullptr);
+  EXPECT_EQ(choice->currentText(), "rounded_cube");
+  choice->setCurrentText("torus");
+  emit choice->textActivated("torus");
+  QTest::qWait(50);
+  EXPECT_EQ(std::get<std::string>(window.document().graph().nodes.at(shape).params.at("shape")),
+            "torus");
+
+  // Select the new node by clicking its title, then delete it.
+  const auto title = editor.portInView({"transform", "mesh"}, true);
+  ASSERT_TRUE(title);
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, *title + QPoint(40, -12));
+  QTest::keyClick(viewport, Qt::Key_Delete);
+  QTest::qWait(50);
+  EXPECT_FALSE(window.document().graph().nodes.count("transform"));
 }
 
 int main(int argc, char** argv) {
