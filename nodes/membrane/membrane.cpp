@@ -49,19 +49,23 @@ void validateRegion(int width, int height, const std::vector<std::uint8_t>& insi
     message += std::to_string(std::size_t(width) * std::size_t(height));
     throw std::invalid_argument(message);
   }
-  bool empty = true;
-  for (int y = 0; y < height; ++y)
+  // The nodes within kRings of the border, in row-major order (the first one found is named),
+  // then the whole mask at once (a branch-free pass).
+  for (int y = 0; y < height; ++y) {
+    const bool borderRow = y < kRings || y >= height - kRings;
     for (int x = 0; x < width; ++x) {
+      if (!borderRow && x == kRings) x = width - kRings;
       if (!inside[std::size_t(y) * std::size_t(width) + std::size_t(x)]) continue;
-      empty = false;
-      if (x < kRings || y < kRings || x >= width - kRings || y >= height - kRings) {
-        std::string message = "membrane: the region reaches node ";
-        message += nodeName(x, y);
-        message += ", within two nodes of the grid border (the fixed rings need the room)";
-        throw std::invalid_argument(message);
-      }
+      std::string message = "membrane: the region reaches node ";
+      message += nodeName(x, y);
+      message += ", within two nodes of the grid border (the fixed rings need the room)";
+      throw std::invalid_argument(message);
     }
-  if (empty) throw std::invalid_argument("membrane: the region Q is empty (no unknown node)");
+  }
+  std::uint8_t any = 0;
+  for (std::uint8_t flag : inside)
+    any |= flag;
+  if (any == 0) throw std::invalid_argument("membrane: the region Q is empty (no unknown node)");
 }
 
 void validateFields(const std::vector<std::vector<double>>& fields, std::size_t count,
@@ -92,6 +96,14 @@ void validateFields(const std::vector<std::vector<double>>& fields, std::size_t 
 // Only the values the solver reads must be finite: the caller need not sample unused nodes.
 void requireFinite(const std::vector<std::vector<double>>& fields,
                    const std::vector<MembraneNode>& roles, MembraneNode role, const char* what) {
+  // One pass over the nodes for all channels; the message below names the first channel's first
+  // offending node.
+  bool finite = true;
+  for (std::size_t i = 0; i < roles.size(); ++i)
+    if (roles[i] == role)
+      for (const std::vector<double>& field : fields)
+        finite = finite && std::isfinite(field[i]);
+  if (finite) return;
   for (std::size_t c = 0; c < fields.size(); ++c)
     for (std::size_t i = 0; i < roles.size(); ++i)
       if (roles[i] == role && !std::isfinite(fields[c][i])) {
@@ -130,13 +142,29 @@ std::vector<double> padded(const PaddedGrid& grid, const std::vector<double>& fi
   return out;
 }
 
+std::vector<int> nodesOf(const std::vector<MembraneNode>& roles, MembraneNode role) {
+  std::vector<int> nodes;
+  for (std::size_t i = 0; i < roles.size(); ++i)
+    if (roles[i] == role) nodes.push_back(int(i));
+  return nodes;
+}
+
+std::vector<double> padded(const PaddedGrid& grid, const std::vector<double>& field,
+                           const std::vector<int>& nodes) {
+  std::vector<double> out(grid.size(), 0.0);
+  for (int i : nodes)
+    out[std::size_t(grid.index(i % grid.width, i / grid.width))] = field[std::size_t(i)];
+  return out;
+}
+
 std::vector<double> rightHandSide(const Level& finest, const std::vector<double>& fixedValues) {
   // b = -A_IB f_B: the finest operator's rows at the unknowns are the regular stencil, so applying
   // the level's operator to the fixed values alone (zero at the unknowns) gives A_IB f_B.
   std::vector<double> b(finest.grid.size(), 0.0);
   applyOperator(finest, fixedValues.data(), b.data());
-  for (int i = finest.activeBegin; i < finest.activeEnd; ++i)
-    b[std::size_t(i)] = -b[std::size_t(i)];
+  for (const RowSpan& span : finest.spans)
+    for (int i = span.begin; i < span.end; ++i)
+      b[std::size_t(i)] = -b[std::size_t(i)];
   return b;
 }
 
@@ -147,20 +175,18 @@ namespace {
 using membrane_detail::Level;
 
 double dot(const Level& level, const double* a, const double* b) {
-  double sum = 0;
-  for (const membrane_detail::RowSpan& span : level.spans)
-    for (int i = span.begin; i < span.end; ++i)
-      sum += a[i] * b[i];
-  return sum;
+  return membrane_detail::dotProduct(level, a, b);
 }
 
 double norm(const Level& level, const double* a) {
   return std::sqrt(dot(level, a, a));
 }
 
+// Copies the unknowns' values (row spans; every other node of the level's vectors stays zero).
 template <typename From, typename To>
 void copyActive(const Level& level, const From* from, To* to) {
-  std::copy(from + level.activeBegin, from + level.activeEnd, to + level.activeBegin);
+  for (const membrane_detail::RowSpan& span : level.spans)
+    std::copy(from + span.begin, from + span.end, to + span.begin);
 }
 
 // A cycle's vectors on one level, in single precision (see SingleCoefficients).
@@ -248,8 +274,9 @@ class Preconditioner {
     for (int repeat = 1; repeat < settings_.coarseCycles && !coarseIsExact; ++repeat) {
       residual(index + 1, next.b.data(), next.x.data(), next.c.data());
       cycle(index + 1, next.c.data(), next.e.data());
-      for (int i = coarse.activeBegin; i < coarse.activeEnd; ++i)
-        next.x[std::size_t(i)] += next.e[std::size_t(i)];
+      for (const membrane_detail::RowSpan& span : coarse.spans)
+        for (int i = span.begin; i < span.end; ++i)
+          next.x[std::size_t(i)] += next.e[std::size_t(i)];
     }
     membrane_detail::prolongAdd(coarse, level, next.x.data(), x);
     sweepBand(level, b, x, false);
@@ -272,10 +299,11 @@ class Preconditioner {
       // The first step from zero needs no stencil: d = gain D^-1 b, x = d.
       const float* inverseDiagonal = level.single.inverseDiagonal.data();
       const float gain = steps.front().gain;
-      for (int i = level.activeBegin; i < level.activeEnd; ++i) {
-        d[i] = gain * inverseDiagonal[i] * b[i];
-        x[i] = d[i];
-      }
+      for (const membrane_detail::RowSpan& span : level.spans)
+        for (int i = span.begin; i < span.end; ++i) {
+          d[i] = gain * inverseDiagonal[i] * b[i];
+          x[i] = d[i];
+        }
       steps = steps.subspan(1);
     }
     if (steps.empty()) return;
@@ -298,17 +326,7 @@ class Preconditioner {
   }
 
   void sweepBand(const Level& level, const float* b, float* x, bool forward) {
-    const auto& band = level.band;
-    const float* inverseDiagonal = level.single.inverseDiagonal.data();
-    auto relax = [&](int node) {
-      x[node] += (b[node] - membrane_detail::rowProduct(level, x, node)) * inverseDiagonal[node];
-    };
-    for (int sweep = 0; sweep < settings_.bandSweeps; ++sweep) {
-      if (forward)
-        std::for_each(band.begin(), band.end(), relax);
-      else
-        std::for_each(band.rbegin(), band.rend(), relax);
-    }
+    membrane_detail::sweepBand(level, b, x, forward, settings_.bandSweeps);
   }
 
   const MembraneHierarchy& hierarchy_;
@@ -380,19 +398,15 @@ MembraneChannelReport conjugateGradients(const Level& finest, Preconditioner& pr
       restart = false;
     } else {
       const double beta = rzNext / rz;
-      for (int i = begin; i < end; ++i)
-        p[i] = z[i] + beta * p[i];
+      for (const membrane_detail::RowSpan& span : finest.spans)
+        for (int i = span.begin; i < span.end; ++i)
+          p[i] = z[i] + beta * p[i];
     }
     rz = rzNext;
-    membrane_detail::applyOperator(finest, p, q);
-    const double pq = dot(finest, p, q);
+    const double pq = membrane_detail::applyOperatorDot(finest, p, q);
     if (!(pq > 0) || !(rz > 0)) break;  // breakdown: the reported residual says how far it got
     const double alpha = rz / pq;
-    for (int i = begin; i < end; ++i) {
-      x[i] += alpha * p[i];
-      r[i] -= alpha * q[i];
-    }
-    rNorm = norm(finest, r);
+    rNorm = std::sqrt(membrane_detail::updateResidual(finest, alpha, p, q, x, r));
     ++report.iterations;
   }
   membrane_detail::subtractOperator(finest, b, x, r);
@@ -407,29 +421,27 @@ MembraneChannelReport conjugateGradients(const Level& finest, Preconditioner& pr
 // count. (Splitting rows between threads instead would need a barrier after every kernel, about
 // a hundred per V-cycle, most of them on coarse levels too small to share.)
 void solveChannels(const MembraneProblem& problem, const MembraneOptions& options,
-                   const MembraneHierarchy& hierarchy, const std::vector<MembraneNode>& roles,
-                   std::size_t first, std::size_t step, MembraneResult& result) {
+                   const MembraneHierarchy& hierarchy, const std::vector<int>& fixedNodes,
+                   const std::vector<int>& unknownNodes, std::size_t first, std::size_t step,
+                   MembraneResult& result) {
   const Level& finest = hierarchy.levels().front();
   Preconditioner preconditioner(hierarchy, options.multigrid, deviceKernels(hierarchy, options));
   KrylovVectors krylov(finest.grid.size());
   for (std::size_t c = first; c < problem.channels.size(); c += step) {
     const std::vector<double>& field = problem.channels[c];
     const std::vector<double> b = membrane_detail::rightHandSide(
-        finest, membrane_detail::padded(finest.grid, field, roles, MembraneNode::Fixed));
-    std::vector<double> x = options.initialGuess.empty()
-                                ? std::vector<double>(finest.grid.size(), 0.0)
-                                : membrane_detail::padded(finest.grid, options.initialGuess[c],
-                                                          roles, MembraneNode::Unknown);
+        finest, membrane_detail::padded(finest.grid, field, fixedNodes));
+    std::vector<double> x =
+        options.initialGuess.empty()
+            ? std::vector<double>(finest.grid.size(), 0.0)
+            : membrane_detail::padded(finest.grid, options.initialGuess[c], unknownNodes);
     result.channels[c] = conjugateGradients(finest, preconditioner, b.data(), x.data(), krylov,
                                             options.tolerance, options.maxIterations);
     std::vector<double>& values = result.values[c];
     values = field;
-    for (int y = 0; y < problem.height; ++y)
-      for (int column = 0; column < problem.width; ++column) {
-        const std::size_t i = std::size_t(y) * std::size_t(problem.width) + std::size_t(column);
-        if (roles[i] == MembraneNode::Unknown)
-          values[i] = x[std::size_t(finest.grid.index(column, y))];
-      }
+    for (int i : unknownNodes)
+      values[std::size_t(i)] =
+          x[std::size_t(finest.grid.index(i % problem.width, i / problem.width))];
   }
 }
 
@@ -491,7 +503,7 @@ MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptio
                          ? options.hierarchy
                          : std::make_shared<const MembraneHierarchy>(
                                problem.width, problem.height, problem.inside, problem.continuity,
-                               options.multigrid, options.hierarchy.get());
+                               options.multigrid, options.hierarchy.get(), options.threads);
   const auto& levels = result.hierarchy->levels();
   const Level& finest = levels.front();
   result.levels = int(levels.size());
@@ -501,6 +513,8 @@ MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptio
   for (const auto* device : deviceKernels(*result.hierarchy, options))
     result.vulkanLevels += device != nullptr;
 
+  const std::vector<int> fixedNodes = membrane_detail::nodesOf(roles, MembraneNode::Fixed);
+  const std::vector<int> unknownNodes = membrane_detail::nodesOf(roles, MembraneNode::Unknown);
   const std::size_t channels = problem.channels.size();
   result.channels.resize(channels);
   result.values.resize(channels);
@@ -510,13 +524,15 @@ MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptio
   for (std::size_t t = 1; t < threads; ++t)
     workers.emplace_back([&, t] {
       try {
-        solveChannels(problem, options, *result.hierarchy, roles, t, threads, result);
+        solveChannels(problem, options, *result.hierarchy, fixedNodes, unknownNodes, t, threads,
+                      result);
       } catch (...) {
         failures[t] = std::current_exception();
       }
     });
   try {
-    solveChannels(problem, options, *result.hierarchy, roles, 0, threads, result);
+    solveChannels(problem, options, *result.hierarchy, fixedNodes, unknownNodes, 0, threads,
+                  result);
   } catch (...) {
     failures[0] = std::current_exception();
   }

@@ -113,8 +113,9 @@ struct MembraneOptions {
   // makes it several times faster to build and no different.
   std::shared_ptr<const MembraneHierarchy> hierarchy;
   MembraneMultigridSettings multigrid;
-  // Threads solving the channels side by side (each channel on one thread); 0 picks the
-  // hardware's. The values are bit-identical for every thread count.
+  // Threads solving the channels side by side (each channel on one thread) and sharing the rows
+  // of a new hierarchy's coarse levels; 0 picks the hardware's. The hierarchy and the values are
+  // bit-identical for every thread count.
   int threads = 0;
   // Vulkan: the device kernels are made on the hierarchy's first Vulkan solve and kept with it,
   // so its coefficients are uploaded once. Deterministic on one device, but not bit-identical to

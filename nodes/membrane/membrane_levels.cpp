@@ -6,6 +6,8 @@
 #include <cmath>
 #include <utility>
 
+#include "geobrush/parallel.hpp"
+
 // The kernels are compiled twice, for AVX2 and for the baseline, and the loader picks one. Without
 // FMA contraction both round alike, so the results do not depend on the machine's choice.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
@@ -91,14 +93,39 @@ const Stencil& rowWeights(const Level& level, int node) {
   return custom < 0 ? level.regular : level.customRows[std::size_t(custom)].weights;
 }
 
+constexpr int kGalerkinWindow = kSplineReach + kReach;
+constexpr int kGalerkinSide = 2 * kGalerkinWindow + 1;
+using GalerkinWindow = std::array<std::array<double, kGalerkinSide>, kGalerkinSide>;
+
+// w += A P e_I before masking: the columns of A (its rows: the operators are symmetric) at the
+// fine unknowns under the B-spline of coarse node I, weighted by the spline. Reach is the fine
+// stencil's, as a constant so that the loops unroll.
+template <int Reach>
+void gatherColumns(const Level& fine, int centerX, int centerY, const GalerkinWindow& unknown,
+                   GalerkinWindow& w) {
+  for (int fy = -kSplineReach; fy <= kSplineReach; ++fy)
+    for (int fx = -kSplineReach; fx <= kSplineReach; ++fx) {
+      if (unknown[std::size_t(fy + kGalerkinWindow)][std::size_t(fx + kGalerkinWindow)] == 0)
+        continue;
+      const double pf = splineWeight(fx) * splineWeight(fy);
+      const Stencil& a = rowWeights(fine, fine.grid.index(centerX + fx, centerY + fy));
+      for (int ky = -Reach; ky <= Reach; ++ky) {
+        double* out = w[std::size_t(fy + ky + kGalerkinWindow)].data() + fx + kGalerkinWindow;
+        const double* column = a.data() + stencilSlot(0, ky);
+        for (int kx = -Reach; kx <= Reach; ++kx)
+          out[kx] += pf * column[kx];
+      }
+    }
+}
+
 // Row (coarseX, coarseY) of R A P from the fine level's rows and mask: exact also where the mask
 // cuts the B-splines short. w = A P e_I is gathered on the fine window it can reach, then
 // restricted to the coarse stencil one axis at a time.
-Stencil galerkinRow(const Level& fine, int coarseX, int coarseY) {
-  constexpr int kWindow = kSplineReach + kReach;
-  constexpr int kSide = 2 * kWindow + 1;
+GEOBRUSH_MEMBRANE_KERNEL Stencil galerkinRow(const Level& fine, int coarseX, int coarseY) {
+  constexpr int kWindow = kGalerkinWindow;
+  constexpr int kSide = kGalerkinSide;
   const int centerX = fineOf(coarseX), centerY = fineOf(coarseY);
-  std::array<std::array<double, kSide>, kSide> unknown{};  // 1 or 0: multiplied, not branched on
+  GalerkinWindow unknown{};  // 1 or 0: multiplied, not branched on
   for (int gy = -kWindow; gy <= kWindow; ++gy)
     for (int gx = -kWindow; gx <= kWindow; ++gx) {
       const int x = centerX + gx, y = centerY + gy;
@@ -106,21 +133,22 @@ Stencil galerkinRow(const Level& fine, int coarseX, int coarseY) {
         unknown[std::size_t(gy + kWindow)][std::size_t(gx + kWindow)] =
             fine.mask[std::size_t(fine.grid.index(x, y))];
     }
-  std::array<std::array<double, kSide>, kSide> w{};
-  for (int fy = -kSplineReach; fy <= kSplineReach; ++fy)
-    for (int fx = -kSplineReach; fx <= kSplineReach; ++fx) {
-      if (unknown[std::size_t(fy + kWindow)][std::size_t(fx + kWindow)] == 0) continue;
-      const double pf = splineWeight(fx) * splineWeight(fy);
-      // Row f of A, read as column f: the operators are symmetric.
-      const Stencil& a = rowWeights(fine, fine.grid.index(centerX + fx, centerY + fy));
-      for (int ky = -fine.reach; ky <= fine.reach; ++ky) {
-        const std::size_t gy = std::size_t(fy + ky + kWindow);
-        for (int kx = -fine.reach; kx <= fine.reach; ++kx) {
-          const std::size_t gx = std::size_t(fx + kx + kWindow);
-          w[gy][gx] += pf * a[std::size_t(stencilSlot(kx, ky))] * unknown[gy][gx];
-        }
-      }
-    }
+  GalerkinWindow w{};
+  switch (fine.reach) {
+    case 1:
+      gatherColumns<1>(fine, centerX, centerY, unknown, w);
+      break;
+    case 2:
+      gatherColumns<2>(fine, centerX, centerY, unknown, w);
+      break;
+    default:
+      gatherColumns<kReach>(fine, centerX, centerY, unknown, w);
+      break;
+  }
+  // Masked once here rather than term by term: the same values (the mask is 0 or 1).
+  for (int gy = 0; gy < kSide; ++gy)
+    for (int gx = 0; gx < kSide; ++gx)
+      w[std::size_t(gy)][std::size_t(gx)] *= unknown[std::size_t(gy)][std::size_t(gx)];
   // The coarse node j steps away covers fine offsets 2j - 2 .. 2j + 2 from the center.
   std::array<std::array<double, kStencilSide>, kSide> halfway{};
   for (int gy = 0; gy < kSide; ++gy)
@@ -229,14 +257,27 @@ void finishLevel(Level& level, int bandWidth) {
   for (int node : level.unknowns)
     if (nearOutside[std::size_t(node)]) level.band.push_back(node);
 
+  level.mirrored = true;
+  for (int dy = -kReach; dy <= kReach; ++dy)
+    for (int dx = -kReach; dx <= kReach; ++dx) {
+      const double w = level.regular[std::size_t(stencilSlot(dx, dy))];
+      level.mirrored = level.mirrored && w == level.regular[std::size_t(stencilSlot(-dx, dy))] &&
+                       w == level.regular[std::size_t(stencilSlot(dx, -dy))];
+    }
+
   SingleCoefficients& single = level.single;
   single.mask.assign(level.mask.begin(), level.mask.end());
   single.inverseDiagonal.assign(level.inverseDiagonal.begin(), level.inverseDiagonal.end());
   std::copy(level.regular.begin(), level.regular.end(), single.regular.begin());
   single.custom.resize(level.customRows.size());
-  for (std::size_t c = 0; c < level.customRows.size(); ++c)
-    std::copy(level.customRows[c].weights.begin(), level.customRows[c].weights.end(),
-              single.custom[c].begin());
+  single.customPadded.assign(level.customRows.size(), PaddedStencil{});
+  for (std::size_t c = 0; c < level.customRows.size(); ++c) {
+    const Stencil& weights = level.customRows[c].weights;
+    std::copy(weights.begin(), weights.end(), single.custom[c].begin());
+    for (int row = 0; row < kStencilSide; ++row)
+      std::copy_n(weights.begin() + row * kStencilSide, kStencilSide,
+                  single.customPadded[c].begin() + row * kPaddedSide);
+  }
 }
 
 // The coefficients a kernel reads in its precision: the double ones, or their float copies.
@@ -248,9 +289,6 @@ struct Coefficients<double> {
   static const double* mask(const Level& level) { return level.mask.data(); }
   static const double* inverseDiagonal(const Level& level) { return level.inverseDiagonal.data(); }
   static const double* regular(const Level& level) { return level.regular.data(); }
-  static const double* custom(const Level& level, int c) {
-    return level.customRows[std::size_t(c)].weights.data();
-  }
 };
 
 template <>
@@ -260,9 +298,6 @@ struct Coefficients<float> {
     return level.single.inverseDiagonal.data();
   }
   static const float* regular(const Level& level) { return level.single.regular.data(); }
-  static const float* custom(const Level& level, int c) {
-    return level.single.custom[std::size_t(c)].data();
-  }
 };
 
 // (S x) at node i for the level's regular stencil S: written out for the finest level's plate
@@ -293,6 +328,29 @@ template <typename T>
   return sum;
 }
 
+// A custom row in single precision from its padded weights: eight lanes summed down the stencil
+// rows, then added pairwise. Plain code in a fixed order, so the vectorized and the baseline build
+// round alike.
+[[gnu::always_inline]] inline float paddedSum(const float* x, int i, int s, const float* weights) {
+  std::array<float, kPaddedSide> lanes{};
+  for (int dy = -kReach; dy <= kReach; ++dy) {
+    const float* row = x + i + dy * s - kReach;
+    const float* w = weights + (dy + kReach) * kPaddedSide;
+    for (int k = 0; k < kPaddedSide; ++k)
+      lanes[std::size_t(k)] += w[k] * row[k];
+  }
+  return ((lanes[0] + lanes[4]) + (lanes[2] + lanes[6])) +
+         ((lanes[1] + lanes[5]) + (lanes[3] + lanes[7]));
+}
+
+// The custom row c at node i: in double as written, in float padded.
+[[gnu::always_inline]] inline double customSum(const Level& level, const double* x, int i, int c) {
+  return fullSum(x, i, level.grid.stride(), level.customRows[std::size_t(c)].weights.data());
+}
+[[gnu::always_inline]] inline float customSum(const Level& level, const float* x, int i, int c) {
+  return paddedSum(x, i, level.grid.stride(), level.single.customPadded[std::size_t(c)].data());
+}
+
 // sum[i] = (S x)[begin + i] for i < length. The 49-tap stencil is applied one stencil row at a
 // time: seven weights in registers and seven streams, which vectorizes well (several times faster
 // than 49 taps per node).
@@ -312,8 +370,29 @@ void regularRowSums(const Level& level, const T* x, int begin, int length, T* su
     case StencilShape::Full:
       break;
   }
-  std::fill(sum, sum + length, T(0));
   const T* weights = Coefficients<T>::regular(level);
+  if (level.mirrored) {
+    // w(dx, dy) = w(-dx, dy) = w(dx, -dy): the rows dy and -dy are added before they are
+    // weighted, and so are the columns dx and -dx, which saves a third of the arithmetic.
+    const T* w = weights + stencilSlot(0, 0);
+    const T a0 = w[0], a1 = w[1], a2 = w[2], a3 = w[3];
+    for (int i = 0; i < length; ++i)
+      sum[i] = a0 * center[i] + a1 * (center[i - 1] + center[i + 1]) +
+               a2 * (center[i - 2] + center[i + 2]) + a3 * (center[i - 3] + center[i + 3]);
+    for (int dy = 1; dy <= kReach; ++dy) {
+      const T* up = center - dy * s;
+      const T* down = center + dy * s;
+      const T* v = weights + stencilSlot(0, dy);
+      const T b0 = v[0], b1 = v[1], b2 = v[2], b3 = v[3];
+      for (int i = 0; i < length; ++i)
+        sum[i] += b0 * (up[i] + down[i]) +
+                  b1 * ((up[i - 1] + down[i - 1]) + (up[i + 1] + down[i + 1])) +
+                  b2 * ((up[i - 2] + down[i - 2]) + (up[i + 2] + down[i + 2])) +
+                  b3 * ((up[i - 3] + down[i - 3]) + (up[i + 3] + down[i + 3]));
+    }
+    return;
+  }
+  std::fill(sum, sum + length, T(0));
   for (int dy = -kReach; dy <= kReach; ++dy) {
     const T* row = center + dy * s;
     const T* w = weights + stencilSlot(0, dy);
@@ -339,8 +418,7 @@ void forEachOperatorRow(const Level& level, const T* x, Finish&& finish) {
     for (int c = level.customBegin[std::size_t(row)]; c < level.customBegin[std::size_t(row) + 1];
          ++c) {
       const int node = level.customRows[std::size_t(c)].node;
-      sums[node - span.begin] =
-          fullSum(x, node, level.grid.stride(), Coefficients<T>::custom(level, c));
+      sums[node - span.begin] = customSum(level, x, node, c);
     }
     finish(span.begin, length, static_cast<const T*>(sums));
   }
@@ -380,7 +458,7 @@ template <typename T>
 T rowProductAt(const Level& level, const T* x, int node) {
   const int stride = level.grid.stride();
   const int custom = level.customOfNode[std::size_t(node)];
-  if (custom >= 0) return fullSum(x, node, stride, Coefficients<T>::custom(level, custom));
+  if (custom >= 0) return customSum(level, x, node, custom);
   switch (level.shape) {
     case StencilShape::Plate:
       return plateSum(x, node, stride);
@@ -390,6 +468,29 @@ T rowProductAt(const Level& level, const T* x, int node) {
       break;
   }
   return fullSum(x, node, stride, Coefficients<T>::regular(level));
+}
+
+// (A x) at one node for a Gauss-Seidel sweep, whose previous steps have just written the nodes
+// to the left or right of it. With the plate stencil those taps come last, so that the sweep's
+// chain of dependent operations (store, load, multiply, add) stays short. (Custom rows are summed
+// as paddedSum does: splitting off their centre row was slower.)
+[[gnu::always_inline]] inline float sweepRowProduct(const Level& level, const float* x, int i) {
+  const int s = level.grid.stride();
+  const int custom = level.customOfNode[std::size_t(i)];
+  if (custom >= 0) return customSum(level, x, i, custom);
+  switch (level.shape) {
+    case StencilShape::Plate: {
+      const float others = 20.0f * x[i] - 8.0f * (x[i - s] + x[i + s]) +
+                           2.0f * (x[i - s - 1] + x[i - s + 1] + x[i + s - 1] + x[i + s + 1]) +
+                           (x[i - 2 * s] + x[i + 2 * s]);
+      return others + (-8.0f * (x[i - 1] + x[i + 1]) + (x[i - 2] + x[i + 2]));
+    }
+    case StencilShape::Laplace:
+      return (4.0f * x[i] - (x[i - s] + x[i + s])) - (x[i - 1] + x[i + 1]);
+    case StencilShape::Full:
+      break;
+  }
+  return fullSum(x, i, s, level.single.regular.data());
 }
 
 // The largest Ritz value of D^-1/2 A D^-1/2 after a few Lanczos steps: from below, within a few
@@ -489,6 +590,7 @@ void restrictRows(const Level& fine, const Level& coarse, const T* fineValues, T
 template <typename T>
 void prolongRows(const Level& coarse, const Level& fine, const T* coarseValues, T* fineValues) {
   std::vector<T> rowMix(std::size_t(coarse.grid.stride()));
+  std::vector<T> line(std::size_t(fine.grid.stride()) + 2);
   const T* fineMask = Coefficients<T>::mask(fine);
   for (int y = 0; y < fine.grid.height; ++y) {
     const RowSpan span = fine.spans[std::size_t(y)];
@@ -507,14 +609,20 @@ void prolongRows(const Level& coarse, const Level& fine, const T* coarseValues, 
                                         ? T(0.125) * (c[-stride] + c[stride]) + T(0.75) * c[0]
                                         : T(0.5) * (c[0] + c[stride]);
     }
-    for (int x = firstX; x <= lastX; ++x) {
-      const int node = rowStart + x;
-      if (fineMask[node] == 0) continue;
-      // Even x lies on coarse column (x + 2) / 2, odd x between that one and the next.
-      const T* m = rowMix.data() + ((x + 2) / 2 - firstColumn);
-      fineValues[node] +=
-          x % 2 == 0 ? T(0.125) * (m[-1] + m[1]) + T(0.75) * m[0] : T(0.5) * (m[0] + m[1]);
+    // Even x lies on coarse column (x + 2) / 2, odd x between that one and the next: the fine
+    // columns from the even firstEven = 2 firstColumn on, in pairs, then added under the mask
+    // (0 off the unknowns, where the value is 0 and stays so). Branch-free, so both loops
+    // vectorize.
+    const int firstEven = 2 * firstColumn;
+    const int pairs = (lastX - firstEven) / 2 + 1;
+    const T* m = rowMix.data();
+    for (int j = 0; j < pairs; ++j) {
+      line[std::size_t(2 * j)] = T(0.125) * (m[j] + m[j + 2]) + T(0.75) * m[j + 1];
+      line[std::size_t(2 * j + 1)] = T(0.5) * (m[j + 1] + m[j + 2]);
     }
+    const T* values = line.data() - firstEven;
+    for (int x = firstX; x <= lastX; ++x)
+      fineValues[rowStart + x] += fineMask[rowStart + x] * values[x];
   }
 }
 
@@ -539,11 +647,69 @@ GEOBRUSH_MEMBRANE_KERNEL void chebyshevStep(const Level& level, const float* b, 
                                             float* xNext, float* d, float keep, float gain) {
   chebyshevStepRows(level, b, x, xNext, d, keep, gain);
 }
+namespace {
+
+// Adds a[i] b[i] for i in [begin, end) to four interleaved sums, the first at begin.
+[[gnu::always_inline]] inline void addProducts(const double* a, const double* b, int begin, int end,
+                                               std::array<double, 4>& sums) {
+  int i = begin;
+  for (; i + 4 <= end; i += 4)
+    for (int k = 0; k < 4; ++k)
+      sums[std::size_t(k)] += a[i + k] * b[i + k];
+  for (int k = 0; i < end; ++i, ++k)
+    sums[std::size_t(k)] += a[i] * b[i];
+}
+
+double total(const std::array<double, 4>& sums) {
+  return (sums[0] + sums[1]) + (sums[2] + sums[3]);
+}
+
+}  // namespace
+
+GEOBRUSH_MEMBRANE_KERNEL double dotProduct(const Level& level, const double* a, const double* b) {
+  std::array<double, 4> sums{};
+  for (const RowSpan& span : level.spans)
+    addProducts(a, b, span.begin, span.end, sums);
+  return total(sums);
+}
+GEOBRUSH_MEMBRANE_KERNEL double applyOperatorDot(const Level& level, const double* p, double* q) {
+  const double* mask = level.mask.data();
+  std::array<double, 4> sums{};
+  forEachOperatorRow(level, p, [&](int begin, int length, const double* rowSums) {
+    for (int i = 0; i < length; ++i)
+      q[begin + i] = mask[begin + i] * rowSums[i];
+    addProducts(p, q, begin, begin + length, sums);
+  });
+  return total(sums);
+}
+GEOBRUSH_MEMBRANE_KERNEL double updateResidual(const Level& level, double alpha, const double* p,
+                                               const double* q, double* x, double* r) {
+  std::array<double, 4> sums{};
+  for (const RowSpan& span : level.spans) {
+    for (int i = span.begin; i < span.end; ++i) {
+      x[i] += alpha * p[i];
+      r[i] -= alpha * q[i];
+    }
+    addProducts(r, r, span.begin, span.end, sums);
+  }
+  return total(sums);
+}
 double rowProduct(const Level& level, const double* x, int node) {
   return rowProductAt(level, x, node);
 }
 float rowProduct(const Level& level, const float* x, int node) {
   return rowProductAt(level, x, node);
+}
+GEOBRUSH_MEMBRANE_KERNEL void sweepBand(const Level& level, const float* b, float* x, bool forward,
+                                        int sweeps) {
+  const float* inverseDiagonal = level.single.inverseDiagonal.data();
+  const int* band = level.band.data();
+  const int count = int(level.band.size());
+  for (int sweep = 0; sweep < sweeps; ++sweep)
+    for (int k = 0; k < count; ++k) {
+      const int node = band[forward ? k : count - 1 - k];
+      x[node] += (b[node] - sweepRowProduct(level, x, node)) * inverseDiagonal[node];
+    }
 }
 GEOBRUSH_MEMBRANE_KERNEL void restrictToCoarse(const Level& fine, const Level& coarse,
                                                const double* fineValues, double* coarseValues) {
@@ -580,7 +746,7 @@ Level finestLevel(int width, int height, const std::vector<std::uint8_t>& inside
 }
 
 Level coarsenLevel(const Level& fine, int bandWidth, const Level* previous,
-                   const std::vector<std::uint8_t>* fineChanged) {
+                   const std::vector<std::uint8_t>* fineChanged, int threads) {
   const PaddedGrid& fineGrid = fine.grid;
   Level coarse;
   coarse.grid = {fineGrid.width / 2 + 3, fineGrid.height / 2 + 3};
@@ -603,23 +769,40 @@ Level coarsenLevel(const Level& fine, int bandWidth, const Level* previous,
       previous ? dilate(fineGrid, *fineChanged, window) : std::vector<std::uint8_t>();
 
   coarse.mask.assign(coarse.grid.size(), 0);
-  for (int y = 0; y < coarse.grid.height; ++y)
-    for (int x = 0; x < coarse.grid.width; ++x) {
-      const std::size_t f = std::size_t(fineGrid.index(fineOf(x), fineOf(y)));
-      if (!coversUnknown[f]) continue;
-      const int node = coarse.grid.index(x, y);
-      coarse.mask[std::size_t(node)] = 1;
-      if (!nearIrregular[f]) continue;
-      if (previous && !reachedByChange[f]) {
-        // The window is as it was: so is the row.
-        const int custom = previous->customOfNode[std::size_t(node)];
-        if (custom >= 0) coarse.customRows.push_back(previous->customRows[std::size_t(custom)]);
-        continue;
-      }
-      // Near the boundary most rows differ from the regular stencil, some do not.
-      const Stencil row = galerkinRow(fine, x, y);
-      if (row != coarse.regular) coarse.customRows.push_back({node, row});
-    }
+  // Each grid row's custom rows on its own, joined in row order below: the same for any number
+  // of threads. Small levels stay on one: starting a thread costs more than their rows.
+  std::vector<std::vector<CustomRow>> customOfRow(std::size_t(coarse.grid.height));
+  constexpr std::size_t kRowsPerBlock = 4;
+  constexpr std::size_t kUnknownsPerThread = 4096;
+  const int rowThreads = fine.unknowns.size() < kUnknownsPerThread ? 1 : threads;
+  parallelBlocks(std::size_t(coarse.grid.height), kRowsPerBlock, rowThreads,
+                 [&](std::size_t firstRow, std::size_t lastRow) {
+                   for (int y = int(firstRow); y < int(lastRow); ++y) {
+                     std::vector<CustomRow>& custom = customOfRow[std::size_t(y)];
+                     for (int x = 0; x < coarse.grid.width; ++x) {
+                       const std::size_t f = std::size_t(fineGrid.index(fineOf(x), fineOf(y)));
+                       if (!coversUnknown[f]) continue;
+                       const int node = coarse.grid.index(x, y);
+                       coarse.mask[std::size_t(node)] = 1;
+                       if (!nearIrregular[f]) continue;
+                       if (previous && !reachedByChange[f]) {
+                         // The window is as it was: so is the row.
+                         const int c = previous->customOfNode[std::size_t(node)];
+                         if (c >= 0) custom.push_back(previous->customRows[std::size_t(c)]);
+                         continue;
+                       }
+                       // Near the boundary most rows differ from the regular stencil, some do not.
+                       const Stencil row = galerkinRow(fine, x, y);
+                       if (row != coarse.regular) custom.push_back({node, row});
+                     }
+                   }
+                 });
+  std::size_t customCount = 0;
+  for (const std::vector<CustomRow>& rows : customOfRow)
+    customCount += rows.size();
+  coarse.customRows.reserve(customCount);
+  for (const std::vector<CustomRow>& rows : customOfRow)
+    coarse.customRows.insert(coarse.customRows.end(), rows.begin(), rows.end());
   finishLevel(coarse, bandWidth);
   coarse.lambdaMax = std::min(coarse.lambdaMax, kLanczosSafety * largestRitzValue(coarse));
   return coarse;
@@ -686,7 +869,7 @@ namespace geobrush {
 MembraneHierarchy::MembraneHierarchy(int width, int height, std::vector<std::uint8_t> inside,
                                      MembraneContinuity continuity,
                                      const MembraneMultigridSettings& settings,
-                                     const MembraneHierarchy* previous)
+                                     const MembraneHierarchy* previous, int threads)
     : width_(width),
       height_(height),
       inside_(std::move(inside)),
@@ -712,10 +895,11 @@ MembraneHierarchy::MembraneHierarchy(int width, int height, std::vector<std::uin
     if (related && fine + 1 < previous->levels_.size()) {
       const std::vector<std::uint8_t> changed =
           membrane_detail::changedNodes(levels_[fine], previous->levels_[fine]);
-      levels_.push_back(membrane_detail::coarsenLevel(levels_[fine], bandWidth_,
-                                                      &previous->levels_[fine + 1], &changed));
+      levels_.push_back(membrane_detail::coarsenLevel(
+          levels_[fine], bandWidth_, &previous->levels_[fine + 1], &changed, threads));
     } else {
-      levels_.push_back(membrane_detail::coarsenLevel(levels_[fine], bandWidth_));
+      levels_.push_back(
+          membrane_detail::coarsenLevel(levels_[fine], bandWidth_, nullptr, nullptr, threads));
     }
   }
   coarsest_ = membrane_detail::factorCoarsest(levels_.back());

@@ -61,11 +61,17 @@ struct RowSpan {
 // The coefficients in single precision, which the multigrid cycle runs in: it only has to
 // precondition, and floats halve its memory traffic and double its SIMD width. The conjugate
 // gradients around it, the residuals they test and the setup stay in double.
+// A custom row for the CPU kernels: each stencil row padded to eight weights (the eighth zero),
+// so that a row of the stencil is one vector multiply.
+constexpr int kPaddedSide = 8;
+using PaddedStencil = std::array<float, kStencilSide * kPaddedSide>;
+
 struct SingleCoefficients {
   std::vector<float> mask;
   std::vector<float> inverseDiagonal;
   std::array<float, kSlots> regular{};
   std::vector<std::array<float, kSlots>> custom;  // parallel to Level::customRows
+  std::vector<PaddedStencil> customPadded;        // the same, padded
 };
 
 struct Level {
@@ -76,6 +82,7 @@ struct Level {
   int activeEnd = 0;
   std::vector<RowSpan> spans;  // one per grid row
   Stencil regular{};
+  bool mirrored = false;  // the regular stencil is even in dx and in dy (exactly)
   StencilShape shape = StencilShape::Full;
   int reach = kReach;                     // of the regular stencil and every custom row
   std::array<int, kSlots> slotOffsets{};  // padded-array offset of every stencil slot
@@ -111,9 +118,20 @@ void subtractOperator(const Level& level, const float* base, const float* x, flo
 // d = keep d + gain D^-1 r, xNext = x + d. xNext must not alias x.
 void chebyshevStep(const Level& level, const float* b, const float* x, float* xNext, float* d,
                    float keep, float gain);
+// The dot product over the level's unknowns (the spans), in four interleaved sums: vectorized, and
+// in the same order on every machine and run.
+double dotProduct(const Level& level, const double* a, const double* b);
+// q = A p (as applyOperator) and returns p . q, summed as dotProduct does.
+double applyOperatorDot(const Level& level, const double* p, double* q);
+// x += alpha p, r -= alpha q over the level's unknowns; returns r . r, summed as dotProduct does.
+double updateResidual(const Level& level, double alpha, const double* p, const double* q, double* x,
+                      double* r);
 // (A x) at one unknown node.
 double rowProduct(const Level& level, const double* x, int node);
 float rowProduct(const Level& level, const float* x, int node);
+// Gauss-Seidel sweeps over the level's band: x += D^-1 (b - A x) node by node, in ascending order
+// (forward) or descending.
+void sweepBand(const Level& level, const float* b, float* x, bool forward, int sweeps);
 // R r: the transpose of the masked B-spline prolongation.
 void restrictToCoarse(const Level& fine, const Level& coarse, const double* fineValues,
                       double* coarseValues);
@@ -130,9 +148,10 @@ Level finestLevel(int width, int height, const std::vector<std::uint8_t>& inside
                   MembraneContinuity continuity, int bandWidth);
 // The Galerkin coarse level R A P of `fine`. With `previous`, the same coarse level of a previous
 // region on the same grid, rows out of reach of the `fineChanged` nodes (see changedNodes) are
-// copied from it: the result is the same, bit for bit.
+// copied from it: the result is the same, bit for bit. The rows are computed on up to `threads`
+// threads (0: the hardware's), with the same result for any count.
 Level coarsenLevel(const Level& fine, int bandWidth, const Level* previous = nullptr,
-                   const std::vector<std::uint8_t>* fineChanged = nullptr);
+                   const std::vector<std::uint8_t>* fineChanged = nullptr, int threads = 1);
 // Marks the nodes whose mask or operator row differ between two versions of a level.
 std::vector<std::uint8_t> changedNodes(const Level& now, const Level& before);
 CoarsestSolver factorCoarsest(const Level& level);
@@ -145,6 +164,11 @@ std::vector<MembraneNode> validateProblem(const MembraneProblem& problem);
 // A row-major field copied into the padded layout at the nodes of one role, zero elsewhere.
 std::vector<double> padded(const PaddedGrid& grid, const std::vector<double>& field,
                            const std::vector<MembraneNode>& roles, MembraneNode role);
+// The row-major indexes of the nodes of one role, ascending.
+std::vector<int> nodesOf(const std::vector<MembraneNode>& roles, MembraneNode role);
+// As padded, at the row-major `nodes` (e.g. nodesOf one role).
+std::vector<double> padded(const PaddedGrid& grid, const std::vector<double>& field,
+                           const std::vector<int>& nodes);
 // b = -A_IB f_B on the finest level's unknowns from the padded fixed values.
 std::vector<double> rightHandSide(const Level& finest, const std::vector<double>& fixedValues);
 
@@ -155,10 +179,11 @@ namespace geobrush {
 class MembraneHierarchy {
  public:
   // `previous`, a hierarchy of another region on the same grid, saves recomputing what the
-  // change of region did not reach.
+  // change of region did not reach. `threads` (0: the hardware's) share the coarse rows; the
+  // hierarchy is the same for any count.
   MembraneHierarchy(int width, int height, std::vector<std::uint8_t> inside,
                     MembraneContinuity continuity, const MembraneMultigridSettings& settings,
-                    const MembraneHierarchy* previous = nullptr);
+                    const MembraneHierarchy* previous = nullptr, int threads = 1);
 
   bool fits(const MembraneProblem& problem, const MembraneMultigridSettings& settings) const;
   const std::vector<membrane_detail::Level>& levels() const { return levels_; }

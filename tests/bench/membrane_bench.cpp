@@ -3,6 +3,9 @@
 //   BM_MembraneCold/threads      a solve from zero, hierarchy built;
 //   BM_MembraneAfterDab/threads  the next dab: Q grew, the hierarchy is updated from the previous
 //                                one, and the solve starts from the previous dab's solution;
+//   BM_MembraneHierarchy/update/threads
+//                                the hierarchy alone, built from scratch (0) or updated from the
+//                                previous region's (1);
 //   BM_MembraneDirect            the sparse LDL^T reference: factor once, solve three channels;
 //   BM_MembraneKernel/kernel:0 (cpu), BM_MembraneKernel/kernel:1 (vulkan)
 //                                a solve from zero on a hierarchy built beforehand (its Vulkan
@@ -143,6 +146,28 @@ BENCHMARK(BM_MembraneAfterDab)
     ->Unit(benchmark::kMillisecond)
     ->Repetitions(7)
     ->ReportAggregatesOnly();
+
+// The hierarchy alone: built from scratch (update:0), or updated from the previous region's
+// (update:1) as the next dab does, on `threads` threads.
+void BM_MembraneHierarchy(benchmark::State& state) {
+  const MembraneProblem& before = problem(false);
+  const MembraneProblem& after = problem(true);
+  const bool update = state.range(0) != 0;
+  const int threads = int(state.range(1));
+  const geobrush::MembraneHierarchy previous(before.width, before.height, before.inside,
+                                             before.continuity, {});
+  for (auto _ : state) {
+    const geobrush::MembraneHierarchy built(after.width, after.height, after.inside,
+                                            after.continuity, {}, update ? &previous : nullptr,
+                                            threads);
+    benchmark::DoNotOptimize(built.levels().data());
+  }
+}
+BENCHMARK(BM_MembraneHierarchy)
+    ->ArgNames({"update", "threads"})
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 void BM_MembraneDirect(benchmark::State& state) {
   for (auto _ : state)

@@ -380,6 +380,40 @@ TEST(Membrane, UpdatedHierarchyGivesTheSameSolution) {
   EXPECT_EQ(updated.values, fresh.values);
 }
 
+// The coarse rows of a hierarchy are computed on several threads: the hierarchy is the same, bit
+// for bit, for every thread count, built from scratch or updated from the previous region's.
+TEST(Membrane, HierarchyIsTheSameForEveryThreadCount) {
+  const int n = 128;  // enough unknowns for the finest coarsening to run on several threads
+  const Mask before = annulusWithNotch(n);
+  Mask after = before;
+  const Mask dab =
+      maskFrom(n, [=](double dx, double dy) { return std::hypot(dx - 0.1 * n, dy) < n / 10.0; });
+  for (std::size_t i = 0; i < dab.size(); ++i)
+    after[i] = after[i] || dab[i];
+  const MembraneMultigridSettings settings;
+  const MembraneHierarchy previous(n, n, before, MembraneContinuity::C1, settings);
+  const MembraneHierarchy one(n, n, after, MembraneContinuity::C1, settings, nullptr, 1);
+  ASSERT_GE(one.levels().front().unknowns.size(), 4096u);
+  for (int threads : {2, 3}) {
+    for (const MembraneHierarchy* from :
+         {static_cast<const MembraneHierarchy*>(nullptr), &previous}) {
+      const MembraneHierarchy other(n, n, after, MembraneContinuity::C1, settings, from, threads);
+      ASSERT_EQ(other.levels().size(), one.levels().size());
+      for (std::size_t l = 0; l < one.levels().size(); ++l) {
+        const membrane_detail::Level& a = one.levels()[l];
+        const membrane_detail::Level& b = other.levels()[l];
+        EXPECT_EQ(a.mask, b.mask);
+        EXPECT_EQ(a.lambdaMax, b.lambdaMax);
+        ASSERT_EQ(a.customRows.size(), b.customRows.size());
+        for (std::size_t c = 0; c < a.customRows.size(); ++c) {
+          EXPECT_EQ(a.customRows[c].node, b.customRows[c].node);
+          EXPECT_EQ(a.customRows[c].weights, b.customRows[c].weights);
+        }
+      }
+    }
+  }
+}
+
 // (e) Bit-identical on every run and for every thread count.
 TEST(Membrane, IsDeterministicAcrossRunsAndThreadCounts) {
   const MembraneProblem problem = problemOn(96, channel(96), 3);
