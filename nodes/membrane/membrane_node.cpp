@@ -56,12 +56,9 @@ class MembraneNode final : public geobrush::Node {
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    // Unconnected, the draft is G = 0; it is made once per source canvas, not on every dab.
-    if (!ctx.hasInput("draft") && zeroDraftCanvas_ != source->canvas) {
-      zeroDraft_ = geobrush::zeroDraft(*source->canvas);
-      zeroDraftCanvas_ = source->canvas;
-    }
-    const auto draft = ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDraft_;
+    // Unconnected, the draft is G = 0, made once per source canvas.
+    const auto draft =
+        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDrafts_.of(source->canvas);
     const auto target = ctx.in<Parameterization>("target");
     const auto continuity = ctx.param<bool>("derivative_constraints")
                                 ? geobrush::MembraneContinuity::C1
@@ -131,8 +128,7 @@ class MembraneNode final : public geobrush::Node {
   }
 
  private:
-  std::shared_ptr<const Mesh> zeroDraft_;
-  geobrush::CanvasPtr zeroDraftCanvas_;
+  geobrush::ZeroDraftCache zeroDrafts_;
   std::shared_ptr<const Parameterization> source_, target_;
   std::unique_ptr<geobrush::DomainLocator> sourceLocator_, targetLocator_;
   std::vector<std::vector<double>> previous_;

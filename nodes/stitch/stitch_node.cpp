@@ -21,12 +21,9 @@ class StitchNode final : public geobrush::Node {
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    // Unconnected, the draft is G = 0; it is made once per source canvas, not on every dab.
-    if (!ctx.hasInput("draft") && zeroDraftCanvas_ != source->canvas) {
-      zeroDraft_ = geobrush::zeroDraft(*source->canvas);
-      zeroDraftCanvas_ = source->canvas;
-    }
-    const auto draft = ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDraft_;
+    // Unconnected, the draft is G = 0, made once per source canvas.
+    const auto draft =
+        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDrafts_.of(source->canvas);
     const auto target = ctx.in<Parameterization>("target");
     const auto offset = ctx.hasInput("offset") ? ctx.in<Field2D>("offset") : nullptr;
     if (offset && offset->grid != region->grid)
@@ -48,8 +45,7 @@ class StitchNode final : public geobrush::Node {
   }
 
  private:
-  std::shared_ptr<const Mesh> zeroDraft_;
-  geobrush::CanvasPtr zeroDraftCanvas_;
+  geobrush::ZeroDraftCache zeroDrafts_;
   std::unique_ptr<geobrush::StitchBase> base_;
   std::shared_ptr<const Parameterization> target_;
 };

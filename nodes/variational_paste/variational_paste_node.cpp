@@ -45,12 +45,9 @@ class VariationalPasteNode final : public geobrush::Node {
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    // Unconnected, the draft is G = 0 (hole filling); made once per source canvas.
-    if (!ctx.hasInput("draft") && zeroDraftCanvas_ != source->canvas) {
-      zeroDraft_ = geobrush::zeroDraft(*source->canvas);
-      zeroDraftCanvas_ = source->canvas;
-    }
-    const auto draft = ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDraft_;
+    // Unconnected, the draft is G = 0, made once per source canvas.
+    const auto draft =
+        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDrafts_.of(source->canvas);
     const auto target = ctx.in<Parameterization>("target");
     checkDraft(draft->surface, *source);
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
@@ -85,8 +82,7 @@ class VariationalPasteNode final : public geobrush::Node {
   }
 
  private:
-  std::shared_ptr<const Mesh> zeroDraft_;
-  geobrush::CanvasPtr zeroDraftCanvas_;
+  geobrush::ZeroDraftCache zeroDrafts_;
   std::unique_ptr<geobrush::StitchBase> base_;
   std::shared_ptr<const Parameterization> target_;
 };

@@ -61,3 +61,16 @@ TEST(CanvasValues, HashesFollowEveryField) {
   EXPECT_NE(gc.contentHash(), gc2.contentHash());
   EXPECT_EQ(gc.summary(), "Green coordinates of 2 points");
 }
+
+TEST(CanvasValues, TheZeroDraftIsMadeOncePerCanvas) {
+  auto canvas = std::make_shared<Canvas>();
+  canvas->surface = test::icosphere(1);
+  ZeroDraftCache cache;
+  const MeshPtr first = cache.of(canvas);
+  ASSERT_EQ(first->surface.n_vertices(), canvas->surface.n_vertices());
+  for (auto v : first->surface.vertices())
+    EXPECT_EQ(first->surface.point(v), TriMesh::Point(0, 0, 0));
+  EXPECT_EQ(cache.of(canvas), first);
+  auto other = std::make_shared<Canvas>(*canvas);
+  EXPECT_NE(cache.of(other), first);
+}

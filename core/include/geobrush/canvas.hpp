@@ -37,6 +37,23 @@ using CanvasPtr = std::shared_ptr<const Canvas>;
 // origin, standing in for the draft G(P_s) where nothing is warped in.
 MeshPtr zeroDraft(const Canvas& canvas);
 
+// The G = 0 draft of the last source canvas asked for, made once and kept while the canvas
+// stays the same: what a paste node uses on every dab when no draft is connected.
+class ZeroDraftCache {
+ public:
+  MeshPtr of(const std::shared_ptr<const Canvas>& canvas) {
+    if (canvas != canvas_) {
+      draft_ = zeroDraft(*canvas);
+      canvas_ = canvas;
+    }
+    return draft_;
+  }
+
+ private:
+  std::shared_ptr<const Canvas> canvas_;
+  MeshPtr draft_;
+};
+
 // An orthonormal frame: a normal and the directions of growing u and v.
 struct Frame {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
