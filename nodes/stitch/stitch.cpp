@@ -168,15 +168,19 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
     throw StitchError("the draft does not have the source canvas' vertices and faces");
   const TriMesh& targetMesh =
       target.canvas->source ? target.canvas->source->surface : target.canvas->surface;
+  // Every return names `result`, so that it is built in place: OpenMesh meshes have no move
+  // constructor, and a returned copy of a large result costs as much as building it.
   StitchResult result;
-  auto unchangedTarget = [&] {
+  auto keepTarget = [&] {
     result.mesh = targetMesh;
     result.map.targetVertex.resize(targetMesh.n_vertices());
     std::iota(result.map.targetVertex.begin(), result.map.targetVertex.end(), 0);
     result.map.sourceVertex.assign(targetMesh.n_vertices(), -1);
-    return result;
   };
-  if (region.empty()) return unchangedTarget();
+  if (region.empty()) {
+    keepTarget();
+    return result;
+  }
 
   // R_in: the source faces with every corner in the region, made manifold.
   std::vector<char> inRegion(canvas.n_vertices(), 0);
@@ -192,7 +196,10 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
     }
   removePinches(canvas, patchSelected, selectedFaces(patchSelected));
   const std::vector<int> patchFaces = selectedFaces(patchSelected);
-  if (patchFaces.empty()) return unchangedTarget();
+  if (patchFaces.empty()) {
+    keepTarget();
+    return result;
+  }
 
   // The target: every face but those of its canvas that touch a covered vertex, made manifold.
   std::optional<StitchBase> ownBase;

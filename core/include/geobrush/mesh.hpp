@@ -30,8 +30,10 @@ class Mesh final : public Value {
   static constexpr std::string_view kTypeId = "geobrush.Mesh";
 
   Mesh() = default;
-  explicit Mesh(TriMesh surface, std::vector<Rgb> vertexColors = {})
-      : surface(std::move(surface)), vertexColors(std::move(vertexColors)) {}
+  // By reference: OpenMesh meshes have no move constructor, so taking one by value and moving it
+  // in would copy it twice.
+  explicit Mesh(const TriMesh& surface, std::vector<Rgb> vertexColors = {})
+      : surface(surface), vertexColors(std::move(vertexColors)) {}
 
   std::string_view typeId() const override { return kTypeId; }
   // Hashes points, faces (as vertex index triples) and colours; O(n) per call.
