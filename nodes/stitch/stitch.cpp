@@ -162,17 +162,29 @@ StitchBase stitchBase(const Parameterization& target) {
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const TriMesh& draft, const Field2D* offset,
                          const Parameterization& target, const StitchBase* base) {
+  StitchResult result;
+  StitchResult made = stitchPasteInto(result.mesh, region, source, draft, offset, target, base);
+  result.patchVertices = made.patchVertices;
+  result.removedFaces = made.removedFaces;
+  result.gapTriangles = made.gapTriangles;
+  result.seamLoops = made.seamLoops;
+  result.map = std::move(made.map);
+  return result;
+}
+
+StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
+                             const TriMesh& draft, const Field2D* offset,
+                             const Parameterization& target, const StitchBase* base) {
+  out.clear();
   if (!source.canvas || !target.canvas) throw StitchError("the parameterizations have no canvases");
   const TriMesh& canvas = source.canvas->surface;
   if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
     throw StitchError("the draft does not have the source canvas' vertices and faces");
   const TriMesh& targetMesh =
       target.canvas->source ? target.canvas->source->surface : target.canvas->surface;
-  // Every return names `result`, so that it is built in place: OpenMesh meshes have no move
-  // constructor, and a returned copy of a large result costs as much as building it.
-  StitchResult result;
+  StitchResult result;  // its mesh stays empty: the mesh is `out`
   auto keepTarget = [&] {
-    result.mesh = targetMesh;
+    out = targetMesh;
     result.map.targetVertex.resize(targetMesh.n_vertices());
     std::iota(result.map.targetVertex.begin(), result.map.targetVertex.end(), 0);
     result.map.sourceVertex.assign(targetMesh.n_vertices(), -1);
@@ -231,7 +243,6 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
   // The kept target faces, then the patch, their connectivity copied (add_face, face by face,
   // takes several times longer on a large target); room for the seam strips too. The part
   // outside the canvas is copied whole from the base, unless pinches reached it.
-  TriMesh& out = result.mesh;
   const std::size_t strips = 2 * targetCanvas.n_vertices() / 8 + 1024;
   auto reserve = [&] {
     out.reserve(targetMesh.n_vertices() + canvas.n_vertices(),

@@ -49,5 +49,11 @@ StitchBase stitchBase(const Parameterization& target);
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const TriMesh& draft, const Field2D* offset,
                          const Parameterization& target, const StitchBase* base = nullptr);
+// The same, building the mesh in `out` (cleared first) and leaving the result's `mesh` empty.
+// OpenMesh meshes have no move constructor, so a returned or moved mesh is copied: a node builds
+// straight into the mesh of its output value.
+StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
+                             const TriMesh& draft, const Field2D* offset,
+                             const Parameterization& target, const StitchBase* base = nullptr);
 
 }  // namespace geobrush

@@ -35,9 +35,10 @@ class StitchNode final : public geobrush::Node {
         base_ = std::make_unique<geobrush::StitchBase>(geobrush::stitchBase(*target));
         target_ = target;
       }
-      geobrush::StitchResult result = geobrush::stitchPaste(*region, *source, draft->surface,
-                                                            offset.get(), *target, base_.get());
-      ctx.out("mesh", std::make_shared<const Mesh>(std::move(result.mesh)));
+      auto mesh = std::make_shared<Mesh>();
+      geobrush::StitchResult result = geobrush::stitchPasteInto(
+          mesh->surface, *region, *source, draft->surface, offset.get(), *target, base_.get());
+      ctx.out("mesh", std::move(mesh));
       ctx.out("map", std::make_shared<const geobrush::PasteMap>(std::move(result.map)));
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("region", e.what());

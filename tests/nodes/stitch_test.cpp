@@ -218,3 +218,26 @@ TEST(Stitch, PastesIntoARealTerrain) {
   EXPECT_EQ(result.seamLoops, 1u);
   EXPECT_GT(result.removedFaces, 100u);
 }
+
+// The node builds straight into its output value; the mesh is the algorithm's.
+TEST(StitchNode, OutputsWhatStitchPasteMakes) {
+  const NodeType* type = test::registry().find("geobrush.stitch");
+  ASSERT_TRUE(type);
+  auto source = flatSquare(24);
+  auto target = flatSquare(17);
+  auto region = std::make_shared<Region2D>(
+      paintRegion(strokes({{{0.1, 0.05}, 0.55, false}}), *source, *target, RoiOptions{64}).region);
+  test::DirectContext ctx(*type, {{"region", region},
+                                  {"source", source},
+                                  {"draft", std::make_shared<const Mesh>(source->canvas->surface)},
+                                  {"target", target}});
+  type->create()->compute(ctx);
+  const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
+  ASSERT_TRUE(mesh);
+  const StitchResult direct =
+      stitchPaste(*region, *source, source->canvas->surface, nullptr, *target);
+  EXPECT_TRUE(test::bitIdentical(mesh->surface, direct.mesh));
+  const auto map = std::dynamic_pointer_cast<const PasteMap>(ctx.outputs.at("map"));
+  ASSERT_TRUE(map);
+  EXPECT_EQ(map->sourceVertex, direct.map.sourceVertex);
+}
