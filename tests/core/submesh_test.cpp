@@ -63,6 +63,17 @@ std::vector<int> facesBelowWavyCut(const TriMesh& sphere) {
   return faces;
 }
 
+// The faces below the wavy cut, and the others.
+std::pair<std::vector<int>, std::vector<int>> splitAtWavyCut(const TriMesh& sphere) {
+  std::vector<int> below = facesBelowWavyCut(sphere), above;
+  std::vector<char> isBelow(sphere.n_faces(), 0);
+  for (int f : below)
+    isBelow[std::size_t(f)] = 1;
+  for (std::size_t f = 0; f < sphere.n_faces(); ++f)
+    if (!isBelow[f]) above.push_back(int(f));
+  return {below, above};
+}
+
 }  // namespace
 
 TEST(AppendFaces, CopiesWhatExtractSubmeshBuildsFaceByFace) {
@@ -91,12 +102,7 @@ TEST(AppendFaces, CopiesWhatExtractSubmeshBuildsFaceByFace) {
 
 TEST(AppendFaces, AppendsAfterWhatIsThereAndKeepsTheMeshOpenToAddFace) {
   const TriMesh sphere = test::icosphere(2);
-  std::vector<int> below = facesBelowWavyCut(sphere), above;
-  std::vector<char> isBelow(sphere.n_faces(), 0);
-  for (int f : below)
-    isBelow[std::size_t(f)] = 1;
-  for (std::size_t f = 0; f < sphere.n_faces(); ++f)
-    if (!isBelow[f]) above.push_back(int(f));
+  const auto [below, above] = splitAtWavyCut(sphere);
   TriMesh both;
   appendFaces(both, sphere, below);
   const std::size_t verticesBelow = both.n_vertices();
@@ -150,12 +156,7 @@ TEST(AppendFaces, GivesAPinchedSelectionAVertexThatCirculatorsGoRoundWhole) {
 // a ring of faces leaves two boundary loops where the parts meet nothing.
 TEST(JoinFaces, ClosesTheBoundaryBetweenTheCopiedParts) {
   const TriMesh sphere = test::icosphere(3);
-  std::vector<int> below = facesBelowWavyCut(sphere), above;
-  std::vector<char> isBelow(sphere.n_faces(), 0);
-  for (int f : below)
-    isBelow[std::size_t(f)] = 1;
-  for (std::size_t f = 0; f < sphere.n_faces(); ++f)
-    if (!isBelow[f]) above.push_back(int(f));
+  const auto [below, above] = splitAtWavyCut(sphere);
   TriMesh whole;
   const AppendedFaces cap = appendFaces(whole, sphere, below);
   const AppendedFaces all = joinFaces(whole, sphere, above, cap);
