@@ -184,6 +184,12 @@ int EvalReport::computed() const {
   return count;
 }
 
+bool EvalReport::historyDependent() const {
+  for (const auto& run : runs)
+    if (run.history) return true;
+  return false;
+}
+
 int EvalReport::cacheHits() const {
   int count = 0;
   for (const auto& run : runs)
@@ -197,6 +203,7 @@ struct Evaluator::Impl {
     std::optional<Failure> failure;
     std::vector<std::string> warnings;
     std::uint64_t lastUsed = 0;
+    bool history = false;  // the outputs depend on a node's history (see NodeRun::history)
   };
   struct Instance {
     const NodeType* type = nullptr;
@@ -216,9 +223,9 @@ struct Evaluator::Impl {
                                      : std::filesystem::absolute(options.outputDir);
   }
 
-  Node& instance(const std::string& name, const NodeType& type) {
+  Node& instance(const std::string& name, const NodeType& type, bool fresh) {
     Instance& slot = instances[name];
-    if (slot.type != &type || !slot.node) {
+    if (slot.type != &type || !slot.node || fresh) {
       slot.type = &type;
       slot.node = type.create();
     }
@@ -318,6 +325,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
   const auto baseDir = graph.baseDir();
   const auto outputDir = impl.outputDir(graph, options);
   std::map<std::string, Outputs> results;
+  std::map<std::string, bool> history;  // per node evaluated: NodeRun::history
   std::vector<PendingFile> pendingFiles;
   std::vector<std::pair<Hash, Impl::Entry>> deferredEntries;  // file writers: cached after commit
 
@@ -331,9 +339,20 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     run.type = type.id;
     run.key = key;
 
-    if (auto hit = impl.cache.find(key); hit != impl.cache.end()) {
+    Outputs inputs;
+    bool inputHistory = false;
+    for (const auto& port : type.inputs)
+      if (const Endpoint* from = findSource(sources, name, port.name)) {
+        inputs[port.name] = results[from->node].at(from->port);
+        inputHistory = inputHistory || history[from->node];
+      }
+
+    auto hit = impl.cache.find(key);
+    if (hit != impl.cache.end() && options.settle && hit->second.history) hit = impl.cache.end();
+    if (hit != impl.cache.end()) {
       hit->second.lastUsed = generation;
       run.cacheHit = true;
+      run.history = history[name] = hit->second.history;
       run.warnings = hit->second.warnings;
       if (hit->second.failure) {
         run.failed = true;
@@ -347,11 +366,6 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
       continue;
     }
 
-    Outputs inputs;
-    for (const auto& port : type.inputs)
-      if (const Endpoint* from = findSource(sources, name, port.name))
-        inputs[port.name] = results[from->node].at(from->port);
-
     EvalContext ctx(type, node, name, inputs, baseDir, outputDir, options);
     std::optional<Failure> failure;
     const auto start = std::chrono::steady_clock::now();
@@ -359,7 +373,9 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     try {
       ctx.throwIfCancelled();
       ctx.progress(0.0);
-      impl.instance(name, type).compute(ctx);
+      Node& instance = impl.instance(name, type, options.settle);
+      instance.compute(ctx);
+      run.history = instance.usedHistory() || inputHistory;
       for (const auto& port : type.outputs)
         if (!ctx.outputs().count(port.name))
           throw NodeError::output(port.name, "was not set by '" + type.id + "'");
@@ -389,7 +405,8 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
       break;
     }
     ctx.progress(1.0);
-    Impl::Entry entry{ctx.outputs(), std::nullopt, run.warnings, generation};
+    history[name] = run.history;
+    Impl::Entry entry{ctx.outputs(), std::nullopt, run.warnings, generation, run.history};
     results[name] = ctx.outputs();
     if (ctx.pending().empty())
       impl.cache[key] = std::move(entry);

@@ -55,6 +55,14 @@ void checkOptions(const RenderOptions& options) {
     fail("zoom " + std::to_string(view.zoom) + " is not a positive number");
   if (!std::isfinite(view.azimuthDeg) || !std::isfinite(view.elevationDeg))
     fail("azimuthDeg and elevationDeg must be finite");
+  if (!std::isfinite(view.panRight) || !std::isfinite(view.panUp))
+    fail("panRight and panUp must be finite");
+  if (options.frame) {
+    const RenderFrame& frame = *options.frame;
+    if (!std::isfinite(frame.center[0]) || !std::isfinite(frame.center[1]) ||
+        !std::isfinite(frame.center[2]) || !(frame.radius > 0) || !std::isfinite(frame.radius))
+      fail("the frame needs a finite centre and a positive radius");
+  }
   if (!finite(options.background)) fail("the background colour is not finite");
 }
 
@@ -92,7 +100,9 @@ struct Camera {
 
 // Distance at which a sphere of `radius` fits both fields of view, divided by
 // the zoom; the azimuth turns from +z towards +x, the elevation lifts off xz.
-Camera fitCamera(double radius, const RenderView& view, int width, int height) {
+// The near and far planes hold a sphere of `clipRadius` (>= radius) around the
+// same centre, so that what lies outside a fixed frame is still drawn.
+Camera fitCamera(double radius, double clipRadius, const RenderView& view, int width, int height) {
   const double halfFovY = view.fovDeg * M_PI / 360;
   const double halfFovX = std::atan(std::tan(halfFovY) * width / height);
   const double distance = radius / std::sin(std::min(halfFovX, halfFovY)) / view.zoom;
@@ -106,7 +116,8 @@ Camera fitCamera(double radius, const RenderView& view, int width, int height) {
   // above and below the scene.
   camera.right = {std::cos(azimuth), 0, -std::sin(azimuth)};
   camera.up = camera.back.cross(camera.right);
-  camera.eye = distance * camera.back;
+  const Eigen::Vector3d lookAt = radius * (view.panRight * camera.right + view.panUp * camera.up);
+  camera.eye = lookAt + distance * camera.back;
 
   Eigen::Matrix4d viewMatrix = Eigen::Matrix4d::Identity();
   viewMatrix.block<1, 3>(0, 0) = camera.right.transpose();
@@ -116,8 +127,9 @@ Camera fitCamera(double radius, const RenderView& view, int width, int height) {
 
   // Margins keep the sphere's extreme points off the clipping planes; the
   // near plane stays positive when zooming puts the eye inside the sphere.
-  const double far = distance + 1.01 * radius;
-  const double near = std::max(distance - 1.01 * radius, 1e-3 * far);
+  // Panning moves the eye across the view axis only, so the depths stay.
+  const double far = distance + 1.01 * clipRadius;
+  const double near = std::max(distance - 1.01 * clipRadius, 1e-3 * far);
   const double focal = 1 / std::tan(halfFovY);
   Eigen::Matrix4d projection = Eigen::Matrix4d::Zero();
   projection(0, 0) = focal * height / width;
@@ -127,6 +139,40 @@ Camera fitCamera(double radius, const RenderView& view, int width, int height) {
   projection(3, 2) = -1;
   camera.viewProjection = projection * viewMatrix;
   return camera;
+}
+
+// What the camera frames: the fixed frame of the options, else the bounding box of the items;
+// and the radius of the sphere around the same centre that holds everything drawn.
+struct Framing {
+  Eigen::Vector3d center;
+  double radius = 0;
+  double clipRadius = 0;
+};
+
+Framing frameItems(const std::vector<RenderItem>& items, const RenderOptions& options) {
+  const Eigen::AlignedBox3d box = boundingBox(items);
+  const double boxRadius = 0.5 * box.diagonal().norm();
+  Framing framing{box.center(), boxRadius, boxRadius};
+  if (options.frame) {
+    framing.center = Eigen::Vector3d(options.frame->center.data());
+    framing.radius = options.frame->radius;
+    framing.clipRadius =
+        std::max(framing.radius, (box.center() - framing.center).norm() + boxRadius);
+  }
+  if (!(framing.radius > 0)) fail("all points coincide, so there is nothing to see");
+  return framing;
+}
+
+// The checks and the camera that every render and renderCamera() share.
+std::pair<Framing, Camera> prepareCamera(const std::vector<RenderItem>& items,
+                                         const RenderOptions& options) {
+  checkOptions(options);
+  if (items.empty()) fail("there is nothing to draw (no items)");
+  for (std::size_t i = 0; i < items.size(); ++i)
+    checkItem(items[i], i);
+  const Framing framing = frameItems(items, options);
+  return {framing, fitCamera(framing.radius, framing.clipRadius, options.view, options.width,
+                             options.height)};
 }
 
 std::array<float, 3> toFloats(const Eigen::Vector3d& v) {
@@ -226,21 +272,12 @@ std::uint8_t toUnorm8(float value) {
 }
 
 Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& options) {
-  checkOptions(options);
-  if (items.empty()) fail("there is nothing to draw (no items)");
-  for (std::size_t i = 0; i < items.size(); ++i)
-    checkItem(items[i], i);
-
-  const Eigen::AlignedBox3d box = boundingBox(items);
-  const double radius = 0.5 * box.diagonal().norm();
-  if (!(radius > 0)) fail("all points coincide, so there is nothing to see");
-  const Camera camera = fitCamera(radius, options.view, options.width, options.height);
-
+  const auto [framing, camera] = prepareCamera(items, options);
   Scene scene;
   scene.width = options.width;
   scene.height = options.height;
   for (const RenderItem& item : items)
-    appendTriangles(item, box.center(), camera, scene.width, scene.height, scene.vertices);
+    appendTriangles(item, framing.center, camera, scene.width, scene.height, scene.vertices);
   scene.constants = shadingConstants(camera);
   for (int c = 0; c < 3; ++c)
     scene.background[c] = toUnorm8(options.background[c]);
@@ -249,6 +286,32 @@ Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& op
 }
 
 }  // namespace detail
+
+RenderCamera renderCamera(const std::vector<RenderItem>& items, const RenderOptions& options) {
+  const auto [framing, camera] = detail::prepareCamera(items, options);
+  // The scene is drawn relative to the framed centre (float precision); the public camera
+  // takes world points.
+  Eigen::Matrix4d toCentre = Eigen::Matrix4d::Identity();
+  toCentre.block<3, 1>(0, 3) = -framing.center;
+  return {camera.viewProjection * toCentre, camera.eye + framing.center, options.width,
+          options.height};
+}
+
+std::optional<Eigen::Vector3d> RenderCamera::project(const Eigen::Vector3d& point) const {
+  const Eigen::Vector4d clip = viewProjection * point.homogeneous();
+  if (!(clip.w() > 0)) return std::nullopt;
+  return Eigen::Vector3d(0.5 * (clip.x() / clip.w() + 1) * width,
+                         0.5 * (clip.y() / clip.w() + 1) * height, clip.z() / clip.w());
+}
+
+std::pair<Eigen::Vector3d, Eigen::Vector3d> RenderCamera::ray(double x, double y) const {
+  // The window position back to normalized device coordinates, then through the inverse to a
+  // point on the near plane; the ray runs from the eye through it.
+  const Eigen::Vector4d ndc(2 * x / width - 1, 2 * y / height - 1, 0, 1);
+  const Eigen::Vector4d world = viewProjection.inverse() * ndc;
+  const Eigen::Vector3d onNear = world.head<3>() / world.w();
+  return {eye, (onNear - eye).normalized()};
+}
 
 RenderResult renderMeshes(const std::vector<RenderItem>& items, const RenderOptions& options) {
   const detail::Scene scene = detail::prepareScene(items, options);

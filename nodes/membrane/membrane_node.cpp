@@ -92,7 +92,8 @@ class MembraneNode final : public geobrush::Node {
     options.tolerance = ctx.param<double>("tolerance");
     options.maxIterations = ctx.param<int>("max_iterations");
     options.kernel = kernel;
-    if (previousGrid_ == region->grid && previousContinuity_ == continuity) {
+    usedHistory_ = previousGrid_ == region->grid && previousContinuity_ == continuity;
+    if (usedHistory_) {
       options.initialGuess = previous_;
       options.hierarchy = hierarchy_;
     }
@@ -127,7 +128,11 @@ class MembraneNode final : public geobrush::Node {
     ctx.out("report", std::move(report));
   }
 
+  // The warm start: the solution (and hierarchy) of the previous dab on the same grid.
+  bool usedHistory() const override { return usedHistory_; }
+
  private:
+  bool usedHistory_ = false;
   geobrush::ZeroDraftCache zeroDrafts_;
   std::shared_ptr<const Parameterization> source_, target_;
   std::unique_ptr<geobrush::DomainLocator> sourceLocator_, targetLocator_;

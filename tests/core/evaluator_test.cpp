@@ -251,3 +251,56 @@ TEST(Evaluator, DeterministicAcrossEvaluators) {
             second.output("sum", "value")->contentHash());
   EXPECT_EQ(first.nodeKeys(graph), second.nodeKeys(graph));
 }
+
+TEST(Evaluator, SettlingRecomputesWhatAWarmStartProducedWithFreshInstances) {
+  const auto dir = test::tempDir("eval-settle");
+  Graph graph = parseGraph(R"({
+    "format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {
+      "a": {"type": "test.number", "typeVersion": 1, "params": {"value": 2}},
+      "warm": {"type": "test.warm", "typeVersion": 1},
+      "sum": {"type": "test.add", "typeVersion": 2},
+      "other": {"type": "test.add", "typeVersion": 2}
+    },
+    "connections": [{"from": "a.value", "to": "warm.in"}, {"from": "warm.value", "to": "sum.a"},
+                    {"from": "a.value", "to": "other.a"}]
+  })",
+                           dir / "g.json");
+  prepareGraph(graph, test::testNodeRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
+  EvalReport first = evaluator.evaluate(graph);
+  ASSERT_TRUE(first.ok) << first.error;
+  EXPECT_FALSE(first.historyDependent());
+  EXPECT_EQ(scalar(evaluator, "sum"), 2.0);
+
+  // The second compute of the warm node starts from the first: off by its tolerance, and so is
+  // everything downstream, but not a node beside it.
+  graph.nodes.at("a").params["value"] = 3.0;
+  EvalReport warm = evaluator.evaluate(graph);
+  ASSERT_TRUE(warm.ok) << warm.error;
+  EXPECT_TRUE(warm.historyDependent());
+  std::map<std::string, bool> history;
+  for (const auto& run : warm.runs)
+    history[run.node] = run.history;
+  EXPECT_TRUE(history.at("warm"));
+  EXPECT_TRUE(history.at("sum"));
+  EXPECT_FALSE(history.at("other"));
+  EXPECT_FALSE(history.at("a"));
+  EXPECT_NE(scalar(evaluator, "sum"), 3.0);
+
+  // A plain evaluation keeps the warm result; settling recomputes the warm node and what it
+  // feeds, cold, and nothing else.
+  EXPECT_EQ(evaluator.evaluate(graph).computed(), 0);
+  EvalOptions settle;
+  settle.settle = true;
+  EvalReport settled = evaluator.evaluate(graph, settle);
+  ASSERT_TRUE(settled.ok) << settled.error;
+  EXPECT_FALSE(settled.historyDependent());
+  EXPECT_EQ(settled.computed(), 2);
+  EXPECT_EQ(scalar(evaluator, "sum"), 3.0);
+  Evaluator fresh(test::testNodeRegistry());
+  ASSERT_TRUE(fresh.evaluate(graph).ok);
+  EXPECT_EQ(scalar(fresh, "sum"), scalar(evaluator, "sum"));
+  // Settled results are cached as such: settling again computes nothing.
+  EXPECT_EQ(evaluator.evaluate(graph, settle).computed(), 0);
+}

@@ -28,7 +28,8 @@ TEST(Registry, LoadsGoodPluginsAndRefusesBadOnes) {
   EXPECT_EQ(report.errors.size(), 6u);
 
   EXPECT_NE(errorFor(report, "test_other_abi.so")
-                .find("built for plugin ABI 999, this GeoBrush has ABI 1"),
+                .find("built for plugin ABI 999, this GeoBrush has ABI " +
+                      std::to_string(kPluginAbiVersion)),
             std::string::npos);
   EXPECT_NE(errorFor(report, "test_throws.so").find("plugin refused: registration exploded"),
             std::string::npos);

@@ -378,6 +378,56 @@ TEST_P(RenderBackendTest, FramingKeepsTheWholeSceneInside) {
   }
 }
 
+// What a viewport relies on: overlays projected with renderCamera() land on the pixels the
+// render covers, rays cast from pixels pass through the points seen there, panning shifts the
+// image, and a fixed frame keeps the camera while the items change.
+TEST_P(RenderBackendTest, TheCameraProjectsWhatTheImageShows) {
+  const Eigen::Vector3d centre(1, 2, 3);
+  const std::vector<RenderItem> items = {{box(centre, 0.5)}};
+  auto o = options(GetParam(), 320, 240);
+  o.view = {.azimuthDeg = 30, .elevationDeg = 20};
+  o.background = kBlack;
+  const RenderCamera camera = renderCamera(items, o);
+  const Image image = renderMeshes(items, o).image;
+  const auto projected = camera.project(centre);
+  ASSERT_TRUE(projected.has_value());
+  EXPECT_NEAR(projected->x(), 160, 1e-9);  // the box centre is what the camera looks at
+  EXPECT_NEAR(projected->y(), 120, 1e-9);
+  // The corner nearest the eye: covered where projected, and on the ray through that pixel.
+  const Eigen::Vector3d corner = centre + 0.5 * Eigen::Vector3d(1, 1, 1);
+  const auto window = camera.project(corner);
+  ASSERT_TRUE(window.has_value());
+  EXPECT_FALSE(isBackground(image, int(window->x() - 2), int(window->y() + 2), toBytes(kBlack)));
+  const auto [eye, direction] = camera.ray(window->x(), window->y());
+  const Eigen::Vector3d toCorner = corner - eye;
+  EXPECT_NEAR((toCorner - toCorner.dot(direction) * direction).norm(), 0, 1e-9);
+  EXPECT_NEAR(direction.norm(), 1, 1e-12);
+
+  // Looking further right moves the scene left on the screen.
+  o.view.panRight = 0.5;
+  EXPECT_LT(renderCamera(items, o).project(centre)->x(), 150);
+  const Eigen::AlignedBox2i panned = coveredBox(renderMeshes(items, o).image, toBytes(kBlack));
+  EXPECT_LT(panned.center().x(), coveredBox(image, toBytes(kBlack)).center().x() - 10);
+  o.view.panRight = 0;
+
+  // A fixed frame: another item far away leaves where everything projects (the depth range
+  // grows to hold it) and is still drawn.
+  o.frame = RenderFrame{{centre.x(), centre.y(), centre.z()}, 1.0};
+  const RenderCamera framed = renderCamera(items, o);
+  const Eigen::Vector3d far = centre + Eigen::Vector3d(0, 0, -6);
+  const std::vector<RenderItem> more = {items[0], {box(far, 0.2)}};
+  const RenderCamera withMore = renderCamera(more, o);
+  for (const Eigen::Vector3d& p : {centre, corner, far})
+    EXPECT_TRUE(withMore.project(p)->head<2>().isApprox(framed.project(p)->head<2>(), 1e-12));
+  const auto farPixel = withMore.project(far);
+  const Image both = renderMeshes(more, o).image;
+  EXPECT_FALSE(isBackground(both, int(farPixel->x()), int(farPixel->y()), toBytes(kBlack)));
+  EXPECT_TRUE(isBackground(renderMeshes(items, o).image, int(farPixel->x()), int(farPixel->y()),
+                           toBytes(kBlack)));
+  o.frame->radius = 0;
+  EXPECT_THAT([&] { renderCamera(items, o); }, ::testing::Throws<std::runtime_error>());
+}
+
 TEST_P(RenderBackendTest, RenderingIsDeterministic) {
   const std::vector<RenderItem> items = {{loadMesh("bunny_small.obj"), {0.7f, 0.7f, 0.7f}, true}};
   const auto o = options(GetParam(), 300, 200);

@@ -59,6 +59,23 @@ void slow(Context& ctx) {
   ctx.out("value", std::make_shared<Scalar>(ctx.in<Scalar>("in")->value));
 }
 
+// Stands in for a warm-started solver: every compute after the first starts from the previous
+// one and lands a little off the exact answer, as an iteration stopped at its tolerance does.
+class WarmStarted final : public Node {
+ public:
+  void compute(Context& ctx) override {
+    usedHistory_ = computedBefore_;
+    const double offset = computedBefore_ ? 1e-9 : 0.0;
+    ctx.out("value", std::make_shared<Scalar>(ctx.in<Scalar>("in")->value + offset));
+    computedBefore_ = true;
+  }
+  bool usedHistory() const override { return usedHistory_; }
+
+ private:
+  bool computedBefore_ = false;
+  bool usedHistory_ = false;
+};
+
 void registerNodes(PluginRegistrar& r) {
   r.add(NodeTypeBuilder("test.number", 1)
             .doc("Outputs its parameter as a scalar.")
@@ -114,6 +131,12 @@ void registerNodes(PluginRegistrar& r) {
             .output<Scalar>("value", "The number.")
             .paramInputPath("path", "Text file holding one number.")
             .compute(readText)
+            .build());
+  r.add(NodeTypeBuilder("test.warm", 1)
+            .doc("Passes its input through, off by 1e-9 when warm-started from a previous compute.")
+            .input<Scalar>("in", "Passed through.")
+            .output<Scalar>("value", "The input (exactly, when computed cold).")
+            .node<WarmStarted>()
             .build());
   r.add(NodeTypeBuilder("test.slow", 1)
             .doc("Takes a second, checking for cancellation.")

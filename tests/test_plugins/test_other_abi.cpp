@@ -5,7 +5,7 @@
 using namespace geobrush;
 
 extern "C" __attribute__((visibility("default"))) int geobrush_plugin_abi_version() {
-  return kPluginAbiVersion + 998;
+  return 999;  // no GeoBrush has had this ABI
 }
 extern "C" __attribute__((visibility("default"))) void geobrush_plugin_register(
     PluginRegistrar& r) {

@@ -25,6 +25,10 @@ struct EvalOptions {
   // Called from the evaluating thread with the node name and its progress.
   std::function<void(const std::string& node, double fraction)> progress;
   const std::atomic<bool>* cancel = nullptr;
+  // Recompute every output that came from a node's history (a warm start) or from such an
+  // output, each node with a fresh instance: the results then equal a fresh evaluator's, as
+  // `geobrush run` computes them, bit for bit.
+  bool settle = false;
 };
 
 struct NodeRun {
@@ -34,6 +38,8 @@ struct NodeRun {
   double seconds = 0;
   bool cacheHit = false;
   bool failed = false;
+  // The outputs depend on a node's history (its own warm start or one upstream).
+  bool history = false;
   std::vector<std::string> warnings;
 };
 
@@ -46,6 +52,8 @@ struct EvalReport {
 
   int computed() const;
   int cacheHits() const;
+  // Some output depends on a node's history: a settling evaluation would recompute it.
+  bool historyDependent() const;
 };
 
 class Evaluator {

@@ -101,11 +101,16 @@ T Context::param(std::string_view name) const {
 }
 
 // One node instance in a graph; may keep state between evaluations (e.g. a
-// warm start), but its outputs must depend only on its inputs and params.
+// warm start), but its outputs must depend only on its inputs and params,
+// up to the tolerance of an iterative solve that starts from that state.
 class Node {
  public:
   virtual ~Node() = default;
   virtual void compute(Context& ctx) = 0;
+  // True when the last compute() started from state left by earlier ones (a warm start), so
+  // that its outputs may differ from a fresh instance's within the node's tolerance. The
+  // evaluator recomputes such outputs with a fresh instance when asked to settle.
+  virtual bool usedHistory() const { return false; }
 };
 
 struct PortDecl {

@@ -2,8 +2,11 @@
 // is found (a GPU, else lavapipe), with a CPU rasterizer twin.
 #pragma once
 
+#include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geobrush/image.hpp"
@@ -24,6 +27,17 @@ struct RenderView {
   double elevationDeg = 20;  // above the xz plane
   double fovDeg = 35;        // vertical field of view
   double zoom = 1;           // > 1 moves closer than the fitted distance
+  // Moves the point looked at along the camera's right and up axes, in radii of the framed
+  // sphere (what dragging a viewport pans).
+  double panRight = 0;
+  double panUp = 0;
+};
+
+// A sphere to frame instead of the items' bounding box: a viewport keeps its camera while the
+// meshes it shows change.
+struct RenderFrame {
+  std::array<double, 3> center{0, 0, 0};
+  double radius = 1;
 };
 
 enum class RenderBackend { Auto, Vulkan, Cpu };
@@ -34,6 +48,7 @@ struct RenderOptions {
   RenderView view;
   Rgb background{1.0f, 1.0f, 1.0f};
   RenderBackend backend = RenderBackend::Auto;
+  std::optional<RenderFrame> frame;  // none: the bounding box of the items
 };
 
 struct RenderResult {
@@ -41,6 +56,23 @@ struct RenderResult {
   std::string backend;  // "vulkan" or "cpu"
   std::string device;   // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)" or "cpu rasterizer"
 };
+
+// The camera of a render, in world coordinates: what overlays are projected with and what
+// picking casts rays from, so both line up with the image pixel for pixel.
+struct RenderCamera {
+  Eigen::Matrix4d viewProjection;  // world -> clip space (Vulkan: y down, depth 0 near .. 1 far)
+  Eigen::Vector3d eye;
+  int width = 0;
+  int height = 0;
+
+  // Window position (pixels, y down) and depth (0 near .. 1 far) of a point; none behind the eye.
+  std::optional<Eigen::Vector3d> project(const Eigen::Vector3d& point) const;
+  // The ray through window position (x, y): the eye and a unit direction.
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> ray(double x, double y) const;
+};
+
+// Throws std::runtime_error for the same options renderMeshes refuses.
+RenderCamera renderCamera(const std::vector<RenderItem>& items, const RenderOptions& options);
 
 // Throws std::runtime_error if nothing can be drawn (no faces, bad size) or
 // the Vulkan backend was forced and is unavailable. With Auto, a failing
