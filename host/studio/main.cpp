@@ -49,14 +49,13 @@ int main(int argc, char** argv) {
   window.show();
   bool ok = true;
   if (window.document().evaluable()) {
+    // The whole graph, files written, then whatever follows it (a settling pass) to its end.
     QEventLoop loop;
-    QObject::connect(&window, &geobrush::studio::StudioWindow::evaluated, &loop,
-                     [&](bool evaluatedOk) {
-                       ok = evaluatedOk;
-                       loop.quit();
-                     });
+    QObject::connect(&window, &geobrush::studio::StudioWindow::becameIdle, &loop,
+                     [&] { loop.quit(); });
     QTimer::singleShot(0, &window, [&] { window.evaluate(); });
     loop.exec();
+    ok = window.lastReport().ok;
   }
   QApplication::processEvents();
   const QString png = parser.value(screenshot);

@@ -8,9 +8,14 @@
 #include <QMouseEvent>
 #include <QPainterPath>
 #include <QPen>
+#include <algorithm>
 #include <set>
 
 namespace geobrush::studio {
+
+namespace {
+constexpr double kMinScale = 0.7;
+}  // namespace
 namespace {
 
 constexpr double kWidth = 190;
@@ -179,7 +184,18 @@ void NodeEditor::show(const StudioDocument& document,
     curve->setZValue(-1);
   }
   scene_.setSceneRect(scene_.itemsBoundingRect().adjusted(-40, -40, 40, 40));
-  fitInView(scene_.sceneRect(), Qt::KeepAspectRatio);
+  // Framed again only when other nodes show (a param edit on every brush dab keeps the view),
+  // and never so small that the boxes cannot be read: the view scrolls instead.
+  std::set<std::string> names;
+  for (const auto& [name, box] : boxes_)
+    names.insert(name);
+  if (names != framedNodes_) {
+    framedNodes_ = std::move(names);
+    fitInView(scene_.sceneRect(), Qt::KeepAspectRatio);
+    const double scale = std::clamp(transform().m11(), kMinScale, 1.0);
+    setTransform(QTransform::fromScale(scale, scale));
+    centerOn(scene_.sceneRect().center());
+  }
 }
 
 void NodeEditor::storePositions(Graph& graph) const {

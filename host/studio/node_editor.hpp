@@ -52,6 +52,7 @@ class NodeEditor : public QGraphicsView {
   std::map<std::string, QPointF> placed_;  // where each box was put
   std::map<std::pair<std::string, std::string>, QPointF> inputAt_, outputAt_;
   std::set<std::string> saved_;           // the nodes whose position the graph held
+  std::set<std::string> framedNodes_;     // the nodes shown when the view was last framed
   QGraphicsLineItem* pulling_ = nullptr;  // the line drawn while dragging from an output
   Endpoint pulledFrom_;
 };

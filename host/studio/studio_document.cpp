@@ -20,16 +20,46 @@ std::string StudioDocument::open(const std::filesystem::path& path) {
   missing_ = std::move(missing);
   undo_.clear();
   redo_.clear();
+  gestureStart_.reset();
   return {};
 }
 
+// The graph as saved in another folder: relative input paths (meshes) rewritten to point at the
+// same files from there. Output paths stay: they name files relative to where the graph runs.
+Graph StudioDocument::rebased(const std::filesystem::path& path) const {
+  Graph graph = graph_;
+  const auto from = std::filesystem::absolute(graph_.baseDir()).lexically_normal();
+  const auto to = std::filesystem::absolute(path).parent_path().lexically_normal();
+  graph.file = path;
+  if (from == to) return graph;
+  for (auto& [name, node] : graph.nodes) {
+    const NodeType* type = registry_.find(node.type);
+    if (!type) continue;
+    for (auto& [param, value] : node.params) {
+      const ParamDecl* decl = type->findParam(param);
+      if (!decl || decl->kind != ParamKind::InputPath ||
+          !std::holds_alternative<std::string>(value))
+        continue;
+      const std::filesystem::path old = std::get<std::string>(value);
+      if (old.empty() || old.is_absolute()) continue;
+      const auto target = (from / old).lexically_normal();
+      const auto relative = target.lexically_relative(to);
+      value = (relative.empty() ? target : relative).generic_string();
+    }
+  }
+  return graph;
+}
+
 std::string StudioDocument::save(const std::filesystem::path& path) {
+  Graph graph = rebased(path);
   try {
     // Without the registry nothing is dropped: params are written as they are held.
-    writeGraphFile(graph_, path);
+    writeGraphFile(graph, path);
   } catch (const std::exception& e) {
     return path.string() + ": " + e.what();
   }
+  // The document continues from the saved file: its paths resolve from there now.
+  graph_ = std::move(graph);
   path_ = path;
   return {};
 }
@@ -49,13 +79,31 @@ void StudioDocument::updateMissing() {
 }
 
 void StudioDocument::commit(Graph edited) {
-  undo_.push_back(std::move(graph_));
+  // Within a gesture the graph before it is already kept (once).
+  if (gestureStart_)
+    gestureChanged_ = true;
+  else
+    undo_.push_back(std::move(graph_));
   redo_.clear();
   graph_ = std::move(edited);
   updateMissing();
 }
 
+void StudioDocument::beginGesture() {
+  endGesture();
+  gestureStart_ = std::make_unique<Graph>(graph_);
+  gestureChanged_ = false;
+}
+
+void StudioDocument::endGesture() {
+  if (!gestureStart_) return;
+  if (gestureChanged_) undo_.push_back(std::move(*gestureStart_));
+  gestureStart_.reset();
+  gestureChanged_ = false;
+}
+
 bool StudioDocument::undo() {
+  endGesture();
   if (undo_.empty()) return false;
   redo_.push_back(std::move(graph_));
   graph_ = std::move(undo_.back());
@@ -65,6 +113,7 @@ bool StudioDocument::undo() {
 }
 
 bool StudioDocument::redo() {
+  endGesture();
   if (redo_.empty()) return false;
   undo_.push_back(std::move(graph_));
   graph_ = std::move(redo_.back());
@@ -149,6 +198,18 @@ std::string StudioDocument::setParam(const std::string& node, const std::string&
   edited.nodes[node].params[param] = std::move(value);
   commit(std::move(edited));
   return {};
+}
+
+std::optional<ParamValue> StudioDocument::param(const std::string& node,
+                                                const std::string& param) const {
+  const auto it = graph_.nodes.find(node);
+  if (it == graph_.nodes.end()) return std::nullopt;
+  if (const auto value = it->second.params.find(param); value != it->second.params.end())
+    return value->second;
+  const NodeType* type = registry_.find(it->second.type);
+  const ParamDecl* decl = type ? type->findParam(param) : nullptr;
+  if (!decl) return std::nullopt;
+  return decl->defaultValue;
 }
 
 void StudioDocument::moveNode(const std::string& node, double x, double y) {

@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <map>
+#include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -32,8 +34,9 @@ class StudioDocument {
   // missing; the rest of the graph is checked as the CLI checks it. Returns the error (one line
   // naming the file, node and port) or an empty string; on error the document is unchanged.
   std::string open(const std::filesystem::path& path);
-  // Writes the graph in the CLI's format (UI positions in the "ui" block). Returns the error or
-  // an empty string.
+  // Writes the graph in the CLI's format (UI positions in the "ui" block); saved in another
+  // folder, its relative input paths are rewritten to name the same files from there. Returns
+  // the error or an empty string.
   std::string save(const std::filesystem::path& path);
 
   const Graph& graph() const { return graph_; }
@@ -54,11 +57,20 @@ class StudioDocument {
   // A param value, checked against the node type's declaration (kind, range, choices).
   std::string setParam(const std::string& node, const std::string& param, ParamValue value);
   void moveNode(const std::string& node, double x, double y);
+  // A param's value as the node computes with it (its default where the file sets none); none
+  // for an unknown node or param.
+  std::optional<ParamValue> param(const std::string& node, const std::string& param) const;
+
+  // A gesture (a brush stroke, a drag) makes many edits that undo as one: those between
+  // beginGesture() and endGesture(). Undo and redo end a gesture first.
+  void beginGesture();
+  void endGesture();
+  bool inGesture() const { return gestureStart_ != nullptr; }
 
   // Steps back through the edits and forward again; false when there is nothing to step to.
   bool undo();
   bool redo();
-  bool canUndo() const { return !undo_.empty(); }
+  bool canUndo() const { return !undo_.empty() || gestureChanged_; }
   bool canRedo() const { return !redo_.empty(); }
 
   // The statuses after an evaluation (or the missing marks); every node has one.
@@ -69,8 +81,11 @@ class StudioDocument {
   Graph graph_;
   std::filesystem::path path_;
   std::set<std::string> missing_;
-  std::vector<Graph> undo_, redo_;  // the graph before each edit, and the edits undone
+  std::vector<Graph> undo_, redo_;       // the graph before each edit, and the edits undone
+  std::unique_ptr<Graph> gestureStart_;  // the graph before the gesture under way
+  bool gestureChanged_ = false;
 
+  Graph rebased(const std::filesystem::path& path) const;
   // Replaces the graph by an edited copy, keeping the current one for undo.
   void commit(Graph edited);
   void updateMissing();

@@ -1,13 +1,19 @@
 #include "studio_window.hpp"
 
+#include "clone_edits.hpp"
+
 #include <QAction>
 #include <QDockWidget>
 #include <QFileDialog>
 #include <QMenuBar>
 #include <QPlainTextEdit>
+#include <QProgressBar>
+#include <QSplitter>
 #include <QStatusBar>
 #include <QTimer>
+#include <QToolBar>
 #include <QTreeWidget>
+#include <cmath>
 #include <map>
 
 namespace geobrush::studio {
@@ -20,10 +26,23 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
       palette_(new QTreeWidget(this)),
       log_(new QPlainTextEdit(this)),
       params_(new ParamPanel(registry, this)),
+      clone_(new ClonePanel(document_, this)),
+      progress_(new QProgressBar(this)),
       evaluator_(std::make_unique<Evaluator>(registry)) {
   setWindowTitle("GeoBrush Studio");
-  resize(1280, 800);
-  setCentralWidget(editor_);
+  resize(1400, 900);
+  auto* central = new QSplitter(Qt::Vertical, this);
+  central->addWidget(clone_);
+  central->addWidget(editor_);
+  central->setSizes({520, 300});
+  setCentralWidget(central);
+  addToolBar(clone_->toolBar());
+  clone_->onEdited = [this](const std::string& error) { edited(error); };
+  clone_->onMessage = [this](const QString& text) { statusBar()->showMessage(text, 4000); };
+  progress_->setMaximumWidth(240);
+  progress_->setRange(0, 100);
+  progress_->hide();
+  statusBar()->addPermanentWidget(progress_);
 
   // The palette lists the types the plugins declared, by category.
   palette_->setHeaderLabel("Nodes");
@@ -63,6 +82,12 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
   editor_->onSelected = [this](const std::string& node) {
     selected_ = node;
     params_->showNode(document_, node);
+    // Selecting another clone's ROI (or strokes) node shows that clone.
+    const auto it = document_.graph().nodes.find(node);
+    if (it != document_.graph().nodes.end() && it->second.type == "geobrush.roi") {
+      updateRoles();
+      evaluateLive();
+    }
   };
   auto* paletteDock = new QDockWidget("Palette", this);
   paletteDock->setWidget(palette_);
@@ -71,6 +96,7 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
   auto* logDock = new QDockWidget("Log", this);
   logDock->setWidget(log_);
   addDockWidget(Qt::BottomDockWidgetArea, logDock);
+  resizeDocks({logDock}, {110}, Qt::Vertical);
 
   QMenu* file = menuBar()->addMenu("&File");
   file->addAction("&Open...", QKeySequence::Open, [this] {
@@ -109,6 +135,11 @@ bool StudioWindow::openFile(const QString& path) {
   evaluator_ = std::make_unique<Evaluator>(registry_);
   report_ = {};
   selected_.clear();
+  pendingLive_ = false;
+  radiusChosen_ = false;
+  lastLiveError_.clear();
+  clone_->clear();
+  updateRoles();
   params_->showNode(document_, selected_);
   undoAction_->setEnabled(false);
   redoAction_->setEnabled(false);
@@ -119,6 +150,7 @@ bool StudioWindow::openFile(const QString& path) {
   setWindowTitle("GeoBrush Studio - " + path);
   refresh(nullptr);
   statusBar()->showMessage("Opened " + path);
+  evaluateLive();
   return true;
 }
 
@@ -134,54 +166,126 @@ bool StudioWindow::saveFile(const QString& path) {
 }
 
 void StudioWindow::evaluate() {
+  pendingLive_ = false;
+  startEvaluation(EvalMode::Full);
+}
+
+void StudioWindow::evaluateLive() {
+  if (!clone_->roles().found() || !document_.evaluable()) return;
+  if (evaluating()) {
+    pendingLive_ = true;
+    return;
+  }
+  startEvaluation(EvalMode::Live);
+}
+
+void StudioWindow::updateRoles() {
+  const auto it = document_.graph().nodes.find(selected_);
+  const bool roi = it != document_.graph().nodes.end() && it->second.type == "geobrush.roi";
+  const std::string preferred = roi ? selected_ : clone_->roles().roi;
+  clone_->setRoles(findClone(document_.graph(), preferred));
+  // A graph without a clone gets the whole window for its nodes.
+  clone_->setVisible(clone_->roles().found());
+  clone_->toolBar()->setEnabled(clone_->roles().found());
+}
+
+void StudioWindow::startEvaluation(EvalMode mode) {
   stopWorker();
   if (!document_.evaluable()) {
     log("error: the graph has nodes whose plugin is missing: it cannot be evaluated");
     emit evaluated(false);
+    emit becameIdle();
     return;
   }
   Graph graph = document_.graph();
   try {
     prepareGraph(graph, registry_);
   } catch (const GraphError& e) {
-    log("error: " + QString::fromStdString(e.what()));
+    // A graph being wired is often incomplete: the live view waits quietly for the next edit.
+    if (mode == EvalMode::Full) log("error: " + QString::fromStdString(e.what()));
+    statusBar()->showMessage(QString::fromStdString(e.what()));
     emit evaluated(false);
+    emit becameIdle();
     return;
   }
   cancel_ = false;
   finished_ = false;
-  statusBar()->showMessage("Evaluating...");
+  statusBar()->showMessage(mode == EvalMode::Full ? "Evaluating..." : "Updating the clone...");
   const int generation = ++generation_;
-  worker_ = std::thread([this, generation, outputDir = outputDir_, graph = std::move(graph)] {
-    EvalOptions options;
-    options.cancel = &cancel_;
-    options.outputDir = outputDir;
-    EvalReport report = evaluator_->evaluate(graph, options);
+  EvalOptions options;
+  options.cancel = &cancel_;
+  options.outputDir = outputDir_;
+  options.settle = mode != EvalMode::Live;
+  if (mode != EvalMode::Full) options.targets = clone_->roles().liveTargets();
+  options.progress = [this, generation](const std::string& node, double fraction) {
     QMetaObject::invokeMethod(
         this,
-        [this, generation, report = std::move(report)]() mutable {
-          finishEvaluation(generation, std::move(report));
+        [this, generation, node, fraction] {
+          if (generation == generation_) showProgress(node, fraction);
+        },
+        Qt::QueuedConnection);
+  };
+  worker_ = std::thread([this, generation, mode, roles = clone_->roles(),
+                         options = std::move(options), graph = std::move(graph)] {
+    EvalReport report = evaluator_->evaluate(graph, options);
+    LiveView view;
+    if (roles.found() && !report.cancelled) view = makeLiveView(*evaluator_, roles);
+    QMetaObject::invokeMethod(
+        this,
+        [this, generation, mode, report = std::move(report), view = std::move(view)]() mutable {
+          finishEvaluation(generation, mode, std::move(report), std::move(view));
         },
         Qt::QueuedConnection);
   });
 }
 
-void StudioWindow::finishEvaluation(int generation, EvalReport report) {
+void StudioWindow::showProgress(const std::string& node, double fraction) {
+  progress_->show();
+  progress_->setValue(int(std::lround(100 * fraction)));
+  progress_->setFormat(QString::fromStdString(node) + " %p%");
+}
+
+void StudioWindow::finishEvaluation(int generation, EvalMode mode, EvalReport report,
+                                    LiveView view) {
   if (generation != generation_) return;
   finished_ = true;
   if (worker_.joinable()) worker_.join();
+  progress_->hide();
   report_ = std::move(report);
-  for (const auto& run : report_.runs)
-    for (const auto& warning : run.warnings)
-      log("warning: node '" + QString::fromStdString(run.node) +
-          "': " + QString::fromStdString(warning));
-  if (!report_.ok) log("error: " + QString::fromStdString(report_.error));
+  // A live evaluation runs on every dab: the log gets each warning and error once.
+  const bool quiet = mode != EvalMode::Full && report_.error == lastLiveError_;
+  if (mode != EvalMode::Full) lastLiveError_ = report_.error;
+  if (!quiet) {
+    for (const auto& run : report_.runs)
+      for (const auto& warning : run.warnings)
+        log("warning: node '" + QString::fromStdString(run.node) +
+            "': " + QString::fromStdString(warning));
+    if (!report_.ok) log("error: " + QString::fromStdString(report_.error));
+  }
   refresh(&report_);
-  statusBar()->showMessage(report_.ok ? QString("Evaluated: %1 nodes computed, %2 cached")
+  if (clone_->roles().found()) {
+    if (!radiusChosen_ && view.values.sourceMesh) {
+      clone_->setBrushRadius(defaultBrushRadius(document_, clone_->roles(), view.values));
+      radiusChosen_ = true;
+    }
+    clone_->showView(std::move(view));
+  }
+  statusBar()->showMessage(report_.ok ? QString("%1: %2 nodes computed, %3 cached")
+                                            .arg(mode == EvalMode::Full   ? "Evaluated"
+                                                 : mode == EvalMode::Live ? "Updated"
+                                                                          : "Settled")
                                             .arg(report_.computed())
                                             .arg(report_.cacheHits())
                                       : QString::fromStdString(report_.error));
   emit evaluated(report_.ok);
+  if (pendingLive_) {
+    pendingLive_ = false;
+    startEvaluation(EvalMode::Live);
+  } else if (report_.ok && report_.historyDependent()) {
+    startEvaluation(EvalMode::Settle);
+  } else {
+    emit becameIdle();
+  }
 }
 
 void StudioWindow::stopWorker() {
@@ -216,6 +320,8 @@ void StudioWindow::edited(const std::string& error) {
   }
   undoAction_->setEnabled(document_.canUndo());
   redoAction_->setEnabled(document_.canRedo());
+  updateRoles();
+  evaluateLive();
   QTimer::singleShot(0, this, [this] {
     refresh(nullptr);
     params_->showNode(document_, selected_);

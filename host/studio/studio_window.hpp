@@ -1,6 +1,8 @@
-// The studio's main window: the palette of every loaded node type (from the plugins), the node
-// editor, and a log; graphs open and save in the CLI's format, and evaluate on a worker thread
-// with the same evaluator as `geobrush run`, so the window never blocks.
+// The studio's main window: the source and target viewports with the brush tools, the palette of
+// every loaded node type (from the plugins), the node editor, and a log; graphs open and save in
+// the CLI's format, and evaluate on a worker thread with the same evaluator as `geobrush run`,
+// so the window never blocks. Each edit re-evaluates what the viewports show; once the edits
+// stop, a settling evaluation replaces warm-started results by what `geobrush run` computes.
 #pragma once
 
 #include <QMainWindow>
@@ -8,12 +10,14 @@
 #include <memory>
 #include <thread>
 
+#include "clone_panel.hpp"
 #include "node_editor.hpp"
 #include "param_panel.hpp"
 #include "studio_document.hpp"
 
 class QPlainTextEdit;
 class QAction;
+class QProgressBar;
 class QTreeWidget;
 
 namespace geobrush::studio {
@@ -33,18 +37,27 @@ class StudioWindow : public QMainWindow {
   std::string addNode(const std::string& typeId);
   StudioDocument& document() { return document_; }
   NodeEditor& editor() { return *editor_; }
-  // Starts an evaluation of the open graph on the worker thread (cancelling one under way);
-  // `evaluated` is emitted when it ends.
+  ClonePanel& clonePanel() { return *clone_; }
+  // Starts an evaluation of the whole graph on the worker thread (cancelling one under way),
+  // writing the graph's files; `evaluated` is emitted when it ends.
   void evaluate();
+  // Evaluates what the viewports show (after the one under way, if any); what edits call.
+  void evaluateLive();
+  // Nothing evaluating and nothing waiting to be.
+  bool idle() const { return !evaluating() && !pendingLive_; }
   // Where the graph's output files go; empty (the default): the graph file's folder, as for
   // `geobrush run` without --out.
   void setOutputDir(const std::filesystem::path& dir) { outputDir_ = dir; }
   bool evaluating() const { return worker_.joinable() && !finished_; }
   const StudioDocument& document() const { return document_; }
   const EvalReport& lastReport() const { return report_; }
+  // The evaluator of the open graph (read it only while idle()).
+  const Evaluator& evaluator() const { return *evaluator_; }
 
  signals:
   void evaluated(bool ok);
+  // Emitted when the evaluations that edits started have all ended (see idle()).
+  void becameIdle();
 
  private:
   void log(const QString& line);
@@ -53,8 +66,14 @@ class StudioWindow : public QMainWindow {
   void edited(const std::string& error);
   void undoRedo(bool undo);
   void refresh(const EvalReport* report);
-  void finishEvaluation(int generation, EvalReport report);
+  // Full: every node, settled, files written (F5). Live: what the viewports show, warm. Settle:
+  // the same, recomputing what a warm start gave.
+  enum class EvalMode { Full, Live, Settle };
+  void startEvaluation(EvalMode mode);
+  void finishEvaluation(int generation, EvalMode mode, EvalReport report, LiveView view);
+  void showProgress(const std::string& node, double fraction);
   void stopWorker();
+  void updateRoles();
 
   const NodeRegistry& registry_;
   StudioDocument document_;
@@ -62,6 +81,8 @@ class StudioWindow : public QMainWindow {
   QTreeWidget* palette_;
   QPlainTextEdit* log_;
   ParamPanel* params_;
+  ClonePanel* clone_;
+  QProgressBar* progress_;
   QAction* undoAction_;
   QAction* redoAction_;
   std::string selected_;
@@ -70,6 +91,9 @@ class StudioWindow : public QMainWindow {
   std::thread worker_;
   std::atomic<bool> cancel_{false};
   bool finished_ = true;
+  bool pendingLive_ = false;
+  bool radiusChosen_ = false;
+  std::string lastLiveError_;
   std::filesystem::path outputDir_;
   // Counts evaluations: a result that arrives after a newer one started, or after the graph was
   // replaced, is dropped.

@@ -4,22 +4,28 @@
 
 #include <QApplication>
 #include <QComboBox>
+#include <QElapsedTimer>
 #include <QEventLoop>
 #include <QImage>
+#include <QMouseEvent>
 #include <QTest>
 #include <QTimer>
 #include <fstream>
 #include <sstream>
 
+#include "clone_edits.hpp"
+#include "clone_view.hpp"
 #include "studio_document.hpp"
 #include "studio_window.hpp"
 #include "test_support.hpp"
 
 using namespace geobrush;
+using geobrush::studio::CloneTool;
 using geobrush::studio::NodeEditor;
 using geobrush::studio::NodeState;
 using geobrush::studio::StudioDocument;
 using geobrush::studio::StudioWindow;
+using geobrush::studio::Viewport;
 
 namespace {
 
@@ -46,6 +52,64 @@ bool evaluateAndWait(StudioWindow& window) {
   QTimer::singleShot(120000, &loop, [&] { loop.quit(); });
   loop.exec();
   return ok;
+}
+
+// Lets the window's evaluations (live, then settling) run to their end.
+bool waitUntilIdle(StudioWindow& window, int timeoutMs = 120000) {
+  QElapsedTimer timer;
+  timer.start();
+  QTest::qWait(20);
+  while (!window.idle() && timer.elapsed() < timeoutMs)
+    QTest::qWait(20);
+  return window.idle();
+}
+
+// Where a point shows in a viewport.
+QPoint onScreen(const Viewport& view, const Eigen::Vector3d& point) {
+  const auto camera = view.camera();
+  if (!camera) return {-1, -1};
+  const auto at = camera->project(point);
+  return at ? QPoint(int(at->x()), int(at->y())) : QPoint(-1, -1);
+}
+
+// A left-button drag in `steps` moves, as a hand makes it.
+void drag(QWidget* widget, QPoint from, QPoint to, Qt::KeyboardModifiers modifiers = {},
+          int steps = 8) {
+  QTest::mousePress(widget, Qt::LeftButton, modifiers, from);
+  for (int i = 1; i <= steps; ++i) {
+    const QPoint at = from + (to - from) * i / steps;
+    QMouseEvent move(QEvent::MouseMove, at, widget->mapToGlobal(at), Qt::NoButton, Qt::LeftButton,
+                     modifiers);
+    QApplication::sendEvent(widget, &move);
+  }
+  QTest::mouseRelease(widget, Qt::LeftButton, modifiers, to);
+}
+
+std::vector<double> pointsOf(const MeshPtr& mesh) {
+  std::vector<double> points;
+  if (!mesh) return points;
+  for (auto v : mesh->surface.vertices())
+    for (int c = 0; c < 3; ++c)
+      points.push_back(mesh->surface.point(v)[c]);
+  return points;
+}
+
+std::vector<double> dabsOf(const StudioDocument& document, const std::string& node) {
+  const auto value = document.param(node, "dabs");
+  return value ? std::get<std::vector<double>>(*value) : std::vector<double>{};
+}
+
+Eigen::Vector3d vec3Of(const StudioDocument& document, const std::string& node,
+                       const std::string& param) {
+  const auto value = std::get<Vec3>(*document.param(node, param));
+  return {value[0], value[1], value[2]};
+}
+
+// Screenshots a person can look at, kept in the build tree.
+void screenshot(QWidget& widget, const std::string& name) {
+  const std::filesystem::path dir = GEOBRUSH_SCREENSHOT_DIR;
+  std::filesystem::create_directories(dir);
+  EXPECT_TRUE(widget.grab().save(QString::fromStdString((dir / name).string()), "PNG")) << name;
 }
 
 }  // namespace
@@ -255,6 +319,132 @@ TEST(StudioWindow, MouseAndKeysEditTheGraph) {
   QTest::keyClick(viewport, Qt::Key_Delete);
   QTest::qWait(50);
   EXPECT_FALSE(window.document().graph().nodes.count("transform"));
+}
+
+TEST(CloneView, FindsTheRolesOfEveryCloneGraph) {
+  for (const char* name :
+       {"clone_mountain_sphere.json", "clone_ear_cube_edge.json", "fill_bunny_small_back.json",
+        "compare_mountain_sphere_variational.json"}) {
+    SCOPED_TRACE(name);
+    const auto roles = geobrush::studio::findClone(readGraphFile(graphFile(name)));
+    ASSERT_TRUE(roles.found());
+    EXPECT_EQ(roles.roi, "roi");
+    EXPECT_EQ(roles.strokes, "strokes");
+    EXPECT_EQ(roles.sourceMap, "source_map");
+    EXPECT_EQ(roles.targetMap, "target_map");
+    EXPECT_EQ(roles.sourceCanvas, "source_canvas");
+    EXPECT_EQ(roles.sourceMesh.node, "source_mesh");
+    EXPECT_EQ(roles.targetMesh.node, "target_mesh");
+    EXPECT_FALSE(roles.paste.empty());
+  }
+  EXPECT_FALSE(geobrush::studio::findClone(readGraphFile(graphFile("default.json"))).found());
+}
+
+// The paper's session, scripted with mouse events on the viewports: place both canvases, paint a
+// region stroke on the target, undo and redo it, save, and run the saved file headless.
+TEST(StudioWindow, APaintingSessionEditsTheGraphAndRunsTheSameHeadless) {
+  const auto dir = test::tempDir("studio-painting");
+  StudioWindow window(test::registry());
+  window.setOutputDir(dir / "live");
+  std::filesystem::create_directories(dir / "live");
+  ASSERT_TRUE(
+      window.openFile(QString::fromStdString(graphFile("clone_ear_cube_edge.json").string())));
+  window.show();
+  window.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+  auto& panel = window.clonePanel();
+  const auto roles = panel.roles();
+  ASSERT_TRUE(roles.found());
+  Viewport& source = panel.sourceView();
+  Viewport& target = panel.targetView();
+  ASSERT_TRUE(source.surface().mesh && target.surface().mesh);
+  const StudioDocument& document = window.document();
+  screenshot(window, "studio_opened.png");
+
+  // Source origin: a click where the origin shows puts it on the surface point there.
+  const Eigen::Vector3d sourceOrigin = vec3Of(document, roles.sourceCanvas, "origin");
+  panel.setTool(CloneTool::SourceOrigin);
+  const QPoint originPixel = onScreen(source, sourceOrigin);
+  QTest::mouseClick(&source, Qt::LeftButton, {}, originPixel);
+  const Eigen::Vector3d clicked = vec3Of(document, roles.sourceCanvas, "origin");
+  EXPECT_NE(clicked, sourceOrigin);
+  EXPECT_LT((clicked - sourceOrigin).norm(), 0.02);
+  // The canvas brush adds dabs along a drag; all of it undoes as one edit.
+  panel.setTool(CloneTool::PaintCanvas);
+  panel.setBrushRadius(0.1);
+  const std::size_t canvasDabs = dabsOf(document, roles.sourceCanvas).size();
+  drag(&source, originPixel, originPixel + QPoint(6, 4));
+  EXPECT_GT(dabsOf(document, roles.sourceCanvas).size(), canvasDabs);
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+
+  // Target origin: a click where it shows.
+  panel.setTool(CloneTool::TargetOrigin);
+  const Eigen::Vector3d targetOrigin = vec3Of(document, roles.targetMap, "origin");
+  const QPoint targetPixel = onScreen(target, targetOrigin);
+  QTest::mouseClick(&target, Qt::LeftButton, {}, targetPixel);
+  // The ear pasted there is what the click hits: its (u, v) leads back to the cube (side 2)
+  // near the old origin.
+  const Eigen::Vector3d newOrigin = vec3Of(document, roles.targetMap, "origin");
+  EXPECT_NE(newOrigin, targetOrigin);
+  EXPECT_LT((newOrigin - targetOrigin).norm(), 0.25);
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+  const std::vector<double> before = pointsOf(
+      std::dynamic_pointer_cast<const Mesh>(window.evaluator().output(roles.paste, "mesh")));
+  ASSERT_FALSE(before.empty());
+
+  // A region stroke on the target canvas: dabs in the shared domain, a different clone.
+  panel.setTool(CloneTool::PaintRegion);
+  panel.setBrushRadius(0.05);
+  const std::size_t regionDabs = dabsOf(document, roles.strokes).size();
+  const QPoint strokeStart = onScreen(target, vec3Of(document, roles.targetMap, "origin"));
+  drag(&target, strokeStart, strokeStart + QPoint(40, 10));
+  const std::vector<double> strokeDabs = dabsOf(document, roles.strokes);
+  EXPECT_GE(strokeDabs.size(), regionDabs + 8);
+  for (std::size_t i = regionDabs; i < strokeDabs.size(); i += 4) {
+    EXPECT_EQ(strokeDabs[i + 2], 0.05);
+    EXPECT_EQ(strokeDabs[i + 3], 1.0);
+  }
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+  const std::vector<double> painted = pointsOf(
+      std::dynamic_pointer_cast<const Mesh>(window.evaluator().output(roles.paste, "mesh")));
+  EXPECT_NE(painted, before);
+  // The brush shows on both surfaces while hovering.
+  QTest::mouseMove(&target, strokeStart);
+  screenshot(window, "studio_painted.png");
+
+  // Undo takes the whole stroke back, and the mesh with it, bit for bit; redo brings both back.
+  QTest::keyClick(&window, Qt::Key_Z, Qt::ControlModifier);
+  EXPECT_EQ(dabsOf(document, roles.strokes).size(), regionDabs);
+  ASSERT_TRUE(waitUntilIdle(window));
+  EXPECT_EQ(pointsOf(std::dynamic_pointer_cast<const Mesh>(
+                window.evaluator().output(roles.paste, "mesh"))),
+            before);
+  QTest::keyClick(&window, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+  EXPECT_EQ(dabsOf(document, roles.strokes), strokeDabs);
+  ASSERT_TRUE(waitUntilIdle(window));
+  EXPECT_EQ(pointsOf(std::dynamic_pointer_cast<const Mesh>(
+                window.evaluator().output(roles.paste, "mesh"))),
+            painted);
+
+  // Saved elsewhere (the mesh paths follow) and run headless: the same mesh, byte for byte.
+  ASSERT_TRUE(window.saveFile(QString::fromStdString((dir / "session.json").string())));
+  std::filesystem::create_directories(dir / "studio");
+  window.setOutputDir(dir / "studio");
+  ASSERT_TRUE(evaluateAndWait(window)) << window.lastReport().error;
+  ASSERT_TRUE(waitUntilIdle(window));
+  const std::string run = test::cliPath().string() + " run " + (dir / "session.json").string() +
+                          " --out " + (dir / "cli").string() + " --quiet";
+  std::filesystem::create_directories(dir / "cli");
+  ASSERT_EQ(std::system(run.c_str()), 0);
+  const std::string saved = "ear_on_cube_edge.obj";
+  ASSERT_TRUE(std::filesystem::exists(dir / "studio" / saved));
+  EXPECT_EQ(bytes(dir / "studio" / saved), bytes(dir / "cli" / saved));
+  screenshot(window, "studio_saved.png");
 }
 
 int main(int argc, char** argv) {

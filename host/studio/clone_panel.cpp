@@ -1,0 +1,310 @@
+#include "clone_panel.hpp"
+
+#include <Eigen/Geometry>
+#include <QAction>
+#include <QActionGroup>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QSplitter>
+#include <QToolBar>
+#include <QVBoxLayout>
+#include <cmath>
+
+#include "clone_edits.hpp"
+
+namespace geobrush::studio {
+namespace {
+
+// Dabs closer than this fraction of the radius to the previous one add nothing a user sees.
+constexpr double kDabSpacing = 0.3;
+constexpr double kDegreesPerPixel = 0.5;
+constexpr double kScalePerPixel = 0.01;
+
+const QColor kBrush(255, 170, 60);
+const QColor kEraser(120, 200, 255);
+const QColor kUAxis(230, 60, 40);
+const QColor kVAxis(60, 110, 240);
+
+std::vector<Outline> originMarker(const Frame& frame, double length) {
+  return {{{frame.point, frame.point + length * frame.uAxis}, kUAxis, 3},
+          {{frame.point, frame.point + length * frame.vAxis}, kVAxis, 3}};
+}
+
+// A circle in the plane of the face hit.
+Outline tangentCircle(const SurfaceHit& hit, double radius, const QColor& color) {
+  Eigen::Vector3d a = hit.normal.unitOrthogonal();
+  const Eigen::Vector3d b = hit.normal.cross(a);
+  Outline outline{{}, color, 2};
+  for (int i = 0; i <= 48; ++i) {
+    const double angle = 2 * M_PI * i / 48;
+    outline.points.push_back(hit.point + radius * (std::cos(angle) * a + std::sin(angle) * b) +
+                             1e-3 * radius * hit.normal);
+  }
+  return outline;
+}
+
+}  // namespace
+
+LiveView makeLiveView(const Evaluator& evaluator, const CloneRoles& roles) {
+  LiveView view;
+  view.values = fetchClone(evaluator, roles);
+  view.source = showSource(view.values);
+  view.target = showTarget(view.values);
+  if (view.values.sourceMap)
+    view.sourceLocator = std::make_shared<const DomainLocator>(*view.values.sourceMap);
+  if (view.values.targetMap)
+    view.targetLocator = std::make_shared<const DomainLocator>(*view.values.targetMap);
+  return view;
+}
+
+ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
+    : QWidget(parent),
+      document_(document),
+      source_(new Viewport("Source", this)),
+      target_(new Viewport("Target", this)),
+      toolBar_(new QToolBar("Brush", this)),
+      tools_(new QActionGroup(this)),
+      radius_(new QDoubleSpinBox(this)) {
+  auto* splitter = new QSplitter(Qt::Horizontal, this);
+  splitter->addWidget(source_);
+  splitter->addWidget(target_);
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->addWidget(splitter);
+
+  toolBar_->setObjectName("brushToolBar");
+  const std::pair<CloneTool, const char*> tools[] = {{CloneTool::SourceOrigin, "Source origin"},
+                                                     {CloneTool::PaintCanvas, "Paint canvas"},
+                                                     {CloneTool::TargetOrigin, "Target origin"},
+                                                     {CloneTool::MoveTarget, "Move target"},
+                                                     {CloneTool::PaintRegion, "Paint region"}};
+  const char* tips[] = {
+      "Click the source surface where the canvas grows from",
+      "Paint the source canvas (Shift erases dabs)",
+      "Click the target surface where the clone goes",
+      "Drag the target canvas across the surface; Shift+drag turns it, Ctrl+drag scales it",
+      "Paint the region to clone on either canvas (Shift subtracts)"};
+  int key = Qt::Key_1;
+  for (std::size_t i = 0; i < std::size(tools); ++i) {
+    QAction* action = toolBar_->addAction(tools[i].second);
+    action->setCheckable(true);
+    action->setToolTip(QString(tips[i]) + " (" + QString::number(i + 1) + ")");
+    action->setShortcut(QKeySequence(key++));
+    action->setData(int(tools[i].first));
+    tools_->addAction(action);
+    connect(action, &QAction::triggered, this, [this, tool = tools[i].first] { setTool(tool); });
+  }
+  toolBar_->addSeparator();
+  toolBar_->addWidget(new QLabel(" Brush radius ", this));
+  radius_->setDecimals(4);
+  radius_->setRange(1e-4, 1e4);
+  radius_->setValue(0.1);
+  radius_->setToolTip("In source mesh units: the shared domain keeps the source's distances");
+  toolBar_->addWidget(radius_);
+  toolBar_->addSeparator();
+  toolBar_->addAction("Frame views", this, [this] {
+    source_->resetView();
+    target_->resetView();
+  });
+  setTool(tool_);
+
+  source_->onPointer = [this](const PointerEvent& event) { sourcePointer(event); };
+  target_->onPointer = [this](const PointerEvent& event) { targetPointer(event); };
+}
+
+void ClonePanel::setTool(CloneTool tool) {
+  tool_ = tool;
+  for (QAction* action : tools_->actions())
+    action->setChecked(action->data().toInt() == int(tool));
+  hoverUv_.reset();
+  hoverCanvas_.reset();
+  updateOutlines();
+}
+
+void ClonePanel::setBrushRadius(double radius) {
+  radius_->setValue(radius);
+}
+
+double ClonePanel::brushRadius() const {
+  return radius_->value();
+}
+
+void ClonePanel::clear() {
+  view_ = {};
+  source_->setSurface({});
+  target_->setSurface({});
+  source_->resetView();
+  target_->resetView();
+  updateOutlines();
+}
+
+void ClonePanel::showView(LiveView view) {
+  view_ = std::move(view);
+  source_->setSurface(view_.source);
+  target_->setSurface(view_.target);
+  updateOutlines();
+}
+
+void ClonePanel::message(const QString& text) {
+  if (onMessage) onMessage(text);
+}
+
+void ClonePanel::apply(const std::string& error) {
+  if (onEdited) onEdited(error);
+}
+
+void ClonePanel::sourcePointer(const PointerEvent& event) {
+  if (event.kind == PointerEvent::Leave) return hover(std::nullopt, std::nullopt);
+  if (event.kind == PointerEvent::Hover) {
+    if (tool_ == CloneTool::PaintCanvas) return hover(std::nullopt, event.hit);
+    if (tool_ == CloneTool::PaintRegion && event.hit)
+      return hover(uvAt(view_.source, *event.hit), std::nullopt);
+    return hover(std::nullopt, std::nullopt);
+  }
+  if (event.kind == PointerEvent::Press) document_.beginGesture();
+  if (event.kind == PointerEvent::Release) {
+    document_.endGesture();
+    lastUv_.reset();
+    lastPoint_.reset();
+    return apply({});
+  }
+  switch (tool_) {
+    case CloneTool::SourceOrigin:
+      if (!event.hit) return message("Nothing of the source under the pointer");
+      return apply(setSourceOrigin(document_, roles_, event.hit->point));
+    case CloneTool::PaintCanvas: {
+      if (!event.hit) return message("Nothing of the source under the pointer");
+      hover(std::nullopt, event.hit);
+      const double radius = brushRadius();
+      if (lastPoint_ && (*lastPoint_ - event.hit->point).norm() < kDabSpacing * radius) return;
+      lastPoint_ = event.hit->point;
+      return apply(paintCanvas(document_, roles_, event.hit->point, radius,
+                               event.modifiers & Qt::ShiftModifier));
+    }
+    case CloneTool::PaintRegion:
+      return paintRegionAt(view_.source, event);
+    case CloneTool::TargetOrigin:
+    case CloneTool::MoveTarget:
+      return message("The target tools work in the target view");
+  }
+}
+
+void ClonePanel::targetPointer(const PointerEvent& event) {
+  if (event.kind == PointerEvent::Leave) return hover(std::nullopt, std::nullopt);
+  if (event.kind == PointerEvent::Hover) {
+    if (tool_ == CloneTool::PaintRegion && event.hit)
+      return hover(uvAt(view_.target, *event.hit), std::nullopt);
+    return hover(std::nullopt, std::nullopt);
+  }
+  if (event.kind == PointerEvent::Press) {
+    document_.beginGesture();
+    lastPosition_ = event.position;
+  }
+  if (event.kind == PointerEvent::Release) {
+    document_.endGesture();
+    lastUv_.reset();
+    return apply({});
+  }
+  switch (tool_) {
+    case CloneTool::TargetOrigin: {
+      const auto point = event.hit ? onTargetSurface(*event.hit) : std::nullopt;
+      if (!point) return message("Nothing of the target under the pointer");
+      return apply(setTargetOrigin(document_, roles_, *point));
+    }
+    case CloneTool::MoveTarget:
+      return moveTarget(event);
+    case CloneTool::PaintRegion:
+      return paintRegionAt(view_.target, event);
+    case CloneTool::SourceOrigin:
+    case CloneTool::PaintCanvas:
+      return message("The source tools work in the source view");
+  }
+}
+
+void ClonePanel::paintRegionAt(const ShownSurface& surface, const PointerEvent& event) {
+  if (!event.hit) return message("Nothing under the brush");
+  const auto uv = uvAt(surface, *event.hit);
+  if (!uv) return message("The brush is off the canvas: paint where the (u, v) lines are");
+  hover(uv, std::nullopt);
+  const double radius = brushRadius();
+  if (lastUv_ && (*lastUv_ - *uv).norm() < kDabSpacing * radius) return;
+  lastUv_ = uv;
+  apply(paintRegion(document_, roles_, *uv, radius, event.modifiers & Qt::ShiftModifier));
+}
+
+void ClonePanel::moveTarget(const PointerEvent& event) {
+  const QPointF delta = event.position - lastPosition_;
+  lastPosition_ = event.position;
+  if (event.modifiers & Qt::ShiftModifier) {
+    if (delta.x() != 0) apply(turnTarget(document_, roles_, kDegreesPerPixel * delta.x()));
+    return;
+  }
+  if (event.modifiers & Qt::ControlModifier) {
+    if (delta.y() != 0)
+      apply(scaleTarget(document_, roles_, std::exp(-kScalePerPixel * delta.y())));
+    return;
+  }
+  // The origin keeps its place relative to the pointer on the screen, and lands on the surface
+  // under that place.
+  const auto camera = target_->camera();
+  const auto origin = document_.param(roles_.targetMap, "origin");
+  if (!camera || !origin || !std::holds_alternative<Vec3>(*origin)) return;
+  const Vec3& o = std::get<Vec3>(*origin);
+  if (event.kind == PointerEvent::Press) {
+    const auto at = camera->project({o[0], o[1], o[2]});
+    originOffset_ = at ? QPointF(at->x(), at->y()) - event.position : QPointF();
+    return;
+  }
+  const auto hit = target_->pick(event.position + originOffset_);
+  const auto point = hit ? onTargetSurface(*hit) : std::nullopt;
+  if (!point) return message("The target canvas cannot leave the surface");
+  apply(setTargetOrigin(document_, roles_, *point));
+}
+
+std::optional<Eigen::Vector3d> ClonePanel::onTargetSurface(const SurfaceHit& hit) const {
+  const auto& values = view_.values;
+  if (!values.result || !values.pasteMap) return hit.point;
+  const TriMesh& mesh = view_.target.mesh->surface;
+  bool target = true;
+  for (auto v : mesh.fv_range(mesh.face_handle(hit.face)))
+    target = target && values.pasteMap->targetVertex[v.idx()] >= 0;
+  if (target) return hit.point;
+  // A pasted face: where its (u, v) lies on the target canvas.
+  const auto uv = uvAt(view_.target, hit);
+  if (!uv || !view_.targetLocator) return std::nullopt;
+  return view_.targetLocator->locate(*uv).point;
+}
+
+void ClonePanel::hover(const std::optional<Eigen::Vector2d>& uv,
+                       const std::optional<SurfaceHit>& canvasHit) {
+  hoverUv_ = uv;
+  hoverCanvas_ = canvasHit;
+  updateOutlines();
+}
+
+void ClonePanel::updateOutlines() {
+  std::vector<Outline> onSource, onTarget;
+  const double radius = brushRadius();
+  const auto& values = view_.values;
+  if (values.sourceMap) {
+    for (Outline& o : originMarker(values.sourceMap->origin, 2 * radius))
+      onSource.push_back(std::move(o));
+  }
+  if (values.targetMap) {
+    for (Outline& o : originMarker(values.targetMap->origin, 2 * radius * values.targetMap->scale))
+      onTarget.push_back(std::move(o));
+  }
+  if (hoverUv_ && tool_ == CloneTool::PaintRegion) {
+    // The same disc of the shared domain on both canvases.
+    if (view_.sourceLocator)
+      onSource.push_back({domainCircle(*view_.sourceLocator, *hoverUv_, radius), kBrush, 2});
+    if (view_.targetLocator)
+      onTarget.push_back({domainCircle(*view_.targetLocator, *hoverUv_, radius), kBrush, 2});
+  }
+  if (hoverCanvas_ && tool_ == CloneTool::PaintCanvas)
+    onSource.push_back(tangentCircle(*hoverCanvas_, radius, kEraser));
+  source_->setOutlines(std::move(onSource));
+  target_->setOutlines(std::move(onTarget));
+}
+
+}  // namespace geobrush::studio

@@ -1,0 +1,102 @@
+// The source and target viewports of a clone graph and the paper's tools on them (section 3,
+// Fig. 3-4): click the source origin, paint the source canvas with a large brush, click the
+// target origin, turn and scale the target canvas, paint the region on either canvas (Shift
+// subtracts), drag the target canvas across the surface while the region is kept. Every
+// stroke or drag is one undoable edit of the graph (clone_edits.hpp); the brush shows at
+// corresponding places on both surfaces.
+#pragma once
+
+#include <QWidget>
+#include <functional>
+#include <memory>
+#include <optional>
+
+#include "clone_view.hpp"
+#include "studio_document.hpp"
+#include "viewport.hpp"
+
+class QActionGroup;
+class QDoubleSpinBox;
+class QToolBar;
+
+namespace geobrush::studio {
+
+enum class CloneTool { SourceOrigin, PaintCanvas, TargetOrigin, MoveTarget, PaintRegion };
+
+// What an evaluation gives the viewports, prepared on the evaluating thread.
+struct LiveView {
+  CloneValues values;
+  ShownSurface source;
+  ShownSurface target;
+  std::shared_ptr<const DomainLocator> sourceLocator;
+  std::shared_ptr<const DomainLocator> targetLocator;
+};
+
+// Reads the roles' values from the evaluator and prepares the surfaces (call on the thread that
+// evaluated).
+LiveView makeLiveView(const Evaluator& evaluator, const CloneRoles& roles);
+
+class ClonePanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit ClonePanel(StudioDocument& document, QWidget* parent = nullptr);
+
+  void setRoles(const CloneRoles& roles) { roles_ = roles; }
+  const CloneRoles& roles() const { return roles_; }
+  void showView(LiveView view);
+  const LiveView& liveView() const { return view_; }
+  // Forgets the shown surfaces and the cameras' frames (a new graph was opened).
+  void clear();
+
+  void setTool(CloneTool tool);
+  CloneTool tool() const { return tool_; }
+  // In the units of the source mesh, which the shared domain keeps.
+  void setBrushRadius(double radius);
+  double brushRadius() const;
+
+  Viewport& sourceView() { return *source_; }
+  Viewport& targetView() { return *target_; }
+  // The tool buttons and the brush radius, for the window to place.
+  QToolBar* toolBar() { return toolBar_; }
+
+  // After each edit of the graph, or with the error of an edit that was refused.
+  std::function<void(const std::string& error)> onEdited;
+  // A hint for the status bar (e.g. painting off the canvas).
+  std::function<void(const QString& message)> onMessage;
+
+ private:
+  void sourcePointer(const PointerEvent& event);
+  void targetPointer(const PointerEvent& event);
+  // A region dab where the pointer is, on either surface.
+  void paintRegionAt(const ShownSurface& surface, const PointerEvent& event);
+  void moveTarget(const PointerEvent& event);
+  void gesture(const PointerEvent& event);
+  void apply(const std::string& error);
+  void message(const QString& text);
+  // The point of the target surface (not of the pasted detail) under a hit on the shown target.
+  std::optional<Eigen::Vector3d> onTargetSurface(const SurfaceHit& hit) const;
+  void hover(const std::optional<Eigen::Vector2d>& uv, const std::optional<SurfaceHit>& canvasHit);
+  void updateOutlines();
+
+  StudioDocument& document_;
+  CloneRoles roles_;
+  LiveView view_;
+  Viewport* source_;
+  Viewport* target_;
+  QToolBar* toolBar_;
+  QActionGroup* tools_;
+  QDoubleSpinBox* radius_;
+  CloneTool tool_ = CloneTool::PaintRegion;
+
+  // The brush under the pointer: the domain point (region tool), or the source hit (canvas).
+  std::optional<Eigen::Vector2d> hoverUv_;
+  std::optional<SurfaceHit> hoverCanvas_;
+  // The gesture under way: where the last dab went, where the pointer was.
+  std::optional<Eigen::Vector2d> lastUv_;
+  std::optional<Eigen::Vector3d> lastPoint_;
+  QPointF lastPosition_;
+  QPointF originOffset_;  // target origin minus the pointer, on the screen, while dragging
+};
+
+}  // namespace geobrush::studio

@@ -1,0 +1,209 @@
+#include "viewport.hpp"
+
+#include <Eigen/Geometry>
+#include <QMouseEvent>
+#include <QPainter>
+#include <QPainterPath>
+#include <QWheelEvent>
+#include <algorithm>
+#include <cmath>
+
+namespace geobrush::studio {
+namespace {
+
+const RenderView kDefaultView{.azimuthDeg = 30, .elevationDeg = 20, .fovDeg = 35, .zoom = 1.2};
+const Rgb kBackground{0.16f, 0.17f, 0.19f};
+
+RenderFrame frameOf(const TriMesh& mesh) {
+  Eigen::AlignedBox3d box;
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
+  }
+  const Eigen::Vector3d centre = box.center();
+  return {{centre.x(), centre.y(), centre.z()}, std::max(0.5 * box.diagonal().norm(), 1e-9)};
+}
+
+}  // namespace
+
+Viewport::Viewport(const QString& title, QWidget* parent)
+    : QWidget(parent), title_(title), view_(kDefaultView) {
+  setMinimumSize(240, 200);
+  setMouseTracking(true);
+  setFocusPolicy(Qt::ClickFocus);
+  setAttribute(Qt::WA_OpaquePaintEvent);
+}
+
+void Viewport::setSurface(ShownSurface surface) {
+  surface_ = std::move(surface);
+  if (!frame_ && surface_.mesh && surface_.mesh->surface.n_faces() > 0)
+    frame_ = frameOf(surface_.mesh->surface);
+  changed();
+}
+
+void Viewport::setOutlines(std::vector<Outline> outlines) {
+  outlines_ = std::move(outlines);
+  update();
+}
+
+void Viewport::resetView() {
+  view_ = kDefaultView;
+  frame_.reset();
+  if (surface_.mesh && surface_.mesh->surface.n_faces() > 0)
+    frame_ = frameOf(surface_.mesh->surface);
+  changed();
+}
+
+RenderOptions Viewport::renderOptions() const {
+  RenderOptions options;
+  options.width = std::max(width(), 1);
+  options.height = std::max(height(), 1);
+  options.view = view_;
+  options.background = kBackground;
+  options.frame = frame_;
+  return options;
+}
+
+std::optional<RenderCamera> Viewport::camera() const {
+  if (!surface_.mesh || surface_.mesh->surface.n_faces() == 0) return std::nullopt;
+  try {
+    return renderCamera({{surface_.mesh}}, renderOptions());
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+std::optional<SurfaceHit> Viewport::pick(const QPointF& position) const {
+  const auto cam = camera();
+  if (!cam) return std::nullopt;
+  // Pixel centres: the renderer samples each pixel at its middle.
+  const auto [origin, direction] = cam->ray(position.x() + 0.5, position.y() + 0.5);
+  return castRay(surface_.mesh->surface, origin, direction);
+}
+
+void Viewport::changed() {
+  stale_ = true;
+  update();
+}
+
+void Viewport::paintEvent(QPaintEvent*) {
+  QPainter painter(this);
+  if (stale_ && surface_.mesh && surface_.mesh->surface.n_faces() > 0) {
+    try {
+      const Image rendered = renderMeshes({{surface_.mesh}}, renderOptions()).image;
+      image_ =
+          QImage(rendered.rgba.data(), rendered.width, rendered.height, QImage::Format_RGBA8888)
+              .copy();
+      error_.clear();
+    } catch (const std::exception& e) {
+      error_ = QString::fromStdString(e.what());
+    }
+    stale_ = false;
+  }
+  if (!surface_.mesh) {
+    painter.fillRect(rect(), QColor(41, 43, 48));
+    image_ = QImage();
+  } else {
+    painter.drawImage(0, 0, image_);
+  }
+
+  painter.setRenderHint(QPainter::Antialiasing);
+  if (const auto cam = camera()) {
+    for (const Outline& outline : outlines_) {
+      QPainterPath path;
+      bool open = false;
+      for (const Eigen::Vector3d& point : outline.points) {
+        const auto at = cam->project(point);
+        if (!at) {
+          open = false;
+          continue;
+        }
+        const QPointF p(at->x(), at->y());
+        if (open)
+          path.lineTo(p);
+        else
+          path.moveTo(p);
+        open = true;
+      }
+      painter.setPen(QPen(outline.color, outline.width));
+      painter.drawPath(path);
+    }
+  }
+  painter.setPen(QColor(230, 230, 230));
+  painter.drawText(rect().adjusted(8, 6, -8, -6), Qt::AlignLeft | Qt::AlignTop, title_);
+  if (!error_.isEmpty())
+    painter.drawText(rect().adjusted(8, 6, -8, -6), Qt::AlignLeft | Qt::AlignBottom, error_);
+  else if (!surface_.mesh)
+    painter.drawText(rect(), Qt::AlignCenter, "Nothing to show yet");
+}
+
+void Viewport::resizeEvent(QResizeEvent*) {
+  changed();
+}
+
+void Viewport::pointer(PointerEvent::Kind kind, const QPointF& position,
+                       Qt::KeyboardModifiers modifiers) {
+  if (!onPointer) return;
+  PointerEvent event;
+  event.kind = kind;
+  event.position = position;
+  event.modifiers = modifiers;
+  if (kind != PointerEvent::Leave) event.hit = pick(position);
+  onPointer(event);
+}
+
+void Viewport::mousePressEvent(QMouseEvent* event) {
+  lastPosition_ = event->position();
+  if (event->button() == Qt::LeftButton) {
+    toolDrag_ = true;
+    pointer(PointerEvent::Press, event->position(), event->modifiers());
+    return;
+  }
+  dragButton_ = event->button();
+}
+
+void Viewport::mouseMoveEvent(QMouseEvent* event) {
+  const QPointF delta = event->position() - lastPosition_;
+  lastPosition_ = event->position();
+  if (toolDrag_) {
+    pointer(PointerEvent::Move, event->position(), event->modifiers());
+    return;
+  }
+  if (dragButton_ == Qt::NoButton) {
+    pointer(PointerEvent::Hover, event->position(), event->modifiers());
+    return;
+  }
+  const bool pan = dragButton_ == Qt::MiddleButton ||
+                   (dragButton_ == Qt::RightButton && (event->modifiers() & Qt::ShiftModifier));
+  if (pan) {
+    // One frame radius per half of the smaller side, at zoom 1.
+    const double perPixel = 2.0 / (std::min(width(), height()) * view_.zoom);
+    view_.panRight -= delta.x() * perPixel;
+    view_.panUp += delta.y() * perPixel;
+  } else {
+    view_.azimuthDeg -= 0.4 * delta.x();
+    view_.elevationDeg = std::clamp(view_.elevationDeg + 0.4 * delta.y(), -89.0, 89.0);
+  }
+  changed();
+}
+
+void Viewport::mouseReleaseEvent(QMouseEvent* event) {
+  if (event->button() == Qt::LeftButton && toolDrag_) {
+    toolDrag_ = false;
+    pointer(PointerEvent::Release, event->position(), event->modifiers());
+    return;
+  }
+  if (event->button() == dragButton_) dragButton_ = Qt::NoButton;
+}
+
+void Viewport::wheelEvent(QWheelEvent* event) {
+  const double steps = event->angleDelta().y() / 120.0;
+  view_.zoom = std::clamp(view_.zoom * std::pow(1.15, steps), 0.05, 200.0);
+  changed();
+}
+
+void Viewport::leaveEvent(QEvent*) {
+  pointer(PointerEvent::Leave, {}, {});
+}
+
+}  // namespace geobrush::studio

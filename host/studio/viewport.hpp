@@ -1,0 +1,83 @@
+// A 3D view of one surface, drawn by the core renderer (the same as `geobrush render`), with
+// outlines drawn over it (brush circles, canvas origins). The right button orbits, the middle
+// button (or Shift + right) pans, the wheel zooms; the left button belongs to the tools, which
+// get each press, move and release with the surface point under the pointer.
+#pragma once
+
+#include <QColor>
+#include <QImage>
+#include <QWidget>
+#include <functional>
+#include <optional>
+
+#include "clone_view.hpp"
+#include "geobrush/render.hpp"
+
+namespace geobrush::studio {
+
+struct PointerEvent {
+  enum Kind { Press, Move, Release, Hover, Leave } kind = Hover;
+  QPointF position;
+  Qt::KeyboardModifiers modifiers;
+  std::optional<SurfaceHit> hit;  // on the shown surface
+};
+
+// A polyline in world coordinates drawn over the surface.
+struct Outline {
+  std::vector<Eigen::Vector3d> points;
+  QColor color;
+  double width = 2;
+};
+
+class Viewport : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit Viewport(const QString& title, QWidget* parent = nullptr);
+
+  // The surface to show. The camera frames the first surface shown, and keeps that frame for
+  // the next ones, so that a changing result does not move the view.
+  void setSurface(ShownSurface surface);
+  const ShownSurface& surface() const { return surface_; }
+  void setOutlines(std::vector<Outline> outlines);
+  // Frames the shown surface again, from the default direction.
+  void resetView();
+  RenderView& view() { return view_; }
+  // The camera of the current size and view; none without a surface.
+  std::optional<RenderCamera> camera() const;
+  // The surface point under a window position.
+  std::optional<SurfaceHit> pick(const QPointF& position) const;
+  // The last rendered image (without outlines).
+  const QImage& image() const { return image_; }
+
+  std::function<void(const PointerEvent&)> onPointer;
+
+ protected:
+  void paintEvent(QPaintEvent*) override;
+  void resizeEvent(QResizeEvent*) override;
+  void mousePressEvent(QMouseEvent*) override;
+  void mouseMoveEvent(QMouseEvent*) override;
+  void mouseReleaseEvent(QMouseEvent*) override;
+  void wheelEvent(QWheelEvent*) override;
+  void leaveEvent(QEvent*) override;
+
+ private:
+  RenderOptions renderOptions() const;
+  void changed();  // the picture must be rendered again
+  void pointer(PointerEvent::Kind kind, const QPointF& position, Qt::KeyboardModifiers modifiers);
+
+  QString title_;
+  ShownSurface surface_;
+  std::optional<RenderFrame> frame_;
+  RenderView view_;
+  std::vector<Outline> outlines_;
+  QImage image_;
+  bool stale_ = true;
+  QString error_;
+  // Camera drags: the button held and where the pointer was.
+  Qt::MouseButton dragButton_ = Qt::NoButton;
+  QPointF lastPosition_;
+  bool toolDrag_ = false;
+};
+
+}  // namespace geobrush::studio
