@@ -8,11 +8,14 @@
 #include <QEventLoop>
 #include <QImage>
 #include <QMouseEvent>
+#include <QStatusBar>
 #include <QTest>
 #include <QTimer>
 #include <fstream>
+#include <numeric>
 #include <sstream>
 
+#include "canvas_fixtures.hpp"
 #include "clone_edits.hpp"
 #include "clone_view.hpp"
 #include "studio_document.hpp"
@@ -321,6 +324,63 @@ TEST(StudioWindow, MouseAndKeysEditTheGraph) {
   EXPECT_FALSE(window.document().graph().nodes.count("transform"));
 }
 
+// On a flat canvas with uv = (x, y): rays hit where the plane says, the (u, v) under a hit is the
+// point's (x, y), a domain circle lies on the plane at its radius, the painted region is tinted.
+TEST(CloneView, PicksAndDrawsOnAFlatCanvasAsTheGeometrySays) {
+  using namespace geobrush::studio;
+  const auto map = test::heightFieldParameterization(20, [](double, double) { return 0.0; });
+  // The canvas covers its whole mesh.
+  auto canvas = std::make_shared<Canvas>(*map->canvas);
+  canvas->source = std::make_shared<const Mesh>(canvas->surface);
+  canvas->sourceVertex.resize(canvas->surface.n_vertices());
+  std::iota(canvas->sourceVertex.begin(), canvas->sourceVertex.end(), 0);
+  map->canvas = canvas;
+  CloneValues values;
+  values.sourceMesh = canvas->source;
+  values.sourceMap = map;
+  auto strokes = std::make_shared<Strokes>();
+  strokes->dabs.push_back({Eigen::Vector2d(0, 0), 0.5, false});
+  values.strokes = strokes;
+  const ShownSurface shown = showSource(values);
+  ASSERT_TRUE(shown.mesh);
+
+  const auto hit = castRay(shown.mesh->surface, {0.2, 0.3, 5}, {0, 0, -1});
+  ASSERT_TRUE(hit);
+  EXPECT_TRUE(hit->point.isApprox(Eigen::Vector3d(0.2, 0.3, 0), 1e-12));
+  EXPECT_NEAR(hit->distance, 5, 1e-12);
+  EXPECT_TRUE(hit->normal.isApprox(Eigen::Vector3d(0, 0, 1), 1e-12));
+  const auto uv = uvAt(shown, *hit);
+  ASSERT_TRUE(uv);
+  EXPECT_TRUE(uv->isApprox(Eigen::Vector2d(0.2, 0.3), 1e-12));
+  EXPECT_FALSE(castRay(shown.mesh->surface, {3, 3, 5}, {0, 0, -1}));
+  // From below, the normal turns towards the ray's origin.
+  EXPECT_TRUE(castRay(shown.mesh->surface, {0.2, 0.3, -5}, {0, 0, 1})
+                  ->normal.isApprox(Eigen::Vector3d(0, 0, -1), 1e-12));
+
+  const DomainLocator locator(*map);
+  for (const Eigen::Vector3d& p : domainCircle(locator, {0.1, 0}, 0.3)) {
+    EXPECT_NEAR((p - Eigen::Vector3d(0.1, 0, 0)).norm(), 0.3, 1e-9);
+    EXPECT_NEAR(p.z(), 0, 1e-12);
+  }
+  // Inside the dab every vertex is tinted, outside none is.
+  CloneValues unpainted = values;
+  unpainted.strokes = nullptr;
+  const ShownSurface shownPlain = showSource(unpainted);
+  const auto& plain = shownPlain.mesh->vertexColors;
+  const auto& colors = shown.mesh->vertexColors;
+  int inside = 0;
+  for (auto v : shown.mesh->surface.vertices()) {
+    const auto& p = shown.mesh->surface.point(v);
+    const bool tinted = colors[v.idx()] != plain[v.idx()];
+    const double r = std::hypot(p[0], p[1]);
+    if (std::abs(r - 0.5) > 1e-9) {  // the rim rounds either way
+      EXPECT_EQ(tinted, r < 0.5) << p;
+    }
+    inside += tinted;
+  }
+  EXPECT_GT(inside, 10);
+}
+
 TEST(CloneView, FindsTheRolesOfEveryCloneGraph) {
   for (const char* name :
        {"clone_mountain_sphere.json", "clone_ear_cube_edge.json", "fill_bunny_small_back.json",
@@ -376,7 +436,13 @@ TEST(StudioWindow, APaintingSessionEditsTheGraphAndRunsTheSameHeadless) {
   panel.setBrushRadius(0.1);
   const std::size_t canvasDabs = dabsOf(document, roles.sourceCanvas).size();
   drag(&source, originPixel, originPixel + QPoint(6, 4));
-  EXPECT_GT(dabsOf(document, roles.sourceCanvas).size(), canvasDabs);
+  const std::vector<double> paintedCanvas = dabsOf(document, roles.sourceCanvas);
+  EXPECT_GT(paintedCanvas.size(), canvasDabs + 4);
+  QTest::keyClick(&window, Qt::Key_Z, Qt::ControlModifier);
+  EXPECT_EQ(dabsOf(document, roles.sourceCanvas).size(), canvasDabs);
+  EXPECT_EQ(vec3Of(document, roles.sourceCanvas, "origin"), clicked);
+  QTest::keyClick(&window, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+  EXPECT_EQ(dabsOf(document, roles.sourceCanvas), paintedCanvas);
   ASSERT_TRUE(waitUntilIdle(window));
   ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
 
@@ -430,6 +496,37 @@ TEST(StudioWindow, APaintingSessionEditsTheGraphAndRunsTheSameHeadless) {
   EXPECT_EQ(pointsOf(std::dynamic_pointer_cast<const Mesh>(
                 window.evaluator().output(roles.paste, "mesh"))),
             painted);
+
+  // The region brush paints on the source canvas too; Shift subtracts.
+  const QPoint onSource = onScreen(source, vec3Of(document, roles.sourceCanvas, "origin"));
+  drag(&source, onSource, onSource + QPoint(3, 3), Qt::ShiftModifier, 2);
+  const std::vector<double> erased = dabsOf(document, roles.strokes);
+  ASSERT_GT(erased.size(), strokeDabs.size());
+  EXPECT_EQ(erased.back(), -1.0);
+  // Off the surface nothing is painted, and the status bar says why.
+  window.statusBar()->clearMessage();
+  QTest::mouseClick(&target, Qt::LeftButton, {}, QPoint(4, target.height() - 4));
+  EXPECT_EQ(dabsOf(document, roles.strokes), erased);
+  EXPECT_FALSE(window.statusBar()->currentMessage().isEmpty());
+
+  // Dragging the target canvas moves its origin over the surface and keeps the strokes; with
+  // Shift the drag turns it (0.5 degrees a pixel), with Ctrl it scales it.
+  panel.setTool(CloneTool::MoveTarget);
+  const Eigen::Vector3d beforeMove = vec3Of(document, roles.targetMap, "origin");
+  const QPoint grab = onScreen(target, beforeMove) + QPoint(6, 0);
+  drag(&target, grab, grab + QPoint(0, 20));
+  EXPECT_GT((vec3Of(document, roles.targetMap, "origin") - beforeMove).norm(), 0.02);
+  EXPECT_EQ(dabsOf(document, roles.strokes), erased);
+  const double angle = std::get<double>(*document.param(roles.targetMap, "angle"));
+  drag(&target, grab, grab + QPoint(20, 0), Qt::ShiftModifier);
+  EXPECT_NEAR(std::get<double>(*document.param(roles.targetMap, "angle")), angle + 10, 1e-9);
+  const double scale = std::get<double>(*document.param(roles.targetMap, "scale"));
+  drag(&target, grab, grab + QPoint(0, 10), Qt::ControlModifier);  // down: smaller
+  EXPECT_NEAR(std::get<double>(*document.param(roles.targetMap, "scale")), scale * std::exp(-0.1),
+              1e-9);
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+  screenshot(window, "studio_moved.png");
 
   // Saved elsewhere (the mesh paths follow) and run headless: the same mesh, byte for byte.
   ASSERT_TRUE(window.saveFile(QString::fromStdString((dir / "session.json").string())));
