@@ -24,6 +24,8 @@ const QColor kBrush(255, 170, 60);
 const QColor kEraser(120, 200, 255);
 const QColor kUAxis(230, 60, 40);
 const QColor kVAxis(60, 110, 240);
+const QColor kULine(200, 50, 40, 210);
+const QColor kVLine(40, 80, 210, 210);
 
 std::vector<Outline> originMarker(const Frame& frame, double length) {
   return {{{frame.point, frame.point + length * frame.uAxis}, kUAxis, 3},
@@ -50,6 +52,9 @@ LiveView makeLiveView(const Evaluator& evaluator, const CloneRoles& roles) {
   view.values = fetchClone(evaluator, roles);
   view.source = showSource(view.values);
   view.target = showTarget(view.values);
+  const double spacing = lineSpacing(view.values);
+  view.sourceLines = coordinateLines(view.source, spacing);
+  view.targetLines = coordinateLines(view.target, spacing);
   if (view.values.sourceMap)
     view.sourceLocator = std::make_shared<const DomainLocator>(*view.values.sourceMap);
   if (view.values.targetMap)
@@ -130,6 +135,8 @@ double ClonePanel::brushRadius() const {
 }
 
 void ClonePanel::clear() {
+  source_->setLines({});
+  target_->setLines({});
   view_ = {};
   source_->setSurface({});
   target_->setSurface({});
@@ -142,6 +149,8 @@ void ClonePanel::showView(LiveView view) {
   view_ = std::move(view);
   source_->setSurface(view_.source);
   target_->setSurface(view_.target);
+  source_->setLines({{&view_.sourceLines.u, kULine}, {&view_.sourceLines.v, kVLine}});
+  target_->setLines({{&view_.targetLines.u, kULine}, {&view_.targetLines.v, kVLine}});
   updateOutlines();
 }
 

@@ -28,6 +28,8 @@ struct LiveView {
   CloneValues values;
   ShownSurface source;
   ShownSurface target;
+  CoordinateLines sourceLines;
+  CoordinateLines targetLines;
   std::shared_ptr<const DomainLocator> sourceLocator;
   std::shared_ptr<const DomainLocator> targetLocator;
 };

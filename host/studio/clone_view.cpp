@@ -1,10 +1,10 @@
 #include "clone_view.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
-
-#include "uv_lines.hpp"
 
 namespace geobrush::studio {
 namespace {
@@ -26,7 +26,8 @@ std::shared_ptr<const T> outputAs(const Evaluator& evaluator, const Endpoint& at
   return std::dynamic_pointer_cast<const T>(evaluator.output(at.node, at.port));
 }
 
-const Rgb kSurface{0.80f, 0.80f, 0.80f};
+const Rgb kSurface{0.78f, 0.78f, 0.80f};
+const Rgb kCanvas{0.90f, 0.88f, 0.80f};
 const Rgb kRegionTint{0.95f, 0.55f, 0.15f};
 
 Rgb tinted(const Rgb& color) {
@@ -39,28 +40,21 @@ Rgb tinted(const Rgb& color) {
 const Eigen::Vector2d kOffCanvas(std::numeric_limits<double>::quiet_NaN(),
                                  std::numeric_limits<double>::quiet_NaN());
 
-// Canvas vertex -> colour of its (u, v) lines, with the spacing given (so that the source and
-// target lines continue into each other) or chosen from the source canvas.
-std::vector<Rgb> lineColors(const Parameterization& map, double& spacing) {
-  UvLinesOptions options;
-  options.spacing = spacing;
-  options.surface = kSurface;
-  UvLinesResult lines = paintUvLines(map, options);
-  spacing = lines.spacing;
-  return std::move(lines.mesh.vertexColors);
+// Canvas vertices in the canvas colour, the painted region tinted, the rest plain.
+MeshPtr colored(const TriMesh& surface, const std::vector<Eigen::Vector2d>& uv,
+                const Strokes* strokes) {
+  std::vector<Rgb> colors(surface.n_vertices(), kSurface);
+  for (std::size_t v = 0; v < colors.size(); ++v) {
+    if (!uv[v].allFinite()) continue;
+    colors[v] = strokes && strokes->contains(uv[v]) ? tinted(kCanvas) : kCanvas;
+  }
+  return std::make_shared<const Mesh>(surface, std::move(colors));
 }
 
-// Paints the vertices in the strokes' region with the tint.
-void tintRegion(ShownSurface& shown, std::vector<Rgb>& colors, const Strokes* strokes) {
-  if (!strokes) return;
-  for (std::size_t v = 0; v < colors.size(); ++v)
-    if (shown.uv[v].allFinite() && strokes->contains(shown.uv[v])) colors[v] = tinted(colors[v]);
-}
-
-double sourceSpacing(const CloneValues& values) {
-  double spacing = 0;
-  if (values.sourceMap) lineColors(*values.sourceMap, spacing);
-  return spacing;
+// Where the segment from a to b crosses `level` of a linear function with values fa, fb.
+Eigen::Vector3d crossing(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double fa, double fb,
+                         double level) {
+  return a + (level - fa) / (fb - fa) * (b - a);
 }
 
 }  // namespace
@@ -137,20 +131,14 @@ ShownSurface showSource(const CloneValues& values) {
   ShownSurface shown;
   if (!values.sourceMesh) return shown;
   const TriMesh& surface = values.sourceMesh->surface;
-  std::vector<Rgb> colors(surface.n_vertices(), kSurface);
   shown.uv.assign(surface.n_vertices(), kOffCanvas);
   const Parameterization* map = values.sourceMap.get();
   if (map && map->canvas && map->canvas->source == values.sourceMesh) {
-    double spacing = 0;
-    const std::vector<Rgb> lines = lineColors(*map, spacing);
     const std::vector<int>& toSource = map->canvas->sourceVertex;
-    for (std::size_t v = 0; v < toSource.size(); ++v) {
-      colors[toSource[v]] = lines[v];
+    for (std::size_t v = 0; v < toSource.size(); ++v)
       shown.uv[toSource[v]] = map->uv[v];
-    }
   }
-  tintRegion(shown, colors, values.strokes.get());
-  shown.mesh = std::make_shared<const Mesh>(surface, std::move(colors));
+  shown.mesh = colored(surface, shown.uv, values.strokes.get());
   return shown;
 }
 
@@ -159,51 +147,91 @@ ShownSurface showTarget(const CloneValues& values) {
   const MeshPtr& mesh = values.result ? values.result : values.targetMesh;
   if (!mesh) return shown;
   const std::size_t count = mesh->surface.n_vertices();
-  std::vector<Rgb> colors(count, kSurface);
   shown.uv.assign(count, kOffCanvas);
 
-  // Target mesh vertex -> (colour, uv) of the target canvas, where it has one.
-  double spacing = sourceSpacing(values);
+  // Target mesh vertex -> its uv on the target canvas, where it has one.
   const Parameterization* target = values.targetMap.get();
-  const bool targetMatches =
-      target && target->canvas && target->canvas->source == values.targetMesh && values.targetMesh;
   std::vector<int> targetCanvasVertex;
-  std::vector<Rgb> targetLines;
-  if (targetMatches) {
-    targetLines = lineColors(*target, spacing);
+  if (target && target->canvas && values.targetMesh &&
+      target->canvas->source == values.targetMesh) {
     targetCanvasVertex.assign(values.targetMesh->surface.n_vertices(), -1);
     for (std::size_t v = 0; v < target->canvas->sourceVertex.size(); ++v)
       targetCanvasVertex[target->canvas->sourceVertex[v]] = int(v);
   }
   auto fromTarget = [&](std::size_t shownVertex, int targetVertex) {
     if (targetVertex < 0 || targetCanvasVertex.empty()) return;
-    const int canvasVertex = targetCanvasVertex[targetVertex];
-    if (canvasVertex < 0) return;
-    colors[shownVertex] = targetLines[canvasVertex];
-    shown.uv[shownVertex] = target->uv[canvasVertex];
+    if (const int canvasVertex = targetCanvasVertex[targetVertex]; canvasVertex >= 0)
+      shown.uv[shownVertex] = target->uv[canvasVertex];
   };
-
   if (values.result) {
-    std::vector<Rgb> sourceLines;
+    // The pasted part continues the target canvas's lines with the source canvas's: both are in
+    // the shared domain.
     const Parameterization* source = values.sourceMap.get();
-    if (source) sourceLines = lineColors(*source, spacing);
     const PasteMap& map = *values.pasteMap;
     for (std::size_t v = 0; v < count; ++v) {
-      if (map.targetVertex[v] >= 0) {
+      if (map.targetVertex[v] >= 0)
         fromTarget(v, map.targetVertex[v]);
-      } else if (source && map.sourceVertex[v] >= 0 &&
-                 std::size_t(map.sourceVertex[v]) < source->uv.size()) {
-        colors[v] = sourceLines[map.sourceVertex[v]];
+      else if (source && map.sourceVertex[v] >= 0 &&
+               std::size_t(map.sourceVertex[v]) < source->uv.size())
         shown.uv[v] = source->uv[map.sourceVertex[v]];
-      }
     }
   } else {
     for (std::size_t v = 0; v < count; ++v)
       fromTarget(v, int(v));
   }
-  tintRegion(shown, colors, values.strokes.get());
-  shown.mesh = std::make_shared<const Mesh>(mesh->surface, std::move(colors));
+  shown.mesh = colored(mesh->surface, shown.uv, values.strokes.get());
   return shown;
+}
+
+double lineSpacing(const CloneValues& values) {
+  if (!values.sourceMap || values.sourceMap->uv.empty()) return 0;
+  Eigen::Vector2d lo = values.sourceMap->uv.front(), hi = lo;
+  for (const Eigen::Vector2d& p : values.sourceMap->uv) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).maxCoeff() / 10;
+}
+
+CoordinateLines coordinateLines(const ShownSurface& surface, double spacing) {
+  CoordinateLines lines;
+  if (!surface.mesh || !(spacing > 0)) return lines;
+  const TriMesh& mesh = surface.mesh->surface;
+  for (auto f : mesh.faces()) {
+    std::array<Eigen::Vector3d, 3> p;
+    std::array<Eigen::Vector2d, 3> uv;
+    int k = 0;
+    bool onCanvas = true;
+    for (auto v : mesh.fv_range(f)) {
+      const auto& q = mesh.point(v);
+      p[k] = {q[0], q[1], q[2]};
+      uv[k++] = surface.uv[v.idx()];
+      onCanvas = onCanvas && uv[k - 1].allFinite();
+    }
+    if (!onCanvas) continue;
+    const Eigen::Vector3d normal = (p[1] - p[0]).cross(p[2] - p[0]).normalized();
+    for (int axis = 0; axis < 2; ++axis) {
+      const std::array<double, 3> f3 = {uv[0][axis], uv[1][axis], uv[2][axis]};
+      const double lo = std::min({f3[0], f3[1], f3[2]}), hi = std::max({f3[0], f3[1], f3[2]});
+      for (double line = std::ceil(lo / spacing); line * spacing <= hi; ++line) {
+        const double level = line * spacing;
+        // The level set crosses the two edges whose ends lie on either side (a corner on the
+        // level counts as above it, so each crossing is found once).
+        std::vector<Eigen::Vector3d> ends;
+        for (int e = 0; e < 3; ++e) {
+          const int a = e, b = (e + 1) % 3;
+          if ((f3[a] >= level) != (f3[b] >= level))
+            ends.push_back(crossing(p[a], p[b], f3[a], f3[b], level));
+        }
+        if (ends.size() != 2) continue;
+        CoordinateLines::Set& set = axis == 0 ? lines.u : lines.v;
+        set.ends.push_back(ends[0]);
+        set.ends.push_back(ends[1]);
+        set.normals.push_back(normal);
+      }
+    }
+  }
+  return lines;
 }
 
 std::optional<SurfaceHit> castRay(const TriMesh& mesh, const Eigen::Vector3d& origin,

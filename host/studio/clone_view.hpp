@@ -52,19 +52,33 @@ struct CloneValues {
 // Reads the roles' outputs from the evaluator's last evaluation (call on the thread that ran it).
 CloneValues fetchClone(const Evaluator& evaluator, const CloneRoles& roles);
 
-// A surface as a viewport shows and paints it: coloured with its canvas's (u, v) lines and the
-// painted region, and with the (u, v) of every vertex on a canvas (NaN elsewhere), which is
-// where a brush touching the surface paints.
+// A surface as a viewport shows and paints it: its canvas and the painted region coloured, and
+// the (u, v) of every vertex on a canvas (NaN elsewhere), which is where a brush touching the
+// surface paints and where the coordinate lines run.
 struct ShownSurface {
   MeshPtr mesh;
   std::vector<Eigen::Vector2d> uv;
 };
 
-// The source mesh with the source canvas's lines; null mesh without a source mesh.
+// The source mesh with the source canvas; null mesh without a source mesh.
 ShownSurface showSource(const CloneValues& values);
-// The pasted result where there is one, else the target mesh, with the target canvas's lines
-// continued through the pasted part by the source canvas's; null mesh without either.
+// The pasted result where there is one, else the target mesh, with the target canvas; the
+// pasted part carries the source canvas's (u, v), so lines run on through it. Null mesh
+// without either.
 ShownSurface showTarget(const CloneValues& values);
+
+// The canvases' (u, v) coordinate lines (paper Fig. 3) as segments on the faces, the level sets
+// u = k s and v = k s of the piecewise linear uv: sharp at any mesh resolution.
+struct CoordinateLines {
+  struct Set {
+    std::vector<Eigen::Vector3d> ends;     // two per segment
+    std::vector<Eigen::Vector3d> normals;  // one per segment: its face's, unit
+  };
+  Set u, v;
+};
+CoordinateLines coordinateLines(const ShownSurface& surface, double spacing);
+// The spacing both views use: a tenth of the source canvas's extent in the domain (0 without one).
+double lineSpacing(const CloneValues& values);
 
 // A point where a ray meets a surface.
 struct SurfaceHit {

@@ -4,6 +4,7 @@
 #include <QMouseEvent>
 #include <QPainter>
 #include <QPainterPath>
+#include <QVector>
 #include <QWheelEvent>
 #include <algorithm>
 #include <cmath>
@@ -43,6 +44,11 @@ void Viewport::setSurface(ShownSurface surface) {
 
 void Viewport::setOutlines(std::vector<Outline> outlines) {
   outlines_ = std::move(outlines);
+  update();
+}
+
+void Viewport::setLines(std::vector<SurfaceLines> lines) {
+  lines_ = std::move(lines);
   update();
 }
 
@@ -109,6 +115,21 @@ void Viewport::paintEvent(QPaintEvent*) {
 
   painter.setRenderHint(QPainter::Antialiasing);
   if (const auto cam = camera()) {
+    for (const SurfaceLines& lines : lines_) {
+      if (!lines.segments) continue;
+      const auto& ends = lines.segments->ends;
+      const auto& normals = lines.segments->normals;
+      QVector<QLineF> visible;
+      for (std::size_t i = 0; i < normals.size(); ++i) {
+        const Eigen::Vector3d& a = ends[2 * i];
+        const Eigen::Vector3d& b = ends[2 * i + 1];
+        if (normals[i].dot(cam->eye - 0.5 * (a + b)) <= 0) continue;
+        const auto pa = cam->project(a), pb = cam->project(b);
+        if (pa && pb) visible.push_back({QPointF(pa->x(), pa->y()), QPointF(pb->x(), pb->y())});
+      }
+      painter.setPen(QPen(lines.color, 1.3));
+      painter.drawLines(visible);
+    }
     for (const Outline& outline : outlines_) {
       QPainterPath path;
       bool open = false;

@@ -29,6 +29,12 @@ struct Outline {
   double width = 2;
 };
 
+// Segments lying on the surface (two ends each), drawn where their face turns towards the eye.
+struct SurfaceLines {
+  const CoordinateLines::Set* segments = nullptr;  // owned by the caller, kept while shown
+  QColor color;
+};
+
 class Viewport : public QWidget {
   Q_OBJECT
 
@@ -40,6 +46,7 @@ class Viewport : public QWidget {
   void setSurface(ShownSurface surface);
   const ShownSurface& surface() const { return surface_; }
   void setOutlines(std::vector<Outline> outlines);
+  void setLines(std::vector<SurfaceLines> lines);
   // Frames the shown surface again, from the default direction.
   void resetView();
   RenderView& view() { return view_; }
@@ -71,6 +78,7 @@ class Viewport : public QWidget {
   std::optional<RenderFrame> frame_;
   RenderView view_;
   std::vector<Outline> outlines_;
+  std::vector<SurfaceLines> lines_;
   QImage image_;
   bool stale_ = true;
   QString error_;
