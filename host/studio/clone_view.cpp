@@ -39,6 +39,8 @@ Rgb tinted(const Rgb& color) {
 
 const Eigen::Vector2d kOffCanvas(std::numeric_limits<double>::quiet_NaN(),
                                  std::numeric_limits<double>::quiet_NaN());
+const Eigen::Vector3d kOffCanvas3 =
+    Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 
 // Canvas vertices in the canvas colour, the painted region tinted, the rest plain.
 MeshPtr colored(const TriMesh& surface, const std::vector<Eigen::Vector2d>& uv,
@@ -291,7 +293,7 @@ std::vector<Eigen::Vector3d> domainCircle(const DomainLocator& locator,
     const double angle = 2 * M_PI * i / segments;
     const DomainHit hit =
         locator.locate(center + radius * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
-    points.push_back(hit.point);
+    points.push_back(hit.inside ? hit.point : kOffCanvas3);
   }
   return points;
 }

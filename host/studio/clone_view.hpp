@@ -99,7 +99,8 @@ std::optional<SurfaceHit> castRay(const TriMesh& mesh, const Eigen::Vector3d& or
 std::optional<Eigen::Vector2d> uvAt(const ShownSurface& surface, const SurfaceHit& hit);
 
 // The points of the circle of `radius` around `center` in the parameter domain, carried onto a
-// parameterized surface by E^-1 (what shows the brush at corresponding places on both surfaces).
+// parameterized surface by E^-1 (what shows the brush at corresponding places on both surfaces);
+// NaN where the circle leaves the canvas.
 std::vector<Eigen::Vector3d> domainCircle(const DomainLocator& locator,
                                           const Eigen::Vector2d& center, double radius,
                                           int segments = 48);

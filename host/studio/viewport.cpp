@@ -134,7 +134,8 @@ void Viewport::paintEvent(QPaintEvent*) {
       QPainterPath path;
       bool open = false;
       for (const Eigen::Vector3d& point : outline.points) {
-        const auto at = cam->project(point);
+        // A gap (NaN) or a point behind the eye breaks the line.
+        const auto at = point.allFinite() ? cam->project(point) : std::nullopt;
         if (!at) {
           open = false;
           continue;

@@ -362,6 +362,12 @@ TEST(CloneView, PicksAndDrawsOnAFlatCanvasAsTheGeometrySays) {
     EXPECT_NEAR((p - Eigen::Vector3d(0.1, 0, 0)).norm(), 0.3, 1e-9);
     EXPECT_NEAR(p.z(), 0, 1e-12);
   }
+  // Past the canvas's edge (x = 1) the circle has gaps.
+  int gaps = 0;
+  for (const Eigen::Vector3d& p : domainCircle(locator, {0.9, 0}, 0.3))
+    gaps += !p.allFinite();
+  EXPECT_GT(gaps, 5);
+  EXPECT_LT(gaps, 30);
   // Inside the dab every vertex is tinted, outside none is.
   CloneValues unpainted = values;
   unpainted.strokes = nullptr;
@@ -480,7 +486,7 @@ TEST(StudioWindow, APaintingSessionEditsTheGraphAndRunsTheSameHeadless) {
       std::dynamic_pointer_cast<const Mesh>(window.evaluator().output(roles.paste, "mesh")));
   EXPECT_NE(painted, before);
   // The brush shows on both surfaces while hovering.
-  QTest::mouseMove(&target, strokeStart);
+  QTest::mouseMove(&target, strokeStart + QPoint(6, 2));
   screenshot(window, "studio_painted.png");
 
   // Undo takes the whole stroke back, and the mesh with it, bit for bit; redo brings both back.
