@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geobrush/gpu/vulkan_context.hpp"
+
 namespace geobrush::studio {
 namespace {
 
@@ -23,6 +25,16 @@ RenderFrame frameOf(const TriMesh& mesh) {
   }
   const Eigen::Vector3d centre = box.center();
   return {{centre.x(), centre.y(), centre.z()}, std::max(0.5 * box.diagonal().norm(), 1e-9)};
+}
+
+// A GPU draws the views; on a machine without one the CPU rasterizer does, since lavapipe draws a
+// large mesh more slowly (a 70k-face mesh: 0.29 s against 0.14 s, `geobrush render`).
+RenderBackend viewBackend() {
+  static const RenderBackend backend = [] {
+    const gpu::VulkanContext* context = gpu::VulkanContext::shared();
+    return context && !context->isCpu() ? RenderBackend::Auto : RenderBackend::Cpu;
+  }();
+  return backend;
 }
 
 }  // namespace
@@ -67,6 +79,7 @@ RenderOptions Viewport::renderOptions() const {
   options.view = view_;
   options.background = kBackground;
   options.frame = frame_;
+  options.backend = viewBackend();
   return options;
 }
 
