@@ -9,6 +9,7 @@
 #include <QPainterPath>
 #include <QPen>
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 namespace geobrush::studio {
@@ -272,6 +273,24 @@ void NodeEditor::keyPressEvent(QKeyEvent* event) {
     return;
   }
   QGraphicsView::keyPressEvent(event);
+}
+
+QPointF NodeEditor::freeSpot(const Graph& graph) const {
+  // A cell holds a box (kWidth wide, a few ports tall) and the room for curves around it.
+  constexpr double kCellWidth = kWidth + 50, kCellHeight = 140;
+  const QRectF visible = mapToScene(viewport()->rect()).boundingRect();
+  const int columns = std::max(1, int((visible.width() - 20) / kCellWidth));
+  auto taken = [&](const QPointF& at) {
+    for (const auto& [name, position] : graph.ui)
+      if (std::abs(position.x - at.x()) < kCellWidth && std::abs(position.y - at.y()) < kCellHeight)
+        return true;
+    return false;
+  };
+  for (int cell = 0;; ++cell) {
+    const QPointF at(visible.left() + 20 + (cell % columns) * kCellWidth,
+                     visible.top() + 20 + (cell / columns) * kCellHeight);
+    if (!taken(at)) return at;
+  }
 }
 
 std::optional<QPoint> NodeEditor::portInView(const Endpoint& port, bool input) const {

@@ -30,8 +30,9 @@ class NodeEditor : public QGraphicsView {
   std::function<void(const std::string& node)> onSelected;
   // Where a port's dot is in view coordinates (for scripted input); null when not shown.
   std::optional<QPoint> portInView(const Endpoint& port, bool input) const;
-  // The scene position at the middle of the view, where new nodes go.
-  QPointF centre() const { return mapToScene(viewport()->rect().center()); }
+  // Where a new node goes: the first place in the visible part of the scene, row by row, where
+  // its box overlaps none of `graph`'s placed boxes.
+  QPointF freeSpot(const Graph& graph) const;
 
   // Rebuilds the scene from the document's graph and the statuses.
   void show(const StudioDocument& document, const std::map<std::string, NodeStatus>& statuses);

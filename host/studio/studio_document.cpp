@@ -2,6 +2,15 @@
 
 namespace geobrush::studio {
 
+void StudioDocument::newGraph() {
+  graph_ = {};
+  path_.clear();
+  missing_.clear();
+  undo_.clear();
+  redo_.clear();
+  gestureStart_.reset();
+}
+
 std::string StudioDocument::open(const std::filesystem::path& path) {
   Graph graph;
   std::set<std::string> missing;

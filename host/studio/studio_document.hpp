@@ -30,6 +30,8 @@ class StudioDocument {
  public:
   explicit StudioDocument(const NodeRegistry& registry) : registry_(registry) {}
 
+  // An empty, untitled graph (saved with save()).
+  void newGraph();
   // Reads a graph file. A node whose type no plugin provides stays in the graph, marked
   // missing; the rest of the graph is checked as the CLI checks it. Returns the error (one line
   // naming the file, node and port) or an empty string; on error the document is unchanged.

@@ -66,9 +66,7 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
   paramsDock->setWidget(params_);
   addDockWidget(Qt::RightDockWidgetArea, paramsDock);
   params_->onChange = [this](const std::string& node, const std::string& param,
-                             const ParamValue& value) {
-    edited(document_.setParam(node, param, value));
-  };
+                             const ParamValue& value) { setParam(node, param, value); };
   editor_->onConnect = [this](const Endpoint& from, const Endpoint& to) {
     edited(document_.connect(from, to));
   };
@@ -99,12 +97,16 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
   resizeDocks({logDock}, {110}, Qt::Vertical);
 
   QMenu* file = menuBar()->addMenu("&File");
+  file->addAction("&New", QKeySequence::New, [this] { newFile(); });
   file->addAction("&Open...", QKeySequence::Open, [this] {
     const QString path = QFileDialog::getOpenFileName(this, "Open graph", {}, "Graphs (*.json)");
     if (!path.isEmpty()) openFile(path);
   });
   file->addAction("&Save", QKeySequence::Save, [this] {
-    if (!document_.path().empty()) saveFile(QString::fromStdString(document_.path().string()));
+    QString path = QString::fromStdString(document_.path().string());
+    if (path.isEmpty())
+      path = QFileDialog::getSaveFileName(this, "Save graph", {}, "Graphs (*.json)");
+    if (!path.isEmpty()) saveFile(path);
   });
   file->addAction("Save &As...", QKeySequence::SaveAs, [this] {
     const QString path = QFileDialog::getSaveFileName(this, "Save graph", {}, "Graphs (*.json)");
@@ -152,6 +154,25 @@ bool StudioWindow::openFile(const QString& path) {
   statusBar()->showMessage("Opened " + path);
   evaluateLive();
   return true;
+}
+
+void StudioWindow::newFile() {
+  stopWorker();
+  document_.newGraph();
+  evaluator_ = std::make_unique<Evaluator>(registry_);
+  report_ = {};
+  selected_.clear();
+  pendingLive_ = false;
+  radiusChosen_ = false;
+  lastLiveError_.clear();
+  params_->showNode(document_, selected_);
+  undoAction_->setEnabled(false);
+  redoAction_->setEnabled(false);
+  clone_->clear();
+  updateRoles();
+  setWindowTitle("GeoBrush Studio - untitled");
+  refresh(nullptr);
+  statusBar()->showMessage("New graph: double-click node types in the palette to add them");
 }
 
 bool StudioWindow::saveFile(const QString& path) {
@@ -305,8 +326,15 @@ void StudioWindow::log(const QString& line) {
 }
 
 std::string StudioWindow::addNode(const std::string& typeId) {
-  const QPointF at = editor_->centre();
+  const QPointF at = editor_->freeSpot(document_.graph());
   const std::string error = document_.addNode(typeId, at.x(), at.y());
+  edited(error);
+  return error;
+}
+
+std::string StudioWindow::setParam(const std::string& node, const std::string& param,
+                                   const ParamValue& value) {
+  const std::string error = document_.setParam(node, param, value);
   edited(error);
   return error;
 }

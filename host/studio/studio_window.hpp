@@ -29,12 +29,16 @@ class StudioWindow : public QMainWindow {
   explicit StudioWindow(const NodeRegistry& registry, QWidget* parent = nullptr);
   ~StudioWindow() override;
 
+  // Starts an empty, untitled graph.
+  void newFile();
   // Opens a graph file; errors go to the log and the status bar. Returns whether it opened.
   bool openFile(const QString& path);
   bool saveFile(const QString& path);
   // Adds a node of the type at the middle of the editor (what a double click in the palette
   // does); returns the error or an empty string.
   std::string addNode(const std::string& typeId);
+  // A param edit, as the parameter panel makes it; returns the error or an empty string.
+  std::string setParam(const std::string& node, const std::string& param, const ParamValue& value);
   StudioDocument& document() { return document_; }
   NodeEditor& editor() { return *editor_; }
   ClonePanel& clonePanel() { return *clone_; }

@@ -11,6 +11,7 @@
 #include <QStatusBar>
 #include <QTest>
 #include <QTimer>
+#include <QTreeWidget>
 #include <fstream>
 #include <numeric>
 #include <sstream>
@@ -548,6 +549,146 @@ TEST(StudioWindow, APaintingSessionEditsTheGraphAndRunsTheSameHeadless) {
   ASSERT_TRUE(std::filesystem::exists(dir / "studio" / saved));
   EXPECT_EQ(bytes(dir / "studio" / saved), bytes(dir / "cli" / saved));
   screenshot(window, "studio_saved.png");
+}
+
+namespace {
+
+// Adds a node of `type` as a double click in the palette does; returns its name.
+std::string addNode(StudioWindow& window, const std::string& type) {
+  const auto before = window.document().graph().nodes;
+  EXPECT_EQ(window.addNode(type), "");
+  for (const auto& [name, node] : window.document().graph().nodes)
+    if (!before.count(name)) return name;
+  return {};
+}
+
+// Drags from an output port to an input port in the node editor, both scrolled into view.
+void connectByMouse(StudioWindow& window, const Endpoint& from, const Endpoint& to) {
+  QTest::qWait(10);  // the editor shows the last edit after the event that made it
+  NodeEditor& editor = window.editor();
+  auto a = editor.portInView(from, false), b = editor.portInView(to, true);
+  ASSERT_TRUE(a && b) << from.node << "." << from.port << " -> " << to.node << "." << to.port;
+  editor.centerOn(editor.mapToScene((*a + *b) / 2));
+  a = editor.portInView(from, false);
+  b = editor.portInView(to, true);
+  QWidget* view = editor.viewport();
+  ASSERT_TRUE(view->rect().contains(*a) && view->rect().contains(*b));
+  QTest::mousePress(view, Qt::LeftButton, {}, *a);
+  QTest::mouseMove(view, (*a + *b) / 2);
+  QTest::mouseMove(view, *b);
+  QTest::mouseRelease(view, Qt::LeftButton, {}, *b);
+  const Connection* made = window.document().graph().source(to.node, to.port);
+  ASSERT_NE(made, nullptr) << to.node << "." << to.port;
+  EXPECT_EQ(made->from, from);
+}
+
+}  // namespace
+
+// From an empty graph to a clone, with the mouse: nodes from the palette, ports connected by
+// dragging, then both canvases placed and a region painted in the viewports.
+TEST(StudioWindow, BuildsACloneGraphWithTheMouseAndPaintsIt) {
+  const auto dir = test::tempDir("studio-build");
+  StudioWindow window(test::registry());
+  window.resize(1600, 1000);
+  window.setOutputDir(dir);
+  window.show();
+  window.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
+  QTest::keyClick(&window, Qt::Key_N, Qt::ControlModifier);
+  ASSERT_TRUE(window.document().graph().nodes.empty());
+
+  // The first node by a double click on its palette entry.
+  auto* palette = window.findChild<QTreeWidget*>();
+  ASSERT_NE(palette, nullptr);
+  QTreeWidgetItem* loadEntry = nullptr;
+  for (int g = 0; g < palette->topLevelItemCount(); ++g)
+    for (int i = 0; i < palette->topLevelItem(g)->childCount(); ++i)
+      if (palette->topLevelItem(g)->child(i)->data(0, Qt::UserRole).toString() ==
+          "geobrush.load_mesh")
+        loadEntry = palette->topLevelItem(g)->child(i);
+  ASSERT_NE(loadEntry, nullptr);
+  palette->scrollToItem(loadEntry);
+  const QPoint entry = palette->visualItemRect(loadEntry).center();
+  QTest::mouseClick(palette->viewport(), Qt::LeftButton, {}, entry);
+  QTest::mouseDClick(palette->viewport(), Qt::LeftButton, {}, entry);
+  ASSERT_EQ(window.document().graph().nodes.size(), 1u);
+  const std::string sourceMesh = window.document().graph().nodes.begin()->first;
+  const std::string canvas = addNode(window, "geobrush.canvas_grow");
+  const std::string sourceMap = addNode(window, "geobrush.gdem");
+  const std::string targetMesh = addNode(window, "geobrush.primitive");
+  const std::string targetMap = addNode(window, "geobrush.dem");
+  const std::string strokes = addNode(window, "geobrush.strokes");
+  const std::string roi = addNode(window, "geobrush.roi");
+  const std::string membrane = addNode(window, "geobrush.membrane");
+  const std::string stitch = addNode(window, "geobrush.stitch");
+  EXPECT_EQ(window.document().graph().nodes.size(), 9u);
+  ASSERT_EQ(window.setParam(sourceMesh, "path", (test::meshPath("mountain.obj")).string()), "");
+  ASSERT_EQ(window.setParam(targetMap, "scale", 0.05), "");
+
+  const std::vector<std::pair<Endpoint, Endpoint>> wires = {
+      {{sourceMesh, "mesh"}, {canvas, "mesh"}},
+      {{canvas, "canvas"}, {sourceMap, "canvas"}},
+      {{targetMesh, "mesh"}, {targetMap, "mesh"}},
+      {{sourceMap, "parameterization"}, {targetMap, "source"}},
+      {{strokes, "strokes"}, {roi, "strokes"}},
+      {{sourceMap, "parameterization"}, {roi, "source"}},
+      {{targetMap, "parameterization"}, {roi, "target"}},
+      {{roi, "region"}, {membrane, "region"}},
+      {{sourceMap, "parameterization"}, {membrane, "source"}},
+      {{targetMap, "parameterization"}, {membrane, "target"}},
+      {{roi, "region"}, {stitch, "region"}},
+      {{sourceMap, "parameterization"}, {stitch, "source"}},
+      {{targetMap, "parameterization"}, {stitch, "target"}},
+      {{membrane, "offset"}, {stitch, "offset"}}};
+  for (const auto& [from, to] : wires)
+    connectByMouse(window, from, to);
+  EXPECT_EQ(window.document().graph().connections.size(), wires.size());
+  ASSERT_TRUE(waitUntilIdle(window));
+
+  // The clone is recognised; nothing is painted yet, so the canvas cannot grow.
+  auto& panel = window.clonePanel();
+  ASSERT_TRUE(panel.roles().found());
+  EXPECT_EQ(panel.roles().paste, stitch);
+  EXPECT_FALSE(window.lastReport().ok);
+  EXPECT_NE(window.lastReport().error.find(canvas), std::string::npos);
+  Viewport& source = panel.sourceView();
+  ASSERT_TRUE(source.surface().mesh);
+
+  // The mountain's peak as the source origin, a canvas painted around it.
+  const Eigen::Vector3d peak(0.068548, 19.73209, 0.029055);
+  panel.setTool(CloneTool::SourceOrigin);
+  QTest::mouseClick(&source, Qt::LeftButton, {}, onScreen(source, peak));
+  panel.setTool(CloneTool::PaintCanvas);
+  panel.setBrushRadius(8);
+  const QPoint peakPixel = onScreen(source, vec3Of(window.document(), canvas, "origin"));
+  drag(&source, peakPixel, peakPixel + QPoint(2, 2), {}, 2);
+  ASSERT_TRUE(waitUntilIdle(window));
+  // Now the target canvas is what fails: its origin is not on the sphere yet.
+  EXPECT_NE(window.lastReport().error.find(targetMap), std::string::npos)
+      << window.lastReport().error;
+  Viewport& target = panel.targetView();
+  ASSERT_TRUE(target.surface().mesh);
+
+  panel.setTool(CloneTool::TargetOrigin);
+  QTest::mouseClick(&target, Qt::LeftButton, {}, onScreen(target, {0, 0, 1}));
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+  const auto targetVertices = target.surface().mesh->surface.n_vertices();
+
+  panel.setTool(CloneTool::PaintRegion);
+  panel.setBrushRadius(6);
+  const QPoint middle = onScreen(target, vec3Of(window.document(), targetMap, "origin"));
+  drag(&target, middle, middle + QPoint(3, 0), {}, 2);
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+  const auto result =
+      std::dynamic_pointer_cast<const Mesh>(window.evaluator().output(stitch, "mesh"));
+  ASSERT_TRUE(result);
+  EXPECT_GT(result->surface.n_vertices(), targetVertices);
+  QTest::mouseMove(&target, middle);
+  screenshot(window, "studio_built.png");
+  ASSERT_TRUE(window.saveFile(QString::fromStdString((dir / "built.json").string())));
+  EXPECT_EQ(readGraphFile(dir / "built.json").connections.size(), wires.size());
 }
 
 int main(int argc, char** argv) {
