@@ -134,17 +134,7 @@ bool StudioWindow::openFile(const QString& path) {
     statusBar()->showMessage(QString::fromStdString(error));
     return false;
   }
-  evaluator_ = std::make_unique<Evaluator>(registry_);
-  report_ = {};
-  selected_.clear();
-  pendingLive_ = false;
-  radiusChosen_ = false;
-  lastLiveError_.clear();
-  clone_->clear();
-  updateRoles();
-  params_->showNode(document_, selected_);
-  undoAction_->setEnabled(false);
-  redoAction_->setEnabled(false);
+  startOver();
   for (const auto& name : document_.missingNodes())
     log("warning: " + path + ": node '" + QString::fromStdString(name) +
         "': no loaded plugin provides '" +
@@ -156,20 +146,24 @@ bool StudioWindow::openFile(const QString& path) {
   return true;
 }
 
-void StudioWindow::newFile() {
-  stopWorker();
-  document_.newGraph();
+void StudioWindow::startOver() {
   evaluator_ = std::make_unique<Evaluator>(registry_);
   report_ = {};
   selected_.clear();
   pendingLive_ = false;
   radiusChosen_ = false;
   lastLiveError_.clear();
+  clone_->clear();
+  updateRoles();
   params_->showNode(document_, selected_);
   undoAction_->setEnabled(false);
   redoAction_->setEnabled(false);
-  clone_->clear();
-  updateRoles();
+}
+
+void StudioWindow::newFile() {
+  stopWorker();
+  document_.newGraph();
+  startOver();
   setWindowTitle("GeoBrush Studio - untitled");
   refresh(nullptr);
   statusBar()->showMessage("New graph: double-click node types in the palette to add them");

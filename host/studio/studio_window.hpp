@@ -78,6 +78,8 @@ class StudioWindow : public QMainWindow {
   void showProgress(const std::string& node, double fraction);
   void stopWorker();
   void updateRoles();
+  // Forgets everything of the graph shown before (a new or opened document).
+  void startOver();
 
   const NodeRegistry& registry_;
   StudioDocument document_;
