@@ -7,6 +7,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <map>
 
 #include "cage_build.hpp"
 #include "cage_fit.hpp"
@@ -14,13 +16,16 @@
 #include "dem.hpp"
 #include "gc_warp.hpp"
 #include "geobrush/domain_locator.hpp"
+#include "geobrush/evaluator.hpp"
 #include "geobrush/exponential_map.hpp"
+#include "geobrush/graph.hpp"
 #include "geobrush/memory.hpp"
 #include "membrane.hpp"
 #include "membrane_boundary.hpp"
 #include "mesh_checks.hpp"
 #include "roi.hpp"
 #include "stitch.hpp"
+#include "test_support.hpp"
 
 using namespace geobrush;
 
@@ -255,8 +260,107 @@ void BM_LiveBrush(benchmark::State& state) {
   state.counters["result_vertices"] = double(resultVertices);
 }
 
+// The live brush as the studio runs it: a whole clone graph through the evaluator, preprocess
+// cached, one dab appended to the strokes param per iteration and the paste evaluated. Unlike
+// BM_LiveBrush this includes every node a dab reaches (strokes, ROI correction, the warp's
+// partial draft) and the framework. The source is a 280^2 relief plane with a canvas of about
+// 50k vertices, the target a 163,842-vertex geodesic sphere. Counters: each node's mean time
+// per dab, from the evaluator's report.
+void BM_LiveBrushGraph(benchmark::State& state) {
+  const auto dir = std::filesystem::temp_directory_path() / "geobrush-live-brush-graph";
+  std::filesystem::create_directories(dir);
+  Graph graph = parseGraph(R"({
+    "format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {
+      "source_mesh": {"type": "geobrush.primitive", "typeVersion": 1,
+        "params": {"shape": "plane", "size": 2.0, "resolution": 280, "relief": 0.02}},
+      "source_canvas": {"type": "geobrush.canvas_grow", "typeVersion": 1,
+        "params": {"origin": [0, 0, 0], "dabs": [[0, 0, 0, 0.9]]}},
+      "source_map": {"type": "geobrush.gdem", "typeVersion": 1},
+      "source_cage": {"type": "geobrush.cage_build", "typeVersion": 1},
+      "target_mesh": {"type": "geobrush.primitive", "typeVersion": 1,
+        "params": {"shape": "sphere", "resolution": 128}},
+      "target_map": {"type": "geobrush.dem", "typeVersion": 1,
+        "params": {"origin": [0, 0, 1], "scale": 0.3}},
+      "target_cage": {"type": "geobrush.cage_fit", "typeVersion": 1},
+      "warp": {"type": "geobrush.gc_warp", "typeVersion": 1},
+      "strokes": {"type": "geobrush.strokes", "typeVersion": 1},
+      "roi_correct": {"type": "geobrush.roi_correct", "typeVersion": 1},
+      "roi": {"type": "geobrush.roi", "typeVersion": 1},
+      "membrane": {"type": "geobrush.membrane", "typeVersion": 1},
+      "stitch": {"type": "geobrush.stitch", "typeVersion": 1}
+    },
+    "connections": [
+      {"from": "source_mesh.mesh", "to": "source_canvas.mesh"},
+      {"from": "source_canvas.canvas", "to": "source_map.canvas"},
+      {"from": "source_map.parameterization", "to": "source_cage.parameterization"},
+      {"from": "target_mesh.mesh", "to": "target_map.mesh"},
+      {"from": "source_map.parameterization", "to": "target_map.source"},
+      {"from": "source_cage.cage", "to": "target_cage.source_cage"},
+      {"from": "source_map.parameterization", "to": "target_cage.source"},
+      {"from": "target_map.parameterization", "to": "target_cage.target"},
+      {"from": "source_canvas.canvas", "to": "warp.canvas"},
+      {"from": "source_cage.cage", "to": "warp.source_cage"},
+      {"from": "target_cage.target_cage", "to": "warp.target_cage"},
+      {"from": "roi.region", "to": "warp.region"},
+      {"from": "strokes.strokes", "to": "roi_correct.strokes"},
+      {"from": "source_map.parameterization", "to": "roi_correct.source"},
+      {"from": "roi_correct.strokes", "to": "roi.strokes"},
+      {"from": "source_map.parameterization", "to": "roi.source"},
+      {"from": "target_map.parameterization", "to": "roi.target"},
+      {"from": "roi.region", "to": "membrane.region"},
+      {"from": "source_map.parameterization", "to": "membrane.source"},
+      {"from": "warp.draft", "to": "membrane.draft"},
+      {"from": "target_map.parameterization", "to": "membrane.target"},
+      {"from": "roi.region", "to": "stitch.region"},
+      {"from": "source_map.parameterization", "to": "stitch.source"},
+      {"from": "warp.draft", "to": "stitch.draft"},
+      {"from": "target_map.parameterization", "to": "stitch.target"},
+      {"from": "membrane.offset", "to": "stitch.offset"}]
+  })",
+                           dir / "live_brush.json");
+  prepareGraph(graph, test::registry());
+  Evaluator evaluator(test::registry());
+  EvalOptions options;
+  options.targets = {"stitch"};
+  std::vector<double> dabs = {-0.3, -0.1, 0.12, 1};
+  graph.nodes.at("strokes").params["dabs"] = dabs;
+  EvalReport first = evaluator.evaluate(graph, options);
+  if (!first.ok) {
+    state.SkipWithError(first.error.c_str());
+    return;
+  }
+  std::map<std::string, double> seconds;
+  std::size_t resultVertices = 0;
+  int dab = 0;
+  for (auto _ : state) {
+    ++dab;
+    dabs.insert(dabs.end(), {-0.3 + 0.02 * dab, -0.1 + 0.007 * dab, 0.12, 1});
+    graph.nodes.at("strokes").params["dabs"] = dabs;
+    const EvalReport report = evaluator.evaluate(graph, options);
+    if (!report.ok) {
+      state.SkipWithError(report.error.c_str());
+      return;
+    }
+    for (const NodeRun& run : report.runs)
+      if (!run.cacheHit) seconds[run.node] += run.seconds;
+    state.PauseTiming();
+    resultVertices = std::dynamic_pointer_cast<const Mesh>(evaluator.output("stitch", "mesh"))
+                         ->surface.n_vertices();
+    state.ResumeTiming();
+  }
+  for (const auto& [node, total] : seconds)
+    state.counters[node + "_ms"] =
+        benchmark::Counter(1000 * total, benchmark::Counter::kAvgIterations);
+  state.counters["result_vertices"] = double(resultVertices);
+  state.counters["canvas_vertices"] =
+      double(std::dynamic_pointer_cast<const Canvas>(evaluator.output("source_canvas", "canvas"))
+                 ->surface.n_vertices());
+}
+
 }  // namespace
 
+BENCHMARK(BM_LiveBrushGraph)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(30);
 BENCHMARK(BM_LiveBrush)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(30);
 BENCHMARK(BM_TargetMove)
     ->Unit(benchmark::kMillisecond)
