@@ -8,8 +8,18 @@
 namespace geobrush {
 namespace {
 
-std::vector<std::uint8_t> flaggedFaces(const Parameterization& source,
-                                       const RoiCorrectOptions& options) {
+void checkInputs(const Parameterization& source, const RoiCorrectOptions& options) {
+  if (!source.canvas || source.uv.size() != source.canvas->surface.n_vertices())
+    throw RoiCorrectError("the source parameterization does not match its canvas");
+  if (!(options.margin >= 0) || options.ring < 0 || options.maxRounds < 1)
+    throw RoiCorrectError("margin, ring and rounds must be >= 0, >= 0 and >= 1");
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> correctionFlags(const Parameterization& source,
+                                          const RoiCorrectOptions& options) {
+  checkInputs(source, options);
   const TriMesh& mesh = source.canvas->surface;
   if (options.includeProtrusions) {
     return growFaceRing(mesh, reversedFaces(mesh, source.normal, options.protrusionThreshold),
@@ -20,6 +30,8 @@ std::vector<std::uint8_t> flaggedFaces(const Parameterization& source,
     throw RoiCorrectError("the reversed flags do not match the canvas faces");
   return source.reversedFaces;
 }
+
+namespace {
 
 // Flagged faces whose corners lie on both sides of the outline of Q.
 std::vector<int> crossedFaces(const TriMesh& mesh, const std::vector<std::uint8_t>& flagged,
@@ -75,20 +87,32 @@ Dab enclosingDab(const TriMesh& mesh, const std::vector<Eigen::Vector2d>& uv,
 
 RoiCorrectResult correctRoi(const Strokes& strokes, const Parameterization& source,
                             const RoiCorrectOptions& options) {
-  if (!source.canvas || source.uv.size() != source.canvas->surface.n_vertices())
-    throw RoiCorrectError("the source parameterization does not match its canvas");
-  if (!(options.margin >= 0) || options.ring < 0 || options.maxRounds < 1)
-    throw RoiCorrectError("margin, ring and rounds must be >= 0, >= 0 and >= 1");
+  return correctRoi(strokes, source, options, correctionFlags(source, options));
+}
+
+RoiCorrectResult correctRoi(const Strokes& strokes, const Parameterization& source,
+                            const RoiCorrectOptions& options,
+                            const std::vector<std::uint8_t>& flagged) {
+  checkInputs(source, options);
   const TriMesh& mesh = source.canvas->surface;
-  const std::vector<std::uint8_t> flagged = flaggedFaces(source, options);
+  if (flagged.size() != mesh.n_faces())
+    throw RoiCorrectError("the correction flags do not match the canvas faces");
+  // Only corners of flagged faces decide anything: Q is tested there alone.
+  std::vector<int> corners;
+  for (auto f : mesh.faces())
+    if (flagged[std::size_t(f.idx())])
+      for (auto v : mesh.fv_range(f))
+        corners.push_back(v.idx());
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
 
   RoiCorrectResult result;
   result.strokes.dabs = strokes.dabs;
   std::vector<char> taken(mesh.n_faces(), 0);
+  std::vector<char> inQ(mesh.n_vertices(), 0);
   for (int round = 0; round < options.maxRounds; ++round) {
-    std::vector<char> inQ(mesh.n_vertices(), 0);
-    for (std::size_t v = 0; v < inQ.size(); ++v)
-      inQ[v] = result.strokes.contains(source.uv[v]);
+    for (int v : corners)
+      inQ[std::size_t(v)] = result.strokes.contains(source.uv[std::size_t(v)]);
     const std::vector<int> crossed = crossedFaces(mesh, flagged, inQ);
     if (crossed.empty()) return result;
     for (int seed : crossed) {

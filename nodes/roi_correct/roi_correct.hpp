@@ -38,9 +38,18 @@ struct RoiCorrectResult {
   bool settled = true;            // false when maxRounds were not enough to leave no cut
 };
 
+// The canvas faces the correction may take in, per face 1 or 0: they depend on the source and the
+// options only, so a brush computes them once and passes them to each dab's correction.
+std::vector<std::uint8_t> correctionFlags(const Parameterization& source,
+                                          const RoiCorrectOptions& options = {});
+
 // Throws RoiCorrectError when the parameterization has no canvas or flags of the wrong size, or
 // an option is out of range.
 RoiCorrectResult correctRoi(const Strokes& strokes, const Parameterization& source,
                             const RoiCorrectOptions& options = {});
+// The same with the flags computed before (correctionFlags of the same source and options).
+RoiCorrectResult correctRoi(const Strokes& strokes, const Parameterization& source,
+                            const RoiCorrectOptions& options,
+                            const std::vector<std::uint8_t>& flagged);
 
 }  // namespace geobrush

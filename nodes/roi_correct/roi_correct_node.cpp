@@ -24,7 +24,14 @@ class RoiCorrectNode final : public geobrush::Node {
     options.margin = ctx.param<double>("margin");
     geobrush::RoiCorrectResult result;
     try {
-      result = geobrush::correctRoi(*strokes, *source, options);
+      // The flags depend on the source and the options alone: kept while a brush paints.
+      const FlagsKey key{source, options.includeProtrusions, options.protrusionThreshold,
+                         options.ring};
+      if (!(key == flagsKey_)) {
+        flags_ = geobrush::correctionFlags(*source, options);
+        flagsKey_ = key;
+      }
+      result = geobrush::correctRoi(*strokes, *source, options, flags_);
     } catch (const geobrush::RoiCorrectError& e) {
       throw NodeError::input("source", e.what());
     }
@@ -32,6 +39,17 @@ class RoiCorrectNode final : public geobrush::Node {
       ctx.warn("the outline still cuts folded faces after the correction rounds; paint wider");
     ctx.out("strokes", std::make_shared<const Strokes>(std::move(result.strokes)));
   }
+
+ private:
+  struct FlagsKey {
+    std::shared_ptr<const Parameterization> source;
+    bool includeProtrusions = false;
+    double threshold = 0;
+    int ring = 0;
+    bool operator==(const FlagsKey&) const = default;
+  };
+  FlagsKey flagsKey_;
+  std::vector<std::uint8_t> flags_;
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

@@ -58,6 +58,12 @@ TEST(RoiCorrect, PaintingPartOfASpikeTakesAllOfIt) {
     EXPECT_TRUE(result.strokes.contains(param->uv[std::size_t(v)])) << v;
   // The added disc stays near the spike: the far side of the plane is not taken.
   EXPECT_FALSE(result.strokes.contains({0.9, 0.0}));
+
+  // With the flags computed once, as the node keeps them while a brush paints: the same dabs.
+  const auto flags = correctionFlags(*param, options);
+  EXPECT_EQ(correctRoi(painted, *param, options, flags).strokes.dabs, result.strokes.dabs);
+  EXPECT_THROW(correctRoi(painted, *param, options, std::vector<std::uint8_t>(3, 1)),
+               RoiCorrectError);
 }
 
 TEST(RoiCorrect, LeavesOutlinesThatCutNoFlaggedFace) {
