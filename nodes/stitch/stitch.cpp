@@ -172,10 +172,35 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
   return result;
 }
 
+namespace {
+
+// Room for the whole target, the source canvas and the seam strips: a paste never outgrows it.
+void reserveForPaste(TriMesh& out, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
+                     std::size_t targetCanvasVertices) {
+  const std::size_t strips = 2 * targetCanvasVertices / 8 + 1024;
+  out.reserve(targetMesh.n_vertices() + sourceCanvas.n_vertices(),
+              targetMesh.n_edges() + sourceCanvas.n_edges() + strips,
+              targetMesh.n_faces() + sourceCanvas.n_faces() + strips);
+}
+
+}  // namespace
+
+void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
+                 TriMesh& out) {
+  // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
+  out.clear();
+  reserveForPaste(out, targetMesh, sourceCanvas, base.canvasToMesh.size());
+  out = base.outside;
+}
+
 StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
                              const TriMesh& draft, const Field2D* offset,
-                             const Parameterization& target, const StitchBase* base) {
-  out.clear();
+                             const Parameterization& target, const StitchBase* base,
+                             bool outHoldsOutside) {
+  if (outHoldsOutside && (!base || out.n_vertices() != base->outside.n_vertices() ||
+                          out.n_faces() != base->outside.n_faces()))
+    throw StitchError("the mesh to build into does not hold the target's outside part");
+  if (!outHoldsOutside) out.clear();
   if (!source.canvas || !target.canvas) throw StitchError("the parameterizations have no canvases");
   const TriMesh& canvas = source.canvas->surface;
   if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
@@ -243,12 +268,7 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
   // The kept target faces, then the patch, their connectivity copied (add_face, face by face,
   // takes several times longer on a large target); room for the seam strips too. The part
   // outside the canvas is copied whole from the base, unless pinches reached it.
-  const std::size_t strips = 2 * targetCanvas.n_vertices() / 8 + 1024;
-  auto reserve = [&] {
-    out.reserve(targetMesh.n_vertices() + canvas.n_vertices(),
-                targetMesh.n_edges() + canvas.n_edges() + strips,
-                targetMesh.n_faces() + canvas.n_faces() + strips);
-  };
+  auto reserve = [&] { reserveForPaste(out, targetMesh, canvas, targetCanvas.n_vertices()); };
   std::vector<int> keptFaces;
   removedFaces.clear();
   for (int f : base->canvasMeshFaces)
@@ -256,9 +276,11 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
   AppendedFaces targetPart;
   std::vector<int> outToMesh;  // vertex of `out` -> target mesh vertex
   if (std::size_t(std::count(kept.begin(), kept.end(), 0)) == removedFaces.size()) {
-    // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
-    reserve();
-    out = base->outside;
+    if (!outHoldsOutside) {
+      // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
+      reserve();
+      out = base->outside;
+    }
     targetPart = joinFaces(out, targetMesh, keptFaces, base->outsideFaces);
     outToMesh = base->outsideFaces.sourceVertex;
   } else {
@@ -266,6 +288,7 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
     removedFaces.clear();
     for (std::size_t f = 0; f < kept.size(); ++f)
       (kept[f] ? keptFaces : removedFaces).push_back(int(f));
+    out.clear();
     reserve();
     targetPart = appendFaces(out, targetMesh, keptFaces);
   }

@@ -51,9 +51,17 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const Parameterization& target, const StitchBase* base = nullptr);
 // The same, building the mesh in `out` (cleared first) and leaving the result's `mesh` empty.
 // OpenMesh meshes have no move constructor, so a returned or moved mesh is copied: a node builds
-// straight into the mesh of its output value.
+// straight into the mesh of its output value. With `outHoldsOutside`, `out` already holds
+// copyOutside(*base) and is not cleared: the copy, most of a dab's memory traffic, can be made
+// ahead of time.
 StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
                              const TriMesh& draft, const Field2D* offset,
-                             const Parameterization& target, const StitchBase* base = nullptr);
+                             const Parameterization& target, const StitchBase* base = nullptr,
+                             bool outHoldsOutside = false);
+
+// Copies the target's part outside its canvas into `out`, with room for the rest of the target
+// and a paste from `sourceCanvas`: what every paste into this target starts from.
+void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
+                 TriMesh& out);
 
 }  // namespace geobrush

@@ -1,3 +1,4 @@
+#include <future>
 #include <memory>
 #include <string>
 
@@ -15,9 +16,14 @@ using geobrush::Parameterization;
 using geobrush::Region2D;
 
 // Every dab re-stitches into the same target: the node keeps how the target canvas maps into its
-// mesh for as long as the target parameterization stays the same.
+// mesh for as long as the target parameterization stays the same. And every result starts as a
+// copy of the target outside its canvas (tens of megabytes on a large target): after each dab the
+// node copies it for the next one on another thread, while the nodes before it (strokes, ROI,
+// warp: one thread each) work on that next dab.
 class StitchNode final : public geobrush::Node {
  public:
+  ~StitchNode() override { dropNext(); }
+
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
@@ -31,13 +37,25 @@ class StitchNode final : public geobrush::Node {
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
     try {
       if (!base_ || target != target_) {
+        dropNext();
         base_.reset();
         base_ = std::make_unique<geobrush::StitchBase>(geobrush::stitchBase(*target));
         target_ = target;
       }
-      auto mesh = std::make_shared<Mesh>();
-      geobrush::StitchResult result = geobrush::stitchPasteInto(
-          mesh->surface, *region, *source, draft->surface, offset.get(), *target, base_.get());
+      std::shared_ptr<Mesh> mesh = next_.valid() ? next_.get() : nullptr;
+      const bool prepared = mesh != nullptr;
+      if (!prepared) mesh = std::make_shared<Mesh>();
+      geobrush::StitchResult result =
+          geobrush::stitchPasteInto(mesh->surface, *region, *source, draft->surface, offset.get(),
+                                    *target, base_.get(), prepared);
+      const geobrush::StitchBase* base = base_.get();
+      next_ = std::async(std::launch::async, [base, target, canvas = source->canvas] {
+        auto next = std::make_shared<Mesh>();
+        const geobrush::TriMesh& targetMesh =
+            target->canvas->source ? target->canvas->source->surface : target->canvas->surface;
+        geobrush::copyOutside(*base, targetMesh, canvas->surface, next->surface);
+        return next;
+      });
       ctx.out("mesh", std::move(mesh));
       ctx.out("map", std::make_shared<const geobrush::PasteMap>(std::move(result.map)));
     } catch (const geobrush::StitchError& e) {
@@ -46,9 +64,15 @@ class StitchNode final : public geobrush::Node {
   }
 
  private:
+  // Waits for the copy under way, which reads base_, and drops it.
+  void dropNext() {
+    if (next_.valid()) next_.get();
+  }
+
   geobrush::ZeroDraftCache zeroDrafts_;
   std::unique_ptr<geobrush::StitchBase> base_;
   std::shared_ptr<const Parameterization> target_;
+  std::future<std::shared_ptr<Mesh>> next_;  // the next result, its outside part copied
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

@@ -241,3 +241,31 @@ TEST(StitchNode, OutputsWhatStitchPasteMakes) {
   ASSERT_TRUE(map);
   EXPECT_EQ(map->sourceVertex, direct.map.sourceVertex);
 }
+
+// A brush's dabs reuse the target's outside part copied ahead of time: each result is still
+// what a fresh stitch makes, dab after dab, and after the target changes.
+TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
+  const NodeType* type = test::registry().find("geobrush.stitch");
+  ASSERT_TRUE(type);
+  auto source = flatSquare(24);
+  const auto draft = std::make_shared<const Mesh>(source->canvas->surface);
+  const auto node = type->create();
+  std::vector<Dab> dabs;
+  const auto first = flatSquare(17), second = flatSquare(19);
+  for (int dab = 0; dab < 4; ++dab) {
+    SCOPED_TRACE(dab);
+    const auto& target = dab < 3 ? first : second;
+    dabs.push_back({{-0.3 + 0.2 * dab, 0.05 * dab}, 0.3, false});
+    auto region = std::make_shared<Region2D>(
+        paintRegion(strokes(dabs), *source, *target, RoiOptions{64}).region);
+    test::DirectContext ctx(
+        *type, {{"region", region}, {"source", source}, {"draft", draft}, {"target", target}});
+    node->compute(ctx);
+    const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
+    ASSERT_TRUE(mesh);
+    const StitchResult fresh =
+        stitchPaste(*region, *source, source->canvas->surface, nullptr, *target);
+    EXPECT_TRUE(test::bitIdentical(mesh->surface, fresh.mesh));
+    expectOneManifoldDisc(mesh->surface);
+  }
+}
