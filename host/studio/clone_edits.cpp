@@ -78,12 +78,7 @@ double defaultBrushRadius(const StudioDocument& document, const CloneRoles& role
   const auto dabs = paramOr(document, roles.strokes, "dabs", std::vector<double>{});
   if (dabs.size() >= 4 && dabs[dabs.size() - 2] > 0) return dabs[dabs.size() - 2];
   if (!values.sourceMesh) return 1;
-  Eigen::AlignedBox3d box;
-  for (auto v : values.sourceMesh->surface.vertices()) {
-    const auto& p = values.sourceMesh->surface.point(v);
-    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
-  }
-  return std::max(box.diagonal().norm() / 20, 1e-4);
+  return std::max(boundsOf(values.sourceMesh->surface).diagonal().norm() / 20, 1e-4);
 }
 
 }  // namespace geobrush::studio

@@ -9,10 +9,10 @@
 namespace geobrush::studio {
 namespace {
 
+// The output feeding an input port, if any.
 const Endpoint* sourceOf(const Graph& graph, const std::string& node, const std::string& port) {
-  for (const auto& c : graph.connections)
-    if (c.to.node == node && c.to.port == port) return &c.from;
-  return nullptr;
+  const Connection* connection = graph.source(node, port);
+  return connection ? &connection->from : nullptr;
 }
 
 std::string typeOf(const Graph& graph, const std::string& node) {
@@ -60,6 +60,15 @@ Eigen::Vector3d crossing(const Eigen::Vector3d& a, const Eigen::Vector3d& b, dou
 }
 
 }  // namespace
+
+Eigen::AlignedBox3d boundsOf(const TriMesh& mesh) {
+  Eigen::AlignedBox3d box;
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
+  }
+  return box;
+}
 
 std::vector<std::string> CloneRoles::liveTargets() const {
   std::vector<std::string> targets;

@@ -4,6 +4,7 @@
 // No widgets here: tests drive it directly.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +34,9 @@ struct CloneRoles {
   // What a live evaluation asks for: the paste, and the maps where there is none.
   std::vector<std::string> liveTargets() const;
 };
+
+// The bounding box of a mesh's vertices (what framing and brush sizes start from).
+Eigen::AlignedBox3d boundsOf(const TriMesh& mesh);
 
 // The clone around the ROI node `preferredRoi` if it is one, else the first ROI node by name.
 CloneRoles findClone(const Graph& graph, const std::string& preferredRoi = {});

@@ -18,11 +18,7 @@ const RenderView kDefaultView{.azimuthDeg = 30, .elevationDeg = 20, .fovDeg = 35
 const Rgb kBackground{0.16f, 0.17f, 0.19f};
 
 RenderFrame frameOf(const TriMesh& mesh) {
-  Eigen::AlignedBox3d box;
-  for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
-  }
+  const Eigen::AlignedBox3d box = boundsOf(mesh);
   const Eigen::Vector3d centre = box.center();
   return {{centre.x(), centre.y(), centre.z()}, std::max(0.5 * box.diagonal().norm(), 1e-9)};
 }
@@ -84,12 +80,17 @@ RenderOptions Viewport::renderOptions() const {
 }
 
 std::optional<RenderCamera> Viewport::camera() const {
-  if (!surface_.mesh || surface_.mesh->surface.n_faces() == 0) return std::nullopt;
-  try {
-    return renderCamera({{surface_.mesh}}, renderOptions());
-  } catch (const std::exception&) {
-    return std::nullopt;
+  if (cameraKnown_) return camera_;
+  cameraKnown_ = true;
+  camera_.reset();
+  if (surface_.mesh && surface_.mesh->surface.n_faces() > 0) {
+    try {
+      camera_ = renderCamera({{surface_.mesh}}, renderOptions());
+    } catch (const std::exception&) {
+      // Nothing drawable: no camera, as without a surface.
+    }
   }
+  return camera_;
 }
 
 std::optional<SurfaceHit> Viewport::pick(const QPointF& position) const {
@@ -102,6 +103,7 @@ std::optional<SurfaceHit> Viewport::pick(const QPointF& position) const {
 
 void Viewport::changed() {
   stale_ = true;
+  cameraKnown_ = false;
   update();
 }
 

@@ -49,8 +49,9 @@ class Viewport : public QWidget {
   void setLines(std::vector<SurfaceLines> lines);
   // Frames the shown surface again, from the default direction.
   void resetView();
-  RenderView& view() { return view_; }
-  // The camera of the current size and view; none without a surface.
+  const RenderView& view() const { return view_; }
+  // The camera of the current size and view; none without a surface. Kept until the surface,
+  // the view or the size changes: each pointer move picks with it.
   std::optional<RenderCamera> camera() const;
   // The surface point under a window position.
   std::optional<SurfaceHit> pick(const QPointF& position) const;
@@ -81,6 +82,8 @@ class Viewport : public QWidget {
   std::vector<SurfaceLines> lines_;
   QImage image_;
   bool stale_ = true;
+  mutable bool cameraKnown_ = false;  // camera_ was computed since the last change
+  mutable std::optional<RenderCamera> camera_;
   QString error_;
   // Camera drags: the button held and where the pointer was.
   Qt::MouseButton dragButton_ = Qt::NoButton;
