@@ -29,14 +29,43 @@ void nodeRange(const DomainGrid& grid, const Box& box, int& i0, int& i1, int& j0
   j1 = std::min(grid.height - 1, int(std::floor(b.y())));
 }
 
+// A rectangle of grid nodes, [i0, i1] x [j0, j1]; empty when i0 > i1 or j0 > j1.
+struct NodeWindow {
+  int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+  NodeWindow grown(int nodes, const DomainGrid& grid) const {
+    return {std::max(0, i0 - nodes), std::min(grid.width - 1, i1 + nodes), std::max(0, j0 - nodes),
+            std::min(grid.height - 1, j1 + nodes)};
+  }
+};
+
+// The bounding box of the dabs that add, one grid spacing wider (a margin for rounding at its
+// edges), and the grid nodes in it: nothing outside is painted.
+NodeWindow paintedWindow(const Strokes& strokes, const DomainGrid& grid, Box& box) {
+  bool any = false;
+  for (const Dab& dab : strokes.dabs) {
+    if (dab.subtract) continue;
+    const Eigen::Vector2d reach = Eigen::Vector2d::Constant(dab.radius + grid.spacing);
+    box.lo = any ? box.lo.cwiseMin(dab.center - reach) : Eigen::Vector2d(dab.center - reach);
+    box.hi = any ? box.hi.cwiseMax(dab.center + reach) : Eigen::Vector2d(dab.center + reach);
+    any = true;
+  }
+  NodeWindow window;
+  if (any) nodeRange(grid, box, window.i0, window.i1, window.j0, window.j1);
+  return window;
+}
+
 // Region2D::draftSupport: R_in, and the corners of the source faces that the membrane's data
 // nodes fall in.
+// `window`: grid nodes that hold every node of Q and every source vertex of R_in, clamped to the
+// grid; what the support reads lies within three nodes of it.
 std::vector<int> draftSupport(const Region2D& region, const Parameterization& source,
-                              const DomainLocator& locator) {
+                              const DomainLocator& locator, std::vector<int>& nodeFace,
+                              const NodeWindow& window) {
   const DomainGrid& grid = region.grid;
+  const NodeWindow reach = window.grown(3, grid);
   std::vector<std::uint8_t> sampled(grid.nodeCount(), 0);
-  for (int j = 0; j < grid.height; ++j)
-    for (int i = 0; i < grid.width; ++i) {
+  for (int j = window.j0; j <= window.j1; ++j)
+    for (int i = window.i0; i <= window.i1; ++i) {
       if (!region.inside[grid.index(i, j)]) continue;
       for (int dj = -2; dj <= 2; ++dj)
         for (int di = -2 + std::abs(dj); di <= 2 - std::abs(dj); ++di) {
@@ -55,11 +84,12 @@ std::vector<int> draftSupport(const Region2D& region, const Parameterization& so
           sampled[grid.index(i + di, j + dj)] = 1;
   }
   const TriMesh& canvas = source.canvas->surface;
-  for (int j = 0; j < grid.height; ++j)
-    for (int i = 0; i < grid.width; ++i) {
-      if (!sampled[grid.index(i, j)]) continue;
-      const DomainHit hit = locator.locate(grid.position(i, j));
-      for (auto v : canvas.fv_range(TriMesh::FaceHandle(hit.face)))
+  for (int j = reach.j0; j <= reach.j1; ++j)
+    for (int i = reach.i0; i <= reach.i1; ++i) {
+      const std::size_t n = grid.index(i, j);
+      if (!sampled[n]) continue;
+      if (nodeFace[n] < 0) nodeFace[n] = locator.locate(grid.position(i, j)).face;
+      for (auto v : canvas.fv_range(TriMesh::FaceHandle(nodeFace[n])))
         support[std::size_t(v.idx())] = 1;
     }
   std::vector<int> vertices;
@@ -253,34 +283,51 @@ RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& 
   coverage.targetLocator = std::make_shared<const DomainLocator>(target);
   coverage.sourceHoles = canvasHoles(source);
   coverage.targetHoles = canvasHoles(target);
+  coverage.memo.sourceCovered.assign(source.uv.size(), -1);
+  coverage.memo.targetCovered.assign(target.uv.size(), -1);
+  coverage.memo.nodeFace.assign(coverage.grid.nodeCount(), -1);
   return coverage;
 }
 
 RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
-                      const Parameterization& target, const RoiCoverage& coverage) {
+                      const Parameterization& target, RoiCoverage& coverage) {
   RoiResult result;
   Region2D& region = result.region;
   region.grid = coverage.grid;
   const DomainGrid& grid = region.grid;
   region.inside.assign(grid.nodeCount(), 0);
   const BinnedStrokes painted(strokes, grid);
-  for (int j = 0; j < grid.height; ++j)
-    for (int i = 0; i < grid.width; ++i) {
+  // Only what lies in the box of the adding dabs can be painted: a stroke's cost follows its
+  // extent rather than the grid's and the canvases'.
+  Box box{Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
+  const NodeWindow window = paintedWindow(strokes, grid, box);
+  auto inBox = [&](const Eigen::Vector2d& u) {
+    return u.x() >= box.lo.x() && u.y() >= box.lo.y() && u.x() <= box.hi.x() && u.y() <= box.hi.y();
+  };
+  for (int j = window.j0; j <= window.j1; ++j)
+    for (int i = window.i0; i <= window.i1; ++i) {
       const std::size_t n = grid.index(i, j);
       region.inside[n] =
           coverage.source[n] && coverage.target[n] && painted.contains(grid.position(i, j));
     }
 
-  for (std::size_t v = 0; v < source.uv.size(); ++v)
-    if (painted.contains(source.uv[v]) &&
-        covers(*coverage.targetLocator, coverage.targetHoles, source.uv[v]))
-      region.sourceVertices.push_back(int(v));
-  for (std::size_t v = 0; v < target.uv.size(); ++v)
-    if (painted.contains(target.uv[v]) &&
-        covers(*coverage.sourceLocator, coverage.sourceHoles, target.uv[v]))
-      region.targetVertices.push_back(int(v));
+  // The vertices painted whose uv the other canvas covers (asked once per vertex: see RoiMemo).
+  auto select = [&](const std::vector<Eigen::Vector2d>& uv, const DomainLocator& other,
+                    const std::vector<std::vector<Eigen::Vector2d>>& otherHoles,
+                    std::vector<std::int8_t>& covered, std::vector<int>& selected) {
+    for (std::size_t v = 0; v < uv.size(); ++v) {
+      if (!inBox(uv[v]) || !painted.contains(uv[v])) continue;
+      if (covered[v] < 0) covered[v] = covers(other, otherHoles, uv[v]);
+      if (covered[v]) selected.push_back(int(v));
+    }
+  };
+  select(source.uv, *coverage.targetLocator, coverage.targetHoles, coverage.memo.sourceCovered,
+         region.sourceVertices);
+  select(target.uv, *coverage.sourceLocator, coverage.sourceHoles, coverage.memo.targetCovered,
+         region.targetVertices);
 
-  region.draftSupport = draftSupport(region, source, *coverage.sourceLocator);
+  region.draftSupport = draftSupport(region, source, *coverage.sourceLocator,
+                                     coverage.memo.nodeFace, window.grown(1, grid));
 
   for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
     const Dab& dab = strokes.dabs[d];
@@ -302,7 +349,8 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
 
 RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
                       const Parameterization& target, const RoiOptions& options) {
-  return paintRegion(strokes, source, target, roiCoverage(source, target, options));
+  RoiCoverage coverage = roiCoverage(source, target, options);
+  return paintRegion(strokes, source, target, coverage);
 }
 
 }  // namespace geobrush

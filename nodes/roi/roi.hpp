@@ -4,6 +4,7 @@
 // (the complement of R_out on the target canvas).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -40,9 +41,18 @@ std::vector<std::vector<Eigen::Vector2d>> canvasHoles(const Parameterization& pa
 // does (the canvas covers it).
 std::vector<std::uint8_t> domainCoverage(const Parameterization& param, const DomainGrid& grid);
 
+// The locator's answers that every dab asks again (whether the other canvas covers a vertex's
+// uv, which source face holds a grid node), kept as they are first asked: a dab then locates
+// only where it newly reaches, instead of everywhere the strokes reach.
+struct RoiMemo {
+  std::vector<std::int8_t> sourceCovered;  // per source canvas vertex: -1 not asked yet, 0 or 1
+  std::vector<std::int8_t> targetCovered;  // per target canvas vertex: -1 not asked yet, 0 or 1
+  std::vector<int> nodeFace;               // per grid node: the source face there, -1 not asked
+};
+
 // What stays the same while only the strokes change: the grid, both canvases' coverage of its
-// nodes and a locator on each parameterization. The locators refer to the parameterizations,
-// which must outlive it.
+// nodes, a locator on each parameterization, and what the locators answered so far. The
+// locators refer to the parameterizations, which must outlive it.
 struct RoiCoverage {
   DomainGrid grid;
   std::vector<std::uint8_t> source;
@@ -50,6 +60,7 @@ struct RoiCoverage {
   std::shared_ptr<const DomainLocator> sourceLocator;
   std::shared_ptr<const DomainLocator> targetLocator;
   std::vector<std::vector<Eigen::Vector2d>> sourceHoles, targetHoles;
+  RoiMemo memo;
 };
 RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& target,
                         const RoiOptions& options = {});
@@ -62,9 +73,10 @@ struct RoiResult {
 
 // Q = the painted points covered by both canvases. A node of the grid is in Q when the strokes
 // paint it and both canvases cover it; a canvas vertex when the strokes paint its uv and the
-// other canvas covers that uv (its own covers it by definition).
+// other canvas covers that uv (its own covers it by definition). Adds to the coverage's memo: one
+// call at a time per coverage.
 RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
-                      const Parameterization& target, const RoiCoverage& coverage);
+                      const Parameterization& target, RoiCoverage& coverage);
 RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
                       const Parameterization& target, const RoiOptions& options = {});
 

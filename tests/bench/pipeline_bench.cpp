@@ -222,7 +222,7 @@ void BM_LiveBrush(benchmark::State& state) {
     draft.set_point(v, {warped[std::size_t(v.idx())].x(), warped[std::size_t(v.idx())].y(),
                         warped[std::size_t(v.idx())].z()});
 
-  const RoiCoverage coverage = roiCoverage(*source, targetParam, RoiOptions{256});
+  RoiCoverage coverage = roiCoverage(*source, targetParam, RoiOptions{256});
   const StitchBase stitchBaseOfTarget = stitchBase(targetParam);
   const DomainLocator sourceLocator(*source), targetLocator(targetParam);
   Strokes strokes;

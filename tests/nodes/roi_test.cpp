@@ -1,6 +1,7 @@
 // geobrush.roi: the painted region Q on its grid and the canvas vertices it selects.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "canvas_fixtures.hpp"
@@ -141,6 +142,60 @@ TEST(Roi, ALongStrokeOfAddedAndErasedDabsSelectsWhatItsDabsSayInOrder) {
       mismatches += (result.region.inside[grid.index(i, j)] != 0) != (inSquare(u) && s.contains(u));
     }
   EXPECT_EQ(mismatches, 0u);
+
+  // The draft support, from its definition over the whole grid: R_in, and the corners of the
+  // faces under every node the membrane samples (within taxicab distance 2 of Q, and the four
+  // nodes around each vertex of R_in).
+  std::vector<char> sampled(grid.nodeCount(), 0), support(param->uv.size(), 0);
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i)
+      if (result.region.inside[grid.index(i, j)])
+        for (int dj = -2; dj <= 2; ++dj)
+          for (int di = std::abs(dj) - 2; di <= 2 - std::abs(dj); ++di)
+            sampled[grid.index(i + di, j + dj)] = 1;
+  for (int v : result.region.sourceVertices) {
+    support[std::size_t(v)] = 1;
+    const Eigen::Vector2d g = (param->uv[std::size_t(v)] - grid.origin) / grid.spacing;
+    for (int dj = 0; dj <= 1; ++dj)
+      for (int di = 0; di <= 1; ++di)
+        sampled[grid.index(int(std::floor(g.x())) + di, int(std::floor(g.y())) + dj)] = 1;
+  }
+  const DomainLocator locator(*param);
+  for (int j = 0; j < grid.height; ++j)
+    for (int i = 0; i < grid.width; ++i)
+      if (sampled[grid.index(i, j)]) {
+        const int face = locator.locate(grid.position(i, j)).face;
+        for (auto v : param->canvas->surface.fv_range(TriMesh::FaceHandle(face)))
+          support[std::size_t(v.idx())] = 1;
+      }
+  std::vector<int> expected;
+  for (std::size_t v = 0; v < support.size(); ++v)
+    if (support[v]) expected.push_back(int(v));
+  EXPECT_EQ(result.region.draftSupport, expected);
+}
+
+// Dab after dab on one coverage, as the node paints: what the memo keeps from earlier dabs
+// (located faces and covered vertices) gives each region exactly as a fresh coverage does, with
+// dabs added, erased, and reaching past the target canvas.
+TEST(Roi, ACoverageKeptFromDabToDabGivesWhatAFreshOneGives) {
+  auto source = flatSquare(30);
+  auto target = shifted(*source, {0.7, 0.1});
+  RoiCoverage kept = roiCoverage(*source, *target, RoiOptions{80});
+  std::vector<Dab> dabs;
+  for (int d = 0; d < 12; ++d) {
+    const double t = 0.5 * d;
+    dabs.push_back({{0.6 * std::cos(t), 0.6 * std::sin(t)}, 0.15 + 0.05 * (d % 3), d % 4 == 3});
+    const Strokes s = strokes(dabs);
+    const RoiResult memoized = paintRegion(s, *source, *target, kept);
+    const RoiResult fresh = paintRegion(s, *source, *target, RoiOptions{80});
+    EXPECT_EQ(memoized.region.inside, fresh.region.inside) << "dab " << d;
+    EXPECT_EQ(memoized.region.sourceVertices, fresh.region.sourceVertices) << "dab " << d;
+    EXPECT_EQ(memoized.region.targetVertices, fresh.region.targetVertices) << "dab " << d;
+    EXPECT_EQ(memoized.region.draftSupport, fresh.region.draftSupport) << "dab " << d;
+    EXPECT_EQ(memoized.dabsOutside, fresh.dabsOutside) << "dab " << d;
+  }
+  EXPECT_GT(std::count(kept.memo.sourceCovered.begin(), kept.memo.sourceCovered.end(), 0), 0)
+      << "some painted source vertices lie outside the target canvas";
 }
 
 TEST(Roi, DabsOutsideTheCanvasesAreReportedAndChangeNothing) {
