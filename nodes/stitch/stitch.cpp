@@ -5,6 +5,9 @@
 #include <limits>
 #include <numeric>
 #include <optional>
+#include <queue>
+
+#include <Eigen/Geometry>
 
 #include "geobrush/submesh.hpp"
 
@@ -80,12 +83,22 @@ double meanNearestDistance(const std::vector<Vector2d>& a, const std::vector<Vec
   return sum / double(a.size());
 }
 
+// Twice the signed area of the triangle pqr in the domain: positive when counterclockwise.
+double orientation(const Vector2d& p, const Vector2d& q, const Vector2d& r) {
+  const Vector2d e = q - p, f = r - p;
+  return e.x() * f.y() - e.y() * f.x();
+}
+
 // Triangulates the strip between loop `a` and loop `b` (vertex ids of the combined mesh, uv
 // alongside), both in the direction of their boundary halfedges. Walking a forwards and b
 // backwards keeps every triangle's orientation consistent with both sides; at each step the
-// shorter new edge in the parameter domain is taken.
+// shorter new edge in the parameter domain is taken, or, with `keepOrientation`, the other one
+// where only the other keeps the triangle's orientation in the domain (positive, as the canvases'
+// faces are): on a refined seam, whose outlines lie close together, the shorter edge can turn a
+// triangle over where an outline bends.
 std::vector<std::array<int, 3>> zip(const std::vector<int>& a, const std::vector<Vector2d>& uvA,
-                                    const std::vector<int>& b, const std::vector<Vector2d>& uvB) {
+                                    const std::vector<int>& b, const std::vector<Vector2d>& uvB,
+                                    bool keepOrientation) {
   const std::size_t na = a.size(), nb = b.size();
   std::size_t start = 0;
   double best = std::numeric_limits<double>::infinity();
@@ -101,8 +114,11 @@ std::vector<std::array<int, 3>> zip(const std::vector<int>& a, const std::vector
   std::size_t i = 0, j = 0;  // steps taken along a and along b
   while (i < na || j < nb) {
     const std::size_t ai = i % na, ai1 = (i + 1) % na, bj = bAt(j), bj1 = bAt(j + 1);
-    const bool advanceA = j == nb || (i < na && (uvA[ai1] - uvB[bj]).squaredNorm() <=
-                                                    (uvA[ai] - uvB[bj1]).squaredNorm());
+    const bool aTurns = orientation(uvA[ai], uvA[ai1], uvB[bj]) < 0;
+    const bool bTurns = orientation(uvB[bj1], uvB[bj], uvA[ai]) < 0;
+    bool advanceA = j == nb || (i < na && (uvA[ai1] - uvB[bj]).squaredNorm() <=
+                                              (uvA[ai] - uvB[bj1]).squaredNorm());
+    if (keepOrientation && i < na && j < nb && aTurns != bTurns) advanceA = bTurns;
     if (advanceA) {
       triangles.push_back({a[ai], a[ai1], b[bj]});
       ++i;
@@ -118,6 +134,403 @@ std::string vertexText(int v) {
   std::string text = "vertex ";
   text += std::to_string(v);
   return text;
+}
+
+// ---- Seam refinement on coarse targets (section 4.4, Fig. 6d: the gap is triangulated between
+// the two outlines, which works only where both outlines are about equally fine).
+
+using Segment = std::array<Vector2d, 2>;
+
+// R_in's boundary edges in the parameter domain.
+std::vector<Segment> patchOutline(const TriMesh& canvas, const std::vector<int>& patchFaces,
+                                  const std::vector<char>& patchSelected,
+                                  const std::vector<Vector2d>& uv) {
+  std::vector<Segment> edges;
+  for (int f : patchFaces)
+    for (auto h : canvas.fh_range(TriMesh::FaceHandle(f))) {
+      const auto other = canvas.opposite_face_handle(h);
+      if (other.is_valid() && patchSelected[std::size_t(other.idx())]) continue;
+      edges.push_back({uv[std::size_t(canvas.from_vertex_handle(h).idx())],
+                       uv[std::size_t(canvas.to_vertex_handle(h).idx())]});
+    }
+  return edges;
+}
+
+double meanLength(const std::vector<Segment>& edges) {
+  double sum = 0;
+  for (const auto& e : edges)
+    sum += (e[1] - e[0]).norm();
+  return edges.empty() ? 0 : sum / double(edges.size());
+}
+
+// R_in's outline bucketed on a uniform grid of the domain, so that a query costs the outline's
+// length near it rather than the whole outline's.
+class Outline {
+ public:
+  Outline(std::vector<Segment> edges, double cellSize) : edges_(std::move(edges)) {
+    Eigen::AlignedBox2d box;
+    for (const auto& e : edges_)
+      box.extend(e[0]).extend(e[1]);
+    corner_ = box.min();
+    cell_ = cellSize > 0 ? cellSize : 1;
+    // A bounded grid: at most about 4 cells per edge, however small the cells asked for.
+    const double cells = std::max(1.0, box.sizes().prod() / (cell_ * cell_));
+    if (cells > 4.0 * double(edges_.size()) + 16)
+      cell_ *= std::sqrt(cells / (4.0 * double(edges_.size()) + 16));
+    nx_ = int(box.sizes().x() / cell_) + 1;
+    ny_ = int(box.sizes().y() / cell_) + 1;
+    std::vector<int> count(std::size_t(nx_) * std::size_t(ny_) + 1, 0);
+    forEachCell([&](std::size_t c, int) { ++count[c + 1]; });
+    std::partial_sum(count.begin(), count.end(), count.begin());
+    start_ = count;
+    entries_.resize(std::size_t(start_.back()));
+    forEachCell([&](std::size_t c, int e) { entries_[std::size_t(count[c]++)] = e; });
+  }
+
+  std::size_t edgeCount() const { return edges_.size(); }
+
+  // Whether the bounding box of an outline edge meets `box`.
+  bool meets(const Eigen::AlignedBox2d& box) const {
+    const int i0 = cellX(box.min().x()), i1 = cellX(box.max().x());
+    const int j0 = cellY(box.min().y()), j1 = cellY(box.max().y());
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        for (int k = start_[cellIndex(i, j)]; k < start_[cellIndex(i, j) + 1]; ++k) {
+          const Segment& e = edges_[std::size_t(entries_[std::size_t(k)])];
+          if (Eigen::AlignedBox2d(e[0].cwiseMin(e[1]), e[0].cwiseMax(e[1])).intersects(box))
+            return true;
+        }
+    return false;
+  }
+
+  // Whether u lies inside the outline or within `margin` of it.
+  bool covers(const Vector2d& u, double margin) const { return encloses(u) || near(u, margin); }
+
+  // Whether an outline edge passes within `margin` of u.
+  bool near(const Vector2d& u, double margin) const {
+    const int i0 = cellX(u.x() - margin), i1 = cellX(u.x() + margin);
+    const int j0 = cellY(u.y() - margin), j1 = cellY(u.y() + margin);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        for (int k = start_[cellIndex(i, j)]; k < start_[cellIndex(i, j) + 1]; ++k) {
+          const Segment& e = edges_[std::size_t(entries_[std::size_t(k)])];
+          const Vector2d d = e[1] - e[0];
+          const double t =
+              d.squaredNorm() > 0 ? std::clamp((u - e[0]).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0;
+          if ((e[0] + t * d - u).squaredNorm() <= margin * margin) return true;
+        }
+    return false;
+  }
+
+  // Whether u lies inside the outline (even-odd: inside R_in, not in one of its holes). Counts
+  // the crossings of a ray towards +x, each in the one cell that holds its crossing point.
+  bool encloses(const Vector2d& u) const {
+    const double y = u.y();
+    if (y < corner_.y() || y > corner_.y() + cell_ * ny_) return false;
+    const int j = cellY(y);
+    bool inside = false;
+    for (int i = cellX(u.x()); i < nx_; ++i)
+      for (int k = start_[cellIndex(i, j)]; k < start_[cellIndex(i, j) + 1]; ++k) {
+        const Segment& e = edges_[std::size_t(entries_[std::size_t(k)])];
+        if ((e[0].y() > y) == (e[1].y() > y)) continue;
+        const double x = e[0].x() + (y - e[0].y()) / (e[1].y() - e[0].y()) * (e[1].x() - e[0].x());
+        if (x > u.x() && cellX(x) == i) inside = !inside;
+      }
+    return inside;
+  }
+
+ private:
+  int cellX(double x) const {
+    return std::clamp(int(std::floor((x - corner_.x()) / cell_)), 0, nx_ - 1);
+  }
+  int cellY(double y) const {
+    return std::clamp(int(std::floor((y - corner_.y()) / cell_)), 0, ny_ - 1);
+  }
+  std::size_t cellIndex(int i, int j) const {
+    return std::size_t(j) * std::size_t(nx_) + std::size_t(i);
+  }
+
+  template <typename F>
+  void forEachCell(F&& f) const {
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      const Segment& s = edges_[e];
+      const int i0 = cellX(std::min(s[0].x(), s[1].x())), i1 = cellX(std::max(s[0].x(), s[1].x()));
+      const int j0 = cellY(std::min(s[0].y(), s[1].y())), j1 = cellY(std::max(s[0].y(), s[1].y()));
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i)
+          f(cellIndex(i, j), int(e));
+    }
+  }
+
+  std::vector<Segment> edges_;
+  Vector2d corner_ = Vector2d::Zero();
+  double cell_ = 1;
+  int nx_ = 1, ny_ = 1;
+  std::vector<int> start_;    // per cell, its first entry in entries_; one past the end
+  std::vector<int> entries_;  // edge ids, cell by cell
+};
+
+// Refined target edges near dQ end up no longer than this many times R_in's mean boundary edge:
+// bisection leaves them between half and all of it, about as long as R_in's on average.
+constexpr double kRefinedEdgeRatio = 1.5;
+
+// The mean length in the domain of the edges of the removed target faces that dQ crosses (with
+// an uncovered corner): how fine the target is where the seam will be.
+double crossingEdgeLength(const TriMesh& targetCanvas, const std::vector<int>& removedCanvasFaces,
+                          const std::vector<char>& covered, const std::vector<Vector2d>& uv) {
+  double sum = 0;
+  std::size_t count = 0;
+  for (int f : removedCanvasFaces) {
+    const auto h0 = targetCanvas.halfedge_handle(TriMesh::FaceHandle(f));
+    const auto h1 = targetCanvas.next_halfedge_handle(h0),
+               h2 = targetCanvas.next_halfedge_handle(h1);
+    const std::size_t a = std::size_t(targetCanvas.from_vertex_handle(h0).idx()),
+                      b = std::size_t(targetCanvas.from_vertex_handle(h1).idx()),
+                      c = std::size_t(targetCanvas.from_vertex_handle(h2).idx());
+    if (covered[a] && covered[b] && covered[c]) continue;
+    sum += (uv[a] - uv[b]).norm() + (uv[b] - uv[c]).norm() + (uv[c] - uv[a]).norm();
+    count += 3;
+  }
+  return count ? sum / double(count) : 0;
+}
+
+// The target faces around dQ, refined: the removed faces and every face sharing a corner with
+// one, so that every corner of a removed face has its whole fan here and the band's own boundary
+// (which is never split: the faces beyond it stay as they are) lies beyond the seam.
+struct SeamBand {
+  TriMesh mesh;  // the band's faces, bisected near R_in's outline
+  std::vector<int>
+      meshVertex;             // band vertex -> target mesh vertex, -1 where the refinement added it
+  std::vector<Vector2d> uv;   // band vertex -> its place in the domain
+  std::vector<char> covered;  // band vertex -> its faces are removed (see refineSeamBand)
+  std::vector<char> kept;     // band face -> stays in the result
+  std::vector<int> meshFaces;     // the target mesh faces of the band, increasing
+  std::size_t replacedFaces = 0;  // target faces bisected or removed
+};
+
+Eigen::AlignedBox2d uvBox(const SeamBand& band, TriMesh::FaceHandle f, double margin) {
+  Eigen::AlignedBox2d box;
+  for (auto v : band.mesh.fv_range(f))
+    box.extend(band.uv[std::size_t(v.idx())]);
+  return Eigen::AlignedBox2d(box.min().array() - margin, box.max().array() + margin);
+}
+
+// Bisects the band's faces near R_in's outline whose longest edge is longer than `limit` in the
+// domain, by longest-edge bisection (Rivara's LEPP): a face's longest edge is split once it is the
+// longest edge of the face across it too, else that face is bisected first; a split halves both
+// faces of the edge, so the band stays conforming, and along longest edges, so the faces keep
+// their shape. The band's own boundary is never split (the faces beyond it stay as they are): a
+// path that reaches it splits its last edge inside instead. A new vertex lies at the edge's
+// midpoint, on the target's face, and is covered when both ends are, or when R_in's outline
+// covers it (see refineSeamBand). `originalChanged` marks the band's first faces split. Throws
+// StitchError if the splits outgrow `maxSplits`.
+void bisectNearOutline(SeamBand& band, const Outline& outline, double limit, std::size_t maxSplits,
+                       std::vector<char>& originalChanged) {
+  TriMesh& mesh = band.mesh;
+  const double margin = limit / 2;
+  using Key = std::pair<double, int>;  // an edge's length, then its index: a total order
+  auto key = [&](TriMesh::EdgeHandle e) -> Key {
+    const auto h = mesh.halfedge_handle(e, 0);
+    return {(band.uv[std::size_t(mesh.to_vertex_handle(h).idx())] -
+             band.uv[std::size_t(mesh.from_vertex_handle(h).idx())])
+                .norm(),
+            e.idx()};
+  };
+  auto longest = [&](TriMesh::FaceHandle f) {
+    TriMesh::EdgeHandle best;
+    for (auto e : mesh.fe_range(f))
+      if (!best.is_valid() || key(e) > key(best)) best = e;
+    return best;
+  };
+  auto wanted = [&](TriMesh::FaceHandle f) {
+    return key(longest(f)).first > limit && outline.meets(uvBox(band, f, limit));
+  };
+  auto split = [&](TriMesh::EdgeHandle e) {
+    const auto h = mesh.halfedge_handle(e, 0);
+    const auto a = mesh.from_vertex_handle(h), b = mesh.to_vertex_handle(h);
+    for (auto side : {h, mesh.opposite_halfedge_handle(h)}) {
+      const auto f = mesh.face_handle(side);
+      if (std::size_t(f.idx()) < originalChanged.size()) originalChanged[std::size_t(f.idx())] = 1;
+    }
+    const Vector2d uv = 0.5 * (band.uv[std::size_t(a.idx())] + band.uv[std::size_t(b.idx())]);
+    const bool coveredA = band.covered[std::size_t(a.idx())],
+               coveredB = band.covered[std::size_t(b.idx())];
+    const auto v = mesh.add_vertex(0.5 * (mesh.point(a) + mesh.point(b)));
+    band.meshVertex.push_back(-1);
+    band.uv.push_back(uv);
+    band.covered.push_back((coveredA && coveredB) || outline.covers(uv, margin));
+    mesh.split(e, v);
+    return v;
+  };
+
+  std::priority_queue<Key> queue;  // faces to bisect, by their longest edge, longest first
+  auto push = [&](TriMesh::FaceHandle f) {
+    if (wanted(f)) queue.push({key(longest(f)).first, f.idx()});
+  };
+  for (auto f : mesh.faces())
+    push(f);
+  std::size_t splits = 0;
+  while (!queue.empty()) {
+    const auto [length, index] = queue.top();
+    queue.pop();
+    const auto f = TriMesh::FaceHandle(index);
+    if (key(longest(f)).first != length || !wanted(f)) continue;  // bisected since, or done
+    // The longest-edge propagation path from f to its terminal edge.
+    TriMesh::EdgeHandle edge = longest(f), inside;
+    for (auto face = f;;) {
+      if (mesh.is_boundary(edge)) {
+        edge = inside;  // the band's edge: split the last edge of the path inside the band
+        break;
+      }
+      const auto h = mesh.halfedge_handle(edge, 0);
+      const auto across =
+          mesh.face_handle(mesh.face_handle(h) == face ? mesh.opposite_halfedge_handle(h) : h);
+      const auto next = longest(across);
+      if (next == edge) break;  // terminal: the longest edge of both its faces
+      inside = edge;
+      edge = next;
+      face = across;
+    }
+    if (!edge.is_valid()) continue;  // f's own longest edge is the band's edge
+    if (++splits > maxSplits) throw StitchError("the seam band refinement does not end");
+    const auto v = split(edge);
+    for (auto g : mesh.vf_range(v))
+      push(g);
+    push(f);  // bisected itself, or only a face on its path
+  }
+}
+
+// Whether the target mesh has faces around band vertex v that the band does not hold and that
+// stay (`keptMesh`: the target faces not removed; the removed faces inside the seam are no
+// part of the band).
+bool openInBand(const SeamBand& band, const TriMesh& targetMesh, const std::vector<char>& keptMesh,
+                TriMesh::VertexHandle v) {
+  const int m = band.meshVertex[std::size_t(v.idx())];
+  if (m < 0) return false;  // added inside the band: its fan is the band's
+  for (auto f : targetMesh.vf_range(TriMesh::VertexHandle(m)))
+    if (keptMesh[std::size_t(f.idx())] &&
+        !std::binary_search(band.meshFaces.begin(), band.meshFaces.end(), f.idx()))
+      return true;
+  return false;
+}
+
+// The seam band of the removed canvas faces, refined near R_in's outline down to edges of
+// `limit`, its faces that touch a covered vertex removed and the rest made manifold. A band vertex
+// is covered when Q covers it (a target vertex of the region), when it was added on an edge
+// between two covered ones, or when it lies inside R_in's outline or within limit / 2 of it: a
+// kept edge near the outline, at most `limit` long, then never crosses it (each of its points
+// lies within limit / 2 of an end), so the target's outline and R_in's do not overlap and the
+// strips between them do not fold. Throws StitchError where making the band manifold would reach
+// beyond it.
+SeamBand refineSeamBand(const std::vector<int>& removedCanvasFaces, const Outline& outline,
+                        double limit, const std::vector<char>& coveredCanvas,
+                        const Parameterization& target, const StitchBase& base,
+                        const TriMesh& targetMesh, const std::vector<char>& keptMesh) {
+  const TriMesh& targetCanvas = target.canvas->surface;
+  SeamBand band;
+  // Only the removed faces that dQ crosses (a corner uncovered) seed the band: those inside it
+  // stay removed as they are, so that the band's cost follows the seam rather than the region.
+  for (int f : removedCanvasFaces) {
+    bool crossed = false;
+    for (auto corner : targetCanvas.fv_range(TriMesh::FaceHandle(f)))
+      crossed = crossed || !coveredCanvas[std::size_t(corner.idx())];
+    if (!crossed) continue;
+    for (auto corner : targetCanvas.fv_range(TriMesh::FaceHandle(f)))
+      for (auto g : targetCanvas.vf_range(corner))
+        band.meshFaces.push_back(base.canvasFaceToMesh[std::size_t(g.idx())]);
+  }
+  std::sort(band.meshFaces.begin(), band.meshFaces.end());
+  band.meshFaces.erase(std::unique(band.meshFaces.begin(), band.meshFaces.end()),
+                       band.meshFaces.end());
+  Submesh sub = extractSubmesh(targetMesh, band.meshFaces);
+  if (sub.unattachedFace >= 0) throw StitchError("the seam band is not a manifold");
+  band.mesh = std::move(sub.surface);
+  band.meshVertex = std::move(sub.sourceVertex);
+  for (int m : band.meshVertex) {
+    const int c = base.meshToCanvas[std::size_t(m)];
+    band.uv.push_back(target.uv[std::size_t(c)]);
+    band.covered.push_back(coveredCanvas[std::size_t(c)] ||
+                           outline.covers(band.uv.back(), limit / 2));
+  }
+  std::vector<char> changed(band.mesh.n_faces(), 0);
+  // Longest-edge bisection stays a few faces deep along the outline: many times that is a runaway.
+  const std::size_t maxSplits = 64 * (band.mesh.n_faces() + outline.edgeCount());
+  bisectNearOutline(band, outline, limit, maxSplits, changed);
+
+  band.kept.assign(band.mesh.n_faces(), 1);
+  std::vector<int> removed;
+  for (auto f : band.mesh.faces()) {
+    bool touches = false;
+    for (auto v : band.mesh.fv_range(f))
+      touches = touches || band.covered[std::size_t(v.idx())];
+    if (!touches) continue;
+    band.kept[std::size_t(f.idx())] = 0;
+    removed.push_back(f.idx());
+  }
+  removePinches(band.mesh, band.kept, removed);
+  for (auto f : band.mesh.faces()) {
+    if (band.kept[std::size_t(f.idx())]) continue;
+    for (auto v : band.mesh.fv_range(f))
+      if (openInBand(band, targetMesh, keptMesh, v))
+        throw StitchError("the removed faces reach the edge of the seam band");
+    if (std::size_t(f.idx()) < changed.size()) changed[std::size_t(f.idx())] = 1;
+  }
+  band.replacedFaces = std::size_t(std::count(changed.begin(), changed.end(), 1));
+  return band;
+}
+
+// Adds the band's kept faces to `out`, which holds the rest of the target (`meshInOut`: target
+// mesh vertex -> vertex of `out`, or -1). Target vertices `out` already has are reused; the others
+// and the refinement's are added, with their target vertex and domain point appended to `outToMesh`
+// and `addedUv`. The faces go in breadth-first order from the band's edge, so that each meets the
+// faces before it along an edge (add_face then never has to relink fans). Returns band vertex ->
+// vertex of `out`, -1 where no kept face uses it; `added` counts the refinement's vertices added.
+std::vector<int> addBand(TriMesh& out, const SeamBand& band, const std::vector<int>& meshInOut,
+                         std::vector<int>& outToMesh, std::vector<Vector2d>& addedUv,
+                         std::size_t& added) {
+  const TriMesh& mesh = band.mesh;
+  std::vector<int> bandInOut(mesh.n_vertices(), -1);
+  for (std::size_t v = 0; v < band.meshVertex.size(); ++v)
+    if (band.meshVertex[v] >= 0) bandInOut[v] = meshInOut[std::size_t(band.meshVertex[v])];
+  std::vector<char> queued(mesh.n_faces(), 0);
+  std::vector<int> order;
+  auto enqueue = [&](TriMesh::FaceHandle f) {
+    if (!f.is_valid() || !band.kept[std::size_t(f.idx())] || queued[std::size_t(f.idx())]) return;
+    queued[std::size_t(f.idx())] = 1;
+    order.push_back(f.idx());
+  };
+  for (auto f : mesh.faces())
+    for (auto h : mesh.fh_range(f))
+      if (mesh.is_boundary(mesh.opposite_halfedge_handle(h))) enqueue(f);
+  std::size_t unreached = 0;  // faces before it are all queued or removed
+  for (std::size_t next = 0;; ++next) {
+    if (next == order.size()) {
+      // Kept faces the band's edge does not reach through kept faces: go on from the first.
+      while (unreached < mesh.n_faces() && (!band.kept[unreached] || queued[unreached]))
+        ++unreached;
+      if (unreached == mesh.n_faces()) break;
+      enqueue(TriMesh::FaceHandle(int(unreached)));
+    }
+    for (auto h : mesh.fh_range(TriMesh::FaceHandle(order[next])))
+      enqueue(mesh.opposite_face_handle(h));
+  }
+  for (int f : order) {
+    std::array<TriMesh::VertexHandle, 3> corners;
+    int k = 0;
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f))) {
+      int& o = bandInOut[std::size_t(v.idx())];
+      if (o < 0) {
+        o = out.add_vertex(mesh.point(v)).idx();
+        added += band.meshVertex[std::size_t(v.idx())] < 0;
+        outToMesh.push_back(band.meshVertex[std::size_t(v.idx())]);
+        addedUv.push_back(band.uv[std::size_t(v.idx())]);
+      }
+      corners[std::size_t(k++)] = TriMesh::VertexHandle(o);
+    }
+    if (!out.add_face(corners[0], corners[1], corners[2]).is_valid())
+      throw StitchError("the refined seam band could not be joined to the target");
+  }
+  return bandInOut;
 }
 
 }  // namespace
@@ -161,11 +574,14 @@ StitchBase stitchBase(const Parameterization& target) {
 
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const TriMesh& draft, const Field2D* offset,
-                         const Parameterization& target, const StitchBase* base) {
+                         const Parameterization& target, const StitchBase* base,
+                         const StitchOptions& options) {
   StitchResult result;
-  StitchResult made = stitchPasteInto(result.mesh, region, source, draft, offset, target, base);
+  StitchResult made =
+      stitchPasteInto(result.mesh, region, source, draft, offset, target, base, false, options);
   result.patchVertices = made.patchVertices;
   result.removedFaces = made.removedFaces;
+  result.refinedVertices = made.refinedVertices;
   result.gapTriangles = made.gapTriangles;
   result.seamLoops = made.seamLoops;
   result.map = std::move(made.map);
@@ -193,10 +609,15 @@ void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMes
   out = base.outside;
 }
 
-StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
-                             const TriMesh& draft, const Field2D* offset,
-                             const Parameterization& target, const StitchBase* base,
-                             bool outHoldsOutside) {
+namespace {
+
+// stitchPasteInto, refining the seam band as StitchOptions::seamRefinementRatio says; `refined`
+// tells whether it did.
+StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
+                       const TriMesh& draft, const Field2D* offset, const Parameterization& target,
+                       const StitchBase* base, bool outHoldsOutside, double refinementRatio,
+                       bool& refined) {
+  refined = false;
   if (outHoldsOutside && (!base || out.n_vertices() != base->outside.n_vertices() ||
                           out.n_faces() != base->outside.n_faces()))
     throw StitchError("the mesh to build into does not hold the target's outside part");
@@ -257,14 +678,34 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
     covered[std::size_t(v)] = 1;
   }
   std::vector<char> kept(targetMesh.n_faces(), 1);
-  std::vector<int> removedFaces;
+  std::vector<int> removedFaces, removedCanvasFaces;
   for (int v : region.targetVertices)
     for (auto f : targetCanvas.vf_range(TriMesh::VertexHandle(v))) {
       char& k = kept[std::size_t(base->canvasFaceToMesh[std::size_t(f.idx())])];
-      if (k) removedFaces.push_back(base->canvasFaceToMesh[std::size_t(f.idx())]);
+      if (k) {
+        removedFaces.push_back(base->canvasFaceToMesh[std::size_t(f.idx())]);
+        removedCanvasFaces.push_back(f.idx());
+      }
       k = 0;
     }
-  removePinches(targetMesh, kept, removedFaces);
+
+  // On a target coarser than the source, the faces along dQ are refined first (see
+  // StitchOptions); the band they form replaces its target faces, and the rest stay whole.
+  std::optional<SeamBand> band;
+  if (refinementRatio > 0) {
+    std::vector<Segment> outline = patchOutline(canvas, patchFaces, patchSelected, source.uv);
+    const double sourceEdge = meanLength(outline);
+    if (sourceEdge > 0 && crossingEdgeLength(targetCanvas, removedCanvasFaces, covered, target.uv) >
+                              refinementRatio * sourceEdge) {
+      refined = true;
+      const double limit = kRefinedEdgeRatio * sourceEdge;
+      band = refineSeamBand(removedCanvasFaces, Outline(std::move(outline), 2 * limit), limit,
+                            covered, target, *base, targetMesh, kept);
+      for (int f : band->meshFaces)
+        kept[std::size_t(f)] = 0;
+    }
+  }
+  if (!band) removePinches(targetMesh, kept, removedFaces);
   // The kept target faces, then the patch, their connectivity copied (add_face, face by face,
   // takes several times longer on a large target); room for the seam strips too. The part
   // outside the canvas is copied whole from the base, unless pinches reached it.
@@ -297,35 +738,53 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
 
   // The seam loops: boundary loops of the target part through a vertex of a removed face, found
   // before the patch is added.
+  const int firstBandVertex = int(out.n_vertices());
+  std::vector<Vector2d> bandUv;  // vertex firstBandVertex + i of `out` -> its place in the domain
+  std::vector<int> seamSeeds;    // vertices of `out` at a corner of a removed face
+  if (band) {
+    const std::vector<int> bandInOut =
+        addBand(out, *band, targetPart.vertexInOut, outToMesh, bandUv, result.refinedVertices);
+    for (auto f : band->mesh.faces())
+      if (!band->kept[std::size_t(f.idx())])
+        for (auto corner : band->mesh.fv_range(f))
+          seamSeeds.push_back(bandInOut[std::size_t(corner.idx())]);
+    result.removedFaces = band->replacedFaces;
+  } else {
+    for (int f : removedFaces)
+      for (auto corner : targetMesh.fv_range(TriMesh::FaceHandle(f)))
+        seamSeeds.push_back(targetPart.vertexInOut[std::size_t(corner.idx())]);
+  }
+  auto uvInDomain = [&](int v) -> Vector2d {
+    if (v >= firstBandVertex) return bandUv[std::size_t(v - firstBandVertex)];
+    const int canvasVertex = base->meshToCanvas[std::size_t(outToMesh[std::size_t(v)])];
+    if (canvasVertex < 0) {
+      throw StitchError(
+          "the region reaches the edge of the target canvas: paint away from "
+          "it or grow the target canvas");
+    }
+    return target.uv[std::size_t(canvasVertex)];
+  };
   std::vector<std::vector<int>> seams;
   std::vector<std::vector<Vector2d>> seamUv;
   std::vector<char> traced(out.n_halfedges(), 0);
-  for (int f : removedFaces)
-    for (auto corner : targetMesh.fv_range(TriMesh::FaceHandle(f))) {
-      const int o = targetPart.vertexInOut[std::size_t(corner.idx())];
-      if (o < 0 || !out.is_boundary(TriMesh::VertexHandle(o))) continue;
-      for (auto start : out.voh_range(TriMesh::VertexHandle(o))) {
-        if (!out.is_boundary(start) || traced[std::size_t(start.idx())]) continue;
-        std::vector<int> loop;
-        std::vector<Vector2d> uv;
-        auto h = start;
-        do {
-          traced[std::size_t(h.idx())] = 1;
-          const int v = out.from_vertex_handle(h).idx();
-          const int canvasVertex = base->meshToCanvas[std::size_t(outToMesh[std::size_t(v)])];
-          if (canvasVertex < 0) {
-            throw StitchError(
-                "the region reaches the edge of the target canvas: paint away from "
-                "it or grow the target canvas");
-          }
-          loop.push_back(v);
-          uv.push_back(target.uv[std::size_t(canvasVertex)]);
-          h = out.next_halfedge_handle(h);
-        } while (h != start);
-        seams.push_back(std::move(loop));
-        seamUv.push_back(std::move(uv));
-      }
+  for (int o : seamSeeds) {
+    if (o < 0 || !out.is_boundary(TriMesh::VertexHandle(o))) continue;
+    for (auto start : out.voh_range(TriMesh::VertexHandle(o))) {
+      if (!out.is_boundary(start) || traced[std::size_t(start.idx())]) continue;
+      std::vector<int> loop;
+      std::vector<Vector2d> uv;
+      auto h = start;
+      do {
+        traced[std::size_t(h.idx())] = 1;
+        const int v = out.from_vertex_handle(h).idx();
+        uv.push_back(uvInDomain(v));
+        loop.push_back(v);
+        h = out.next_halfedge_handle(h);
+      } while (h != start);
+      seams.push_back(std::move(loop));
+      seamUv.push_back(std::move(uv));
     }
+  }
 
   // The patch, after the target's vertices, each vertex at x~(E_s(v)) + G(v).
   // Joined to nothing: the copy costs the region's size, not the canvas'.
@@ -386,14 +845,20 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
     }
     if (best == seams.size()) throw StitchError("two source loops pair with one seam loop");
     paired[best] = 1;
-    for (const auto& t : zip(ids, uv, seams[best], seamUv[best])) {
+    for (const auto& t : zip(ids, uv, seams[best], seamUv[best], band.has_value())) {
       const auto face = out.add_face(TriMesh::VertexHandle(t[0]), TriMesh::VertexHandle(t[1]),
                                      TriMesh::VertexHandle(t[2]));
       if (!face.is_valid()) {
-        throw StitchError(
-            "the seam strip folds onto itself near target " +
-            vertexText(outToMesh[std::size_t(t[2] < patch.firstVertex ? t[2] : t[0])]) +
-            ": the two outlines are too far apart or too jagged to join");
+        const int near = outToMesh[std::size_t(t[2] < patch.firstVertex ? t[2] : t[0])];
+        std::string text = "the seam strip folds onto itself near ";
+        if (near >= 0) {
+          text += "target ";
+          text += vertexText(near);
+        } else {
+          text += "the refined seam";
+        }
+        text += ": the two outlines are too far apart or too jagged to join";
+        throw StitchError(text);
       }
       ++result.gapTriangles;
     }
@@ -408,6 +873,24 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
   map.seamFaces.resize(out.n_faces() - std::size_t(firstSeamFace));
   std::iota(map.seamFaces.begin(), map.seamFaces.end(), firstSeamFace);
   return result;
+}
+
+}  // namespace
+
+StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
+                             const TriMesh& draft, const Field2D* offset,
+                             const Parameterization& target, const StitchBase* base,
+                             bool outHoldsOutside, const StitchOptions& options) {
+  bool refined = false;
+  try {
+    return pasteInto(out, region, source, draft, offset, target, base, outHoldsOutside,
+                     options.seamRefinementRatio, refined);
+  } catch (const StitchError&) {
+    if (!refined) throw;
+  }
+  // The refined band could not be made manifold or joined (rare: R_in's outline winds through a
+  // coarse face): the paste without it, as good as a coarse target allows, from a fresh copy.
+  return pasteInto(out, region, source, draft, offset, target, base, false, 0, refined);
 }
 
 }  // namespace geobrush

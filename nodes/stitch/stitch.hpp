@@ -17,13 +17,26 @@ class StitchError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+struct StitchOptions {
+  // On a target much coarser than the source, the target's edge nearest dQ lies up to one coarse
+  // triangle away from R_in's outline, and the strips between the two fan many short patch edges
+  // onto few long target edges: slivers whose normals flip. Where the target edges crossing dQ are
+  // on average more than this many times as long (in the domain) as R_in's boundary edges, the
+  // target faces along dQ are first bisected, on the target surface, until their edges there are
+  // about as long as R_in's. 0 never refines. Off by default: the vertices the refinement adds
+  // are no target mesh vertex (PasteMap::targetVertex -1), and geobrush.variational_paste, which
+  // calls stitchPaste, needs one for every fixed vertex near the paste.
+  double seamRefinementRatio = 0;
+};
+
 struct StitchResult {
-  TriMesh mesh;                   // the whole target with the paste
-  std::size_t patchVertices = 0;  // vertices taken from R_in
-  std::size_t removedFaces = 0;   // target faces replaced
-  std::size_t gapTriangles = 0;   // triangles of the seam strips
-  std::size_t seamLoops = 0;      // boundary loops of R_in, each zipped to one of the target
-  PasteMap map;                   // the origin of each vertex of `mesh`, and the seam faces
+  TriMesh mesh;                     // the whole target with the paste
+  std::size_t patchVertices = 0;    // vertices taken from R_in
+  std::size_t removedFaces = 0;     // target faces replaced (removed, or cut by the refinement)
+  std::size_t refinedVertices = 0;  // vertices of `mesh` the seam refinement added on the target
+  std::size_t gapTriangles = 0;     // triangles of the seam strips
+  std::size_t seamLoops = 0;        // boundary loops of R_in, each zipped to one of the target
+  PasteMap map;                     // the origin of each vertex of `mesh`, and the seam faces
 };
 
 // How the target canvas sits in its mesh, and the mesh outside the canvas, which no paste
@@ -45,10 +58,12 @@ StitchBase stitchBase(const Parameterization& target);
 // region gives the target mesh unchanged. Throws StitchError when the draft does not match the
 // source canvas, the offset is undefined at a vertex of R_in, the region reaches the edge of the
 // target canvas, or the two boundaries cannot be paired loop by loop. `base`, when given, must be
-// stitchBase(target).
+// stitchBase(target). Where the seam refinement (see StitchOptions) cannot make a valid seam, the
+// paste is made without it.
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const TriMesh& draft, const Field2D* offset,
-                         const Parameterization& target, const StitchBase* base = nullptr);
+                         const Parameterization& target, const StitchBase* base = nullptr,
+                         const StitchOptions& options = {});
 // The same, building the mesh in `out` (cleared first) and leaving the result's `mesh` empty.
 // OpenMesh meshes have no move constructor, so a returned or moved mesh is copied: a node builds
 // straight into the mesh of its output value. With `outHoldsOutside`, `out` already holds
@@ -57,7 +72,7 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
 StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
                              const TriMesh& draft, const Field2D* offset,
                              const Parameterization& target, const StitchBase* base = nullptr,
-                             bool outHoldsOutside = false);
+                             bool outHoldsOutside = false, const StitchOptions& options = {});
 
 // Copies the target's part outside its canvas into `out`, with room for the rest of the target
 // and a paste from `sourceCanvas`: what every paste into this target starts from.

@@ -1,9 +1,14 @@
 // geobrush.stitch: R_in pasted into the target as one manifold mesh.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/values.hpp"
 #include "mesh_checks.hpp"
 #include "roi.hpp"
 #include "stitch.hpp"
@@ -44,6 +49,63 @@ void expectOneManifoldDisc(const TriMesh& mesh) {
   EXPECT_EQ(stats.nonFiniteVertices, 0u);
   EXPECT_EQ(stats.eulerCharacteristic, 1);
   EXPECT_EQ(test::topology(mesh).nonManifoldVertices, 0u);
+}
+
+Eigen::Vector3d faceNormal(const TriMesh& mesh, TriMesh::FaceHandle f) {
+  std::vector<Eigen::Vector3d> c;
+  for (auto v : mesh.fv_range(f))
+    c.emplace_back(mesh.point(v)[0], mesh.point(v)[1], mesh.point(v)[2]);
+  return (c[1] - c[0]).cross(c[2] - c[0]).normalized();
+}
+
+// The largest angle, in degrees, between the normals of two faces sharing an edge of a seam face.
+double maxSeamNormalJump(const TriMesh& mesh, const std::vector<int>& seamFaces) {
+  double largest = 0;
+  for (int f : seamFaces)
+    for (auto h : mesh.fh_range(TriMesh::FaceHandle(f))) {
+      const auto other = mesh.opposite_face_handle(h);
+      if (!other.is_valid()) continue;
+      const double c = faceNormal(mesh, TriMesh::FaceHandle(f)).dot(faceNormal(mesh, other));
+      largest = std::max(largest, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI);
+    }
+  return largest;
+}
+
+// The seam strips' faces whose normal leans more than `degrees` away from +z.
+std::size_t tiltedSeamFaces(const TriMesh& mesh, const std::vector<int>& seamFaces,
+                            double degrees) {
+  std::size_t tilted = 0;
+  for (int f : seamFaces)
+    tilted += faceNormal(mesh, TriMesh::FaceHandle(f)).z() < std::cos(degrees * M_PI / 180);
+  return tilted;
+}
+
+StitchOptions refining() {
+  StitchOptions options;
+  options.seamRefinementRatio = 2;
+  return options;
+}
+
+// A graph of graphs/ run with `assignments`, and its metrics node's values.
+std::map<std::string, double> graphMetrics(const std::string& file,
+                                           const std::vector<std::string>& assignments) {
+  Graph graph = readGraphFile(test::sourceDir() / "graphs" / file);
+  for (const auto& assignment : assignments)
+    setParamFromText(graph, test::registry(), assignment);
+  prepareGraph(graph, test::registry());
+  EvalOptions options;
+  std::string name = "stitch-graph";
+  for (const auto& assignment : assignments) {
+    name += '-';
+    name += std::to_string(assignment.size());
+  }
+  options.outputDir = test::tempDir(name);
+  Evaluator evaluator(test::registry());
+  const EvalReport report = evaluator.evaluate(graph, options);
+  EXPECT_TRUE(report.ok) << report.error;
+  const auto metrics =
+      std::dynamic_pointer_cast<const Metrics>(evaluator.output("metrics", "metrics"));
+  return metrics ? metrics->values : std::map<std::string, double>{};
 }
 
 }  // namespace
@@ -268,4 +330,98 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
     EXPECT_TRUE(test::bitIdentical(mesh->surface, fresh.mesh));
     expectOneManifoldDisc(mesh->surface);
   }
+}
+
+// A fine flat patch pasted into a flat target of six by six big squares (section 4.4): without
+// refinement the target's outline lies up to a square away from the patch's and the strips
+// between them fold over; with it the faces along dQ are bisected down to the patch's edge
+// length first, and every strip face keeps the plane's normal.
+TEST(Stitch, ACoarseTargetIsRefinedAlongTheSeamSoThatNoStripFolds) {
+  auto source = flatSquare(47);
+  auto target = flatSquare(6);
+  const RoiResult roi =
+      paintRegion(strokes({{{0.1, 0.05}, 0.45, false}}), *source, *target, RoiOptions{96});
+  try {
+    const StitchResult coarse =
+        stitchPaste(roi.region, *source, source->canvas->surface, nullptr, *target);
+    EXPECT_GT(tiltedSeamFaces(coarse.mesh, coarse.map.seamFaces, 90), 0u);
+  } catch (const StitchError&) {
+    // Worse: the strips fold onto themselves and cannot be added at all.
+  }
+
+  const StitchResult refined = stitchPaste(roi.region, *source, source->canvas->surface, nullptr,
+                                           *target, nullptr, refining());
+  EXPECT_GT(refined.refinedVertices, 0u);
+  EXPECT_EQ(tiltedSeamFaces(refined.mesh, refined.map.seamFaces, 2), 0u);
+  EXPECT_LT(maxSeamNormalJump(refined.mesh, refined.map.seamFaces), 2);
+  for (double area : projectedAreas(refined.mesh))
+    EXPECT_GT(area, 0);
+  // The refinement keeps the target's shape: the result still covers the square once.
+  expectOneManifoldDisc(refined.mesh);
+  EXPECT_NEAR(test::surfaceArea(refined.mesh), 4.0, 1e-9);
+  EXPECT_EQ(refined.seamLoops, 1u);
+}
+
+// The vertices the refinement adds lie on the target's faces and come from neither mesh.
+TEST(Stitch, RefinedVerticesLieOnTheTargetAndAreMappedToNeither) {
+  auto source = flatSquare(48);
+  auto target = test::heightFieldParameterization(4, [](double x, double y) { return x + 2 * y; });
+  const RoiResult roi =
+      paintRegion(strokes({{{-0.1, 0.1}, 0.6, false}}), *source, *target, RoiOptions{96});
+  const StitchResult result = stitchPaste(roi.region, *source, source->canvas->surface, nullptr,
+                                          *target, nullptr, refining());
+  ASSERT_GT(result.refinedVertices, 0u);
+  const PasteMap& map = result.map;
+  std::size_t neither = 0;
+  for (auto v : result.mesh.vertices()) {
+    const int t = map.targetVertex[std::size_t(v.idx())],
+              s = map.sourceVertex[std::size_t(v.idx())];
+    if (t >= 0 || s >= 0) continue;
+    ++neither;
+    const auto& p = result.mesh.point(v);
+    EXPECT_NEAR(p[2], p[0] + 2 * p[1], 1e-12);
+  }
+  EXPECT_EQ(neither, result.refinedVertices);
+  const MeshStats stats = meshStats(result.mesh);
+  EXPECT_EQ(stats.boundaryLoops, 1u);
+  EXPECT_EQ(stats.nonFiniteVertices, 0u);
+  EXPECT_EQ(test::topology(result.mesh).nonManifoldVertices, 0u);
+}
+
+// A target as fine as the source is never refined: the paste is bit for bit the unrefined one.
+TEST(Stitch, AFineTargetIsNotRefined) {
+  auto source = flatSquare(24);
+  for (int n : {17, 24, 30}) {
+    SCOPED_TRACE(n);
+    auto target = flatSquare(n);
+    const RoiResult roi =
+        paintRegion(strokes({{{0.1, 0.05}, 0.55, false}}), *source, *target, RoiOptions{64});
+    const StitchResult plain =
+        stitchPaste(roi.region, *source, source->canvas->surface, nullptr, *target);
+    const StitchResult refined = stitchPaste(roi.region, *source, source->canvas->surface, nullptr,
+                                             *target, nullptr, refining());
+    EXPECT_EQ(refined.refinedVertices, 0u);
+    EXPECT_TRUE(test::bitIdentical(plain.mesh, refined.mesh));
+    EXPECT_EQ(plain.map.seamFaces, refined.map.seamFaces);
+  }
+}
+
+// The mountain's relief cloned onto a geodesic sphere of 362 vertices (the comparison graph with
+// a coarse target): the refined seam bends far less than the unrefined one, which folds, and the
+// result stays one closed manifold whose seam shares its vertices.
+TEST(StitchNode, ACoarseSphereGetsAnUnfoldedSeam) {
+  const std::string graph = "compare_mountain_sphere_membrane.json";
+  const auto refined = graphMetrics(graph, {"target_mesh.resolution=6"});
+  const auto unrefined =
+      graphMetrics(graph, {"target_mesh.resolution=6", "stitch.seam_refinement=0"});
+  ASSERT_TRUE(refined.count("seam_normal_jump_p95_deg"));
+  ASSERT_TRUE(unrefined.count("seam_normal_jump_p95_deg"));
+  EXPECT_GT(unrefined.at("seam_normal_jump_p95_deg"), 90);
+  EXPECT_LT(refined.at("seam_normal_jump_p95_deg"), 60);
+  EXPECT_EQ(refined.at("manifold"), 1);
+  EXPECT_EQ(refined.at("components"), 1);
+  EXPECT_EQ(refined.at("boundary_loops"), 0);
+  EXPECT_EQ(refined.at("non_finite_vertices"), 0);
+  EXPECT_EQ(refined.at("seam_unshared_vertices"), 0);
+  EXPECT_EQ(refined.at("new_self_intersections"), 0);
 }
