@@ -378,32 +378,14 @@ TEST(FillGraphs, TheNefertitiBackFillFollowsTheRemovedSurface) {
   EXPECT_LT(m.maxDistance, 0.2 * radius);
 }
 
-namespace {
-
-// The Metrics output of a graph's node "metrics".
-std::map<std::string, double> graphMetrics(const std::filesystem::path& file) {
-  Graph graph = readGraphFile(file);
-  prepareGraph(graph, test::registry());
-  EvalOptions options;
-  options.outputDir = test::tempDir("metrics-" + file.stem().string());
-  Evaluator evaluator(test::registry());
-  const EvalReport report = evaluator.evaluate(graph, options);
-  EXPECT_TRUE(report.ok) << report.error;
-  const auto metrics =
-      std::dynamic_pointer_cast<const Metrics>(evaluator.output("metrics", "metrics"));
-  return metrics ? metrics->values : std::map<std::string, double>{};
-}
-
-}  // namespace
-
 // The comparison pair: the same clone with and without the membrane's derivative constraints.
 // Both are measured, both results are single closed manifolds with shared seam vertices, and the
 // C0 seam bends more than the C1 seam.
 TEST(CompareGraphs, TheC0SeamJumpsMoreThanTheC1Seam) {
   const auto c1 =
-      graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json");
+      test::graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json");
   const auto c0 =
-      graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane_c0.json");
+      test::graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane_c0.json");
   for (const auto* m : {&c1, &c0}) {
     ASSERT_TRUE(m->count("seam_normal_jump_mean_deg"));
     EXPECT_EQ(m->at("manifold"), 1);
@@ -422,9 +404,9 @@ TEST(CompareGraphs, TheC0SeamJumpsMoreThanTheC1Seam) {
 // no worse than 1.5 times the variational one.
 TEST(CompareGraphs, TheMembraneAndTheVariationalPasteAgree) {
   const auto membrane =
-      graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json");
+      test::graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json");
   const auto variational =
-      graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_variational.json");
+      test::graphMetrics(test::sourceDir() / "graphs" / "compare_mountain_sphere_variational.json");
   for (const auto* m : {&membrane, &variational}) {
     ASSERT_TRUE(m->count("seam_normal_jump_p95_deg"));
     EXPECT_EQ(m->at("manifold"), 1);

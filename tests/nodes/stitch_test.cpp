@@ -86,28 +86,6 @@ StitchOptions refining() {
   return options;
 }
 
-// A graph of graphs/ run with `assignments`, and its metrics node's values.
-std::map<std::string, double> graphMetrics(const std::string& file,
-                                           const std::vector<std::string>& assignments) {
-  Graph graph = readGraphFile(test::sourceDir() / "graphs" / file);
-  for (const auto& assignment : assignments)
-    setParamFromText(graph, test::registry(), assignment);
-  prepareGraph(graph, test::registry());
-  EvalOptions options;
-  std::string name = "stitch-graph";
-  for (const auto& assignment : assignments) {
-    name += '-';
-    name += std::to_string(assignment.size());
-  }
-  options.outputDir = test::tempDir(name);
-  Evaluator evaluator(test::registry());
-  const EvalReport report = evaluator.evaluate(graph, options);
-  EXPECT_TRUE(report.ok) << report.error;
-  const auto metrics =
-      std::dynamic_pointer_cast<const Metrics>(evaluator.output("metrics", "metrics"));
-  return metrics ? metrics->values : std::map<std::string, double>{};
-}
-
 }  // namespace
 
 // A flat source pasted flat into a flat target of another resolution: the result is the target
@@ -410,10 +388,10 @@ TEST(Stitch, AFineTargetIsNotRefined) {
 // a coarse target): the refined seam bends far less than the unrefined one, which folds, and the
 // result stays one closed manifold whose seam shares its vertices.
 TEST(StitchNode, ACoarseSphereGetsAnUnfoldedSeam) {
-  const std::string graph = "compare_mountain_sphere_membrane.json";
-  const auto refined = graphMetrics(graph, {"target_mesh.resolution=6"});
+  const auto graph = test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json";
+  const auto refined = test::graphMetrics(graph, {"target_mesh.resolution=6"});
   const auto unrefined =
-      graphMetrics(graph, {"target_mesh.resolution=6", "stitch.seam_refinement=0"});
+      test::graphMetrics(graph, {"target_mesh.resolution=6", "stitch.seam_refinement=0"});
   ASSERT_TRUE(refined.count("seam_normal_jump_p95_deg"));
   ASSERT_TRUE(unrefined.count("seam_normal_jump_p95_deg"));
   EXPECT_GT(unrefined.at("seam_normal_jump_p95_deg"), 90);

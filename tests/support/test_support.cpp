@@ -4,6 +4,10 @@
 
 #include <unistd.h>
 
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
+#include "geobrush/values.hpp"
+
 namespace geobrush::test {
 
 std::filesystem::path meshDir() {
@@ -86,6 +90,23 @@ std::filesystem::path tempDir(const std::string& name) {
   cleanups.push_back(std::make_unique<Cleanup>());
   cleanups.back()->root = dir;
   return dir;
+}
+
+std::map<std::string, double> graphMetrics(const std::filesystem::path& file,
+                                           const std::vector<std::string>& assignments) {
+  Graph graph = readGraphFile(file);
+  for (const auto& assignment : assignments)
+    setParamFromText(graph, registry(), assignment);
+  prepareGraph(graph, registry());
+  EvalOptions options;
+  static int runs = 0;
+  options.outputDir = tempDir("metrics-" + file.stem().string() + "-" + std::to_string(runs++));
+  Evaluator evaluator(registry());
+  const EvalReport report = evaluator.evaluate(graph, options);
+  EXPECT_TRUE(report.ok) << report.error;
+  const auto metrics =
+      std::dynamic_pointer_cast<const Metrics>(evaluator.output("metrics", "metrics"));
+  return metrics ? metrics->values : std::map<std::string, double>{};
 }
 
 }  // namespace geobrush::test

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -38,5 +39,11 @@ std::string quoted(const std::filesystem::path& path);
 
 // A fresh, empty folder under the system temp dir, removed at exit.
 std::filesystem::path tempDir(const std::string& name);
+
+// A graph file run (with its parameters set by `assignments`, NODE.PARAM=VALUE, as
+// `geobrush run --set` does) into a temp folder: the values of its node "metrics" (empty, and a
+// failed expectation, when the run fails).
+std::map<std::string, double> graphMetrics(const std::filesystem::path& file,
+                                           const std::vector<std::string>& assignments = {});
 
 }  // namespace geobrush::test
