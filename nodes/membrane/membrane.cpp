@@ -94,16 +94,21 @@ void validateFields(const std::vector<std::vector<double>>& fields, std::size_t 
 }
 
 // Only the values the solver reads must be finite: the caller need not sample unused nodes.
-void requireFinite(const std::vector<std::vector<double>>& fields,
-                   const std::vector<MembraneNode>& roles, MembraneNode role, const char* what) {
-  // One pass over the nodes for all channels; the message below names the first channel's first
-  // offending node.
+bool allFinite(const std::vector<std::vector<double>>& fields,
+               const std::vector<MembraneNode>& roles, MembraneNode role) {
+  // One pass over the nodes for all channels.
   bool finite = true;
   for (std::size_t i = 0; i < roles.size(); ++i)
     if (roles[i] == role)
       for (const std::vector<double>& field : fields)
         finite = finite && std::isfinite(field[i]);
-  if (finite) return;
+  return finite;
+}
+
+// Throws for the first channel's first node of `role` whose value is not finite.
+void requireFinite(const std::vector<std::vector<double>>& fields,
+                   const std::vector<MembraneNode>& roles, MembraneNode role, const char* what) {
+  if (allFinite(fields, roles, role)) return;
   for (std::size_t c = 0; c < fields.size(); ++c)
     for (std::size_t i = 0; i < roles.size(); ++i)
       if (roles[i] == role && !std::isfinite(fields[c][i])) {
@@ -421,6 +426,7 @@ MembraneChannelReport conjugateGradients(const Level& finest, Preconditioner& pr
 // count. (Splitting rows between threads instead would need a barrier after every kernel, about
 // a hundred per V-cycle, most of them on coarse levels too small to share.)
 void solveChannels(const MembraneProblem& problem, const MembraneOptions& options,
+                   const std::vector<std::vector<double>>& initialGuess,
                    const MembraneHierarchy& hierarchy, const std::vector<int>& fixedNodes,
                    const std::vector<int>& unknownNodes, std::size_t first, std::size_t step,
                    MembraneResult& result) {
@@ -432,9 +438,8 @@ void solveChannels(const MembraneProblem& problem, const MembraneOptions& option
     const std::vector<double> b = membrane_detail::rightHandSide(
         finest, membrane_detail::padded(finest.grid, field, fixedNodes));
     std::vector<double> x =
-        options.initialGuess.empty()
-            ? std::vector<double>(finest.grid.size(), 0.0)
-            : membrane_detail::padded(finest.grid, options.initialGuess[c], unknownNodes);
+        initialGuess.empty() ? std::vector<double>(finest.grid.size(), 0.0)
+                             : membrane_detail::padded(finest.grid, initialGuess[c], unknownNodes);
     result.channels[c] = conjugateGradients(finest, preconditioner, b.data(), x.data(), krylov,
                                             options.tolerance, options.maxIterations);
     std::vector<double>& values = result.values[c];
@@ -450,8 +455,8 @@ std::size_t workerCount(int requested) {
   return std::max(1u, std::thread::hardware_concurrency());
 }
 
-void validateOptions(const MembraneOptions& options, const MembraneProblem& problem,
-                     const std::vector<MembraneNode>& roles) {
+// The settings, and the initial guess's size (its values are checked with the roles).
+void validateOptions(const MembraneOptions& options, const MembraneProblem& problem) {
   if (!(options.tolerance > 0) || !std::isfinite(options.tolerance))
     throw std::invalid_argument("membrane: the tolerance must be positive and finite");
   if (options.maxIterations < 0)
@@ -468,8 +473,6 @@ void validateOptions(const MembraneOptions& options, const MembraneProblem& prob
   if (options.initialGuess.empty()) return;
   membrane_detail::validateFields(options.initialGuess, problem.channels.size(),
                                   problem.inside.size(), "the initial guess");
-  membrane_detail::requireFinite(options.initialGuess, roles, MembraneNode::Unknown,
-                                 "the initial guess");
 }
 
 }  // namespace
@@ -493,17 +496,89 @@ std::vector<MembraneNode> classifyMembraneNodes(int width, int height,
   return roles;
 }
 
-MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptions& options) {
-  const std::vector<MembraneNode> roles = membrane_detail::validateProblem(problem);
-  validateOptions(options, problem, roles);
+namespace {
 
+// The part of the grid a solve runs on: Q's bounding box grown by the fixed rings and by a margin,
+// rounded out to multiples of kWindowQuantum nodes (within the grid); or the previous hierarchy's
+// window while it holds them, so that the window, and with it the hierarchy that the next dab
+// updates, stays the same while a stroke grows inside it. A brush's Q covers a few percent of its
+// grid: every pass of the solve and of the hierarchy's setup then follows Q's size, not the
+// grid's. The discrete problem on the window is the same (all of Q and its fixed rings lie in it);
+// the coarse levels lie on the window, so the preconditioner, and the iterates within the
+// tolerance, differ with it.
+constexpr int kWindowQuantum = 16;
+constexpr int kWindowMargin = 16;
+
+using membrane_detail::GridWindow;
+
+GridWindow solveWindow(const MembraneProblem& problem, const MembraneHierarchy* previous) {
+  int minX = problem.width, minY = problem.height, maxX = -1, maxY = -1;
+  for (int y = 0; y < problem.height; ++y) {
+    const std::uint8_t* row = problem.inside.data() + std::size_t(y) * std::size_t(problem.width);
+    int first = 0, last = problem.width - 1;
+    while (first < problem.width && !row[first])
+      ++first;
+    if (first == problem.width) continue;
+    while (!row[last])
+      --last;
+    minX = std::min(minX, first);
+    maxX = std::max(maxX, last);
+    minY = std::min(minY, y);
+    maxY = y;
+  }
+  constexpr int rings = membrane_detail::kRings;
+  const GridWindow needed{minX - rings, minY - rings, maxX - minX + 1 + 2 * rings,
+                          maxY - minY + 1 + 2 * rings};
+  if (previous && previous->problemWidth() == problem.width &&
+      previous->problemHeight() == problem.height && previous->window().contains(needed))
+    return previous->window();
+  auto down = [](int v) { return std::max(0, v / kWindowQuantum * kWindowQuantum); };
+  auto up = [](int v, int size) {
+    return std::min(size, (v + kWindowQuantum - 1) / kWindowQuantum * kWindowQuantum);
+  };
+  GridWindow window;
+  window.x = down(needed.x - kWindowMargin);
+  window.y = down(needed.y - kWindowMargin);
+  window.width = up(needed.x + needed.width + kWindowMargin, problem.width) - window.x;
+  window.height = up(needed.y + needed.height + kWindowMargin, problem.height) - window.y;
+  return window;
+}
+
+template <typename T>
+std::vector<T> cropField(const std::vector<T>& field, int fieldWidth, const GridWindow& window) {
+  std::vector<T> out(std::size_t(window.width) * std::size_t(window.height));
+  for (int y = 0; y < window.height; ++y) {
+    const auto from = field.begin() + std::ptrdiff_t(y + window.y) * fieldWidth + window.x;
+    std::copy(from, from + window.width, out.begin() + std::ptrdiff_t(y) * window.width);
+  }
+  return out;
+}
+
+std::vector<std::vector<double>> cropFields(const std::vector<std::vector<double>>& fields,
+                                            int fieldWidth, const GridWindow& window) {
+  std::vector<std::vector<double>> out;
+  out.reserve(fields.size());
+  for (const std::vector<double>& field : fields)
+    out.push_back(cropField(field, fieldWidth, window));
+  return out;
+}
+
+// The solve of a validated problem whose grid is the window.
+MembraneResult solveOnWindow(const MembraneProblem& problem, const std::vector<MembraneNode>& roles,
+                             const MembraneOptions& options,
+                             const std::vector<std::vector<double>>& initialGuess,
+                             const GridWindow& window, int problemWidth, int problemHeight) {
   MembraneResult result;
   result.hierarchyReused = options.hierarchy && options.hierarchy->fits(problem, options.multigrid);
-  result.hierarchy = result.hierarchyReused
-                         ? options.hierarchy
-                         : std::make_shared<const MembraneHierarchy>(
-                               problem.width, problem.height, problem.inside, problem.continuity,
-                               options.multigrid, options.hierarchy.get(), options.threads);
+  if (result.hierarchyReused) {
+    result.hierarchy = options.hierarchy;
+  } else {
+    auto hierarchy = std::make_shared<MembraneHierarchy>(
+        problem.width, problem.height, problem.inside, problem.continuity, options.multigrid,
+        options.hierarchy.get(), options.threads);
+    hierarchy->placeOn(window, problemWidth, problemHeight);
+    result.hierarchy = std::move(hierarchy);
+  }
   const auto& levels = result.hierarchy->levels();
   const Level& finest = levels.front();
   result.levels = int(levels.size());
@@ -521,21 +596,17 @@ MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptio
   const std::size_t threads = std::min(channels, workerCount(options.threads));
   std::vector<std::thread> workers;
   std::vector<std::exception_ptr> failures(threads);
+  auto solve = [&](std::size_t first) {
+    try {
+      solveChannels(problem, options, initialGuess, *result.hierarchy, fixedNodes, unknownNodes,
+                    first, threads, result);
+    } catch (...) {
+      failures[first] = std::current_exception();
+    }
+  };
   for (std::size_t t = 1; t < threads; ++t)
-    workers.emplace_back([&, t] {
-      try {
-        solveChannels(problem, options, *result.hierarchy, fixedNodes, unknownNodes, t, threads,
-                      result);
-      } catch (...) {
-        failures[t] = std::current_exception();
-      }
-    });
-  try {
-    solveChannels(problem, options, *result.hierarchy, fixedNodes, unknownNodes, 0, threads,
-                  result);
-  } catch (...) {
-    failures[0] = std::current_exception();
-  }
+    workers.emplace_back(solve, t);
+  solve(0);
   for (std::thread& worker : workers)
     worker.join();
   for (const std::exception_ptr& failure : failures)
@@ -546,6 +617,60 @@ MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptio
     result.iterations = std::max(result.iterations, report.iterations);
     result.residual = std::max(result.residual, report.residual);
     result.converged = result.converged && report.converged;
+  }
+  return result;
+}
+
+}  // namespace
+
+MembraneResult solveMembrane(const MembraneProblem& problem, const MembraneOptions& options) {
+  // Checked on the whole grid where it is cheap (the region, the sizes, the settings), on the
+  // window where it follows the nodes' roles; a failure there is checked again on the whole grid,
+  // whose message names the node in the caller's numbering.
+  membrane_detail::validateRegion(problem.width, problem.height, problem.inside);
+  if (problem.channels.empty())
+    throw std::invalid_argument("membrane: the problem has no channels");
+  membrane_detail::validateFields(problem.channels, problem.channels.size(), problem.inside.size(),
+                                  "the boundary data");
+  validateOptions(options, problem);
+  const GridWindow window = solveWindow(problem, options.hierarchy.get());
+  const bool whole = window.width == problem.width && window.height == problem.height;
+  MembraneProblem cropped;
+  if (!whole) {
+    cropped.width = window.width;
+    cropped.height = window.height;
+    cropped.inside = cropField(problem.inside, problem.width, window);
+    cropped.channels = cropFields(problem.channels, problem.width, window);
+    cropped.continuity = problem.continuity;
+  }
+  const MembraneProblem& local = whole ? problem : cropped;
+  const std::vector<std::vector<double>> croppedGuess =
+      whole ? std::vector<std::vector<double>>()
+            : cropFields(options.initialGuess, problem.width, window);
+  const std::vector<std::vector<double>>& initialGuess =
+      whole ? options.initialGuess : croppedGuess;
+  const std::vector<MembraneNode> roles =
+      classifyMembraneNodes(local.width, local.height, local.inside, local.continuity);
+  if (!membrane_detail::allFinite(local.channels, roles, MembraneNode::Fixed) ||
+      !membrane_detail::allFinite(initialGuess, roles, MembraneNode::Unknown)) {
+    const std::vector<MembraneNode> allRoles = membrane_detail::validateProblem(problem);
+    membrane_detail::requireFinite(options.initialGuess, allRoles, MembraneNode::Unknown,
+                                   "the initial guess");
+  }
+
+  MembraneResult result =
+      solveOnWindow(local, roles, options, initialGuess, window, problem.width, problem.height);
+  if (whole) return result;
+  // Back on the whole grid: the problem's values, the window's solved unknowns over them.
+  for (std::size_t c = 0; c < result.values.size(); ++c) {
+    std::vector<double> values = problem.channels[c];
+    const std::vector<double>& solved = result.values[c];
+    for (int y = 0; y < window.height; ++y) {
+      const auto from = solved.begin() + std::ptrdiff_t(y) * window.width;
+      std::copy(from, from + window.width,
+                values.begin() + std::ptrdiff_t(y + window.y) * problem.width + window.x);
+    }
+    result.values[c] = std::move(values);
   }
   return result;
 }

@@ -25,6 +25,9 @@
 // (at most ~100 unknowns) solved densely, the cycle in single precision. CG needed 4 to 9
 // iterations to 1e-6 on discs, squares, annuli, notched and two-component regions and 2-node-wide
 // channels from 64^2 to 256^2, and a warm start from the previous dab's solution one to three.
+// The solve and its hierarchy run on a window of the grid around Q (its bounding box with the
+// fixed rings and a margin, or the previous hierarchy's window while that holds them): a brush's
+// Q covers a few percent of its grid, and the cost follows Q, not the grid.
 // solveMembraneDirect solves the same linear system with a sparse LDL^T factorization: the exact
 // reference. The paper's appendix iteration (plain damped Richardson, ~N^4 iterations) is not
 // implemented.
@@ -107,10 +110,11 @@ struct MembraneOptions {
   // Empty: start from zero. Else one field per channel (width * height values; read at the
   // unknown nodes only), e.g. the previous dab's solution.
   std::vector<std::vector<double>> initialGuess;
-  // Reused when it was built for the same grid, region, continuity and settings
+  // Reused when it was built for the same region, window, continuity and settings
   // (MembraneResult::hierarchyReused). Otherwise a new one is built; when only the region
-  // differs (the next dab), it copies the coarse rows that the change did not reach, which
-  // makes it several times faster to build and no different.
+  // differs (the next dab) and its window still holds the region, it copies the coarse rows
+  // that the change did not reach, which makes it several times faster to build and no
+  // different.
   std::shared_ptr<const MembraneHierarchy> hierarchy;
   MembraneMultigridSettings multigrid;
   // Threads solving the channels side by side (each channel on one thread) and sharing the rows

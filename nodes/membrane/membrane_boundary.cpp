@@ -6,12 +6,13 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d draftPoint(const TriMesh& draft, const TriMesh& canvas, const DomainHit& hit) {
+Eigen::Vector3d draftPoint(const TriMesh& draft, const TriMesh& canvas, int face,
+                           const Eigen::Vector3d& barycentric) {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   int k = 0;
-  for (auto v : canvas.fv_range(TriMesh::FaceHandle(hit.face))) {
+  for (auto v : canvas.fv_range(TriMesh::FaceHandle(face))) {
     const auto& p = draft.point(v);
-    point += hit.barycentric[k++] * Eigen::Vector3d(p[0], p[1], p[2]);
+    point += barycentric[k++] * Eigen::Vector3d(p[0], p[1], p[2]);
   }
   return point;
 }
@@ -20,7 +21,8 @@ Eigen::Vector3d draftPoint(const TriMesh& draft, const TriMesh& canvas, const Do
 
 MembraneSetup membraneSetup(const Region2D& region, const Parameterization& source,
                             const TriMesh& draft, const DomainLocator& sourceLocator,
-                            const DomainLocator& targetLocator, MembraneContinuity continuity) {
+                            const DomainLocator& targetLocator, MembraneContinuity continuity,
+                            MembraneLocations* locations) {
   const TriMesh& canvas = source.canvas->surface;
   if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
     throw std::invalid_argument("the draft does not have the source canvas' vertices and faces");
@@ -51,13 +53,30 @@ MembraneSetup membraneSetup(const Region2D& region, const Parameterization& sour
         if (!setup.defined[n]) sampled[n] = setup.defined[n] = 1;
       }
   }
+  MembraneLocations local;
+  MembraneLocations& located = locations ? *locations : local;
+  if (located.grid != grid || located.known.size() != grid.nodeCount()) {
+    located.grid = grid;
+    located.known.assign(grid.nodeCount(), 0);
+    located.targetPoint.resize(grid.nodeCount());
+    located.sourceFace.resize(grid.nodeCount());
+    located.sourceBarycentric.resize(grid.nodeCount());
+  }
   for (int j = 0; j < grid.height; ++j)
     for (int i = 0; i < grid.width; ++i) {
       const std::size_t n = grid.index(i, j);
       if (!sampled[n]) continue;
-      const Eigen::Vector2d u = grid.position(i, j);
+      if (!located.known[n]) {
+        const Eigen::Vector2d u = grid.position(i, j);
+        const DomainHit sourceHit = sourceLocator.locate(u);
+        located.targetPoint[n] = targetLocator.locate(u).point;
+        located.sourceFace[n] = sourceHit.face;
+        located.sourceBarycentric[n] = sourceHit.barycentric;
+        located.known[n] = 1;
+      }
       const Eigen::Vector3d offset =
-          targetLocator.locate(u).point - draftPoint(draft, canvas, sourceLocator.locate(u));
+          located.targetPoint[n] -
+          draftPoint(draft, canvas, located.sourceFace[n], located.sourceBarycentric[n]);
       for (int c = 0; c < 3; ++c)
         problem.channels[std::size_t(c)][n] = offset[c];
     }

@@ -19,11 +19,27 @@ struct MembraneSetup {
   std::vector<std::uint8_t> defined;
 };
 
-// `draft` is G(P_s) (the source canvas' connectivity); the locators are on `source` and `target`.
+// What the locators answered at the grid's nodes: E_t^-1(u) and the source canvas face and
+// barycentric coordinates of u. They depend on the canvases and the grid alone, which stay the
+// same while a stroke is painted, so a brush keeps them from dab to dab and each dab locates only
+// the nodes it newly samples. Whoever keeps one clears it when a canvas changes; a change of
+// grid clears it by itself.
+struct MembraneLocations {
+  DomainGrid grid;
+  std::vector<std::uint8_t> known;  // per node
+  std::vector<Eigen::Vector3d> targetPoint;
+  std::vector<int> sourceFace;
+  std::vector<Eigen::Vector3d> sourceBarycentric;
+  void clear() { known.clear(); }
+};
+
+// `draft` is G(P_s) (the source canvas' connectivity); the locators are on `source` and `target`;
+// `locations`, when given, holds their answers from earlier calls on the same canvases.
 // Throws std::invalid_argument when the draft does not match the source canvas.
 MembraneSetup membraneSetup(const Region2D& region, const Parameterization& source,
                             const TriMesh& draft, const DomainLocator& sourceLocator,
-                            const DomainLocator& targetLocator, MembraneContinuity continuity);
+                            const DomainLocator& targetLocator, MembraneContinuity continuity,
+                            MembraneLocations* locations = nullptr);
 
 // The solved membrane as a field: solution values where `setup.defined`, zero elsewhere.
 Field2D membraneField(const Region2D& region, const MembraneSetup& setup,

@@ -31,6 +31,19 @@ constexpr int stencilSlot(int dx, int dy) {
   return (dy + kReach) * kStencilSide + dx + kReach;
 }
 
+// A rectangle of nodes of a problem's grid: the part of it a hierarchy lies on.
+struct GridWindow {
+  int x = 0;
+  int y = 0;
+  int width = 0;
+  int height = 0;
+  bool contains(const GridWindow& other) const {
+    return other.x >= x && other.y >= y && other.x + other.width <= x + width &&
+           other.y + other.height <= y + height;
+  }
+  bool operator==(const GridWindow&) const = default;
+};
+
 struct PaddedGrid {
   int width = 0;
   int height = 0;
@@ -186,6 +199,16 @@ class MembraneHierarchy {
                     const MembraneHierarchy* previous = nullptr, int threads = 1);
 
   bool fits(const MembraneProblem& problem, const MembraneMultigridSettings& settings) const;
+  // Where the hierarchy's grid lies on the grid of the problems it was made for (solveMembrane
+  // solves on a window around Q), and that grid's size: the whole grid unless set.
+  const membrane_detail::GridWindow& window() const { return window_; }
+  int problemWidth() const { return problemWidth_; }
+  int problemHeight() const { return problemHeight_; }
+  void placeOn(const membrane_detail::GridWindow& window, int problemWidth, int problemHeight) {
+    window_ = window;
+    problemWidth_ = problemWidth;
+    problemHeight_ = problemHeight;
+  }
   const std::vector<membrane_detail::Level>& levels() const { return levels_; }
   const membrane_detail::CoarsestSolver& coarsest() const { return coarsest_; }
   // The Vulkan kernels of the levels, made on the first call and kept with the hierarchy, so that
@@ -203,6 +226,9 @@ class MembraneHierarchy {
 
   int width_;
   int height_;
+  membrane_detail::GridWindow window_{0, 0, width_, height_};
+  int problemWidth_ = width_;
+  int problemHeight_ = height_;
   std::vector<std::uint8_t> inside_;  // as given: any nonzero value marks Q
   MembraneContinuity continuity_;
   int bandWidth_;

@@ -80,11 +80,12 @@ class MembraneNode final : public geobrush::Node {
       targetLocator_ = std::make_unique<geobrush::DomainLocator>(*target);
       source_ = source;
       target_ = target;
+      locations_.clear();
     }
     geobrush::MembraneSetup setup;
     try {
       setup = geobrush::membraneSetup(*region, *source, draft->surface, *sourceLocator_,
-                                      *targetLocator_, continuity);
+                                      *targetLocator_, continuity, &locations_);
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("draft", e.what());
     }
@@ -136,6 +137,7 @@ class MembraneNode final : public geobrush::Node {
   geobrush::ZeroDraftCache zeroDrafts_;
   std::shared_ptr<const Parameterization> source_, target_;
   std::unique_ptr<geobrush::DomainLocator> sourceLocator_, targetLocator_;
+  geobrush::MembraneLocations locations_;  // what the locators answered, per grid node
   std::vector<std::vector<double>> previous_;
   std::shared_ptr<const geobrush::MembraneHierarchy> hierarchy_;
   geobrush::DomainGrid previousGrid_;

@@ -225,6 +225,7 @@ void BM_LiveBrush(benchmark::State& state) {
   RoiCoverage coverage = roiCoverage(*source, targetParam, RoiOptions{256});
   const StitchBase stitchBaseOfTarget = stitchBase(targetParam);
   const DomainLocator sourceLocator(*source), targetLocator(targetParam);
+  MembraneLocations locations;
   Strokes strokes;
   MembraneOptions membraneOptions;
   membraneOptions.tolerance = 1e-7;
@@ -239,7 +240,7 @@ void BM_LiveBrush(benchmark::State& state) {
     roiMs += millisecondsSince(start);
     start = std::chrono::steady_clock::now();
     const MembraneSetup setup = membraneSetup(roi.region, *source, draft, sourceLocator,
-                                              targetLocator, MembraneContinuity::C1);
+                                              targetLocator, MembraneContinuity::C1, &locations);
     MembraneResult solved = solveMembrane(setup.problem, membraneOptions);
     const Field2D offset = membraneField(roi.region, setup, solved.values);
     membraneOptions.initialGuess = std::move(solved.values);

@@ -380,6 +380,68 @@ TEST(Membrane, UpdatedHierarchyGivesTheSameSolution) {
   EXPECT_EQ(updated.values, fresh.values);
 }
 
+// A disc of radius `radius` nodes around node (x, y) of an n x n grid.
+Mask discAt(int n, double x, double y, double radius) {
+  Mask mask(std::size_t(n) * std::size_t(n), 0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      mask[std::size_t(j) * std::size_t(n) + std::size_t(i)] = std::hypot(i - x, j - y) < radius;
+  return mask;
+}
+
+// A small Q on a large grid is solved on a window around it (here one Q beside the grid's border,
+// where the window is cut short): the same system, so the direct solve's answer, and every node
+// off Q keeps the problem's value, bit for bit.
+TEST(Membrane, SolvesASmallRegionOnAWindowAroundIt) {
+  const int n = 160;
+  for (const auto& [x, y] : {std::pair{40.0, 100.0}, {12.0, 148.0}}) {
+    const MembraneProblem problem = problemOn(n, discAt(n, x, y, 9.5));
+    const MembraneResult result = solveMembrane(problem);
+    ASSERT_TRUE(result.converged);
+    const membrane_detail::GridWindow window = result.hierarchy->window();
+    EXPECT_LT(window.width * window.height, n * n / 4) << "the solve ran on the whole grid";
+    EXPECT_EQ(result.hierarchy->levels().front().grid.width, window.width);
+    EXPECT_EQ(result.hierarchy->problemWidth(), n);
+    const MembraneDirectResult direct = solveMembraneDirect(problem);
+    for (std::size_t c = 0; c < problem.channels.size(); ++c) {
+      EXPECT_LE(relativeError(problem, result.values[c], direct.values[c]), 1e-4);
+      for (std::size_t i = 0; i < problem.inside.size(); ++i)
+        if (!problem.inside[i]) {
+          ASSERT_EQ(result.values[c][i], problem.channels[c][i]) << i;
+        }
+    }
+  }
+}
+
+// While a stroke's dabs stay inside the previous hierarchy's window, the next solve keeps that
+// window (and updates the hierarchy on it); a dab outside it moves the window.
+TEST(Membrane, AStrokeKeepsItsWindowWhileItsDabsFitInIt) {
+  const int n = 200;
+  MembraneProblem problem = problemOn(n, discAt(n, 60, 60, 8));
+  MembraneOptions options;
+  options.tolerance = 1e-7;
+  MembraneResult previous = solveMembrane(problem, options);
+  const membrane_detail::GridWindow first = previous.hierarchy->window();
+  auto addDab = [&](double x, double y) {
+    const Mask dab = discAt(n, x, y, 8);
+    for (std::size_t i = 0; i < dab.size(); ++i)
+      problem.inside[i] = problem.inside[i] || dab[i];
+    options.initialGuess = previous.values;
+    options.hierarchy = previous.hierarchy;
+    previous = solveMembrane(problem, options);
+    ASSERT_TRUE(previous.converged);
+    EXPECT_FALSE(previous.hierarchyReused);
+    const MembraneDirectResult direct = solveMembraneDirect(problem);
+    for (std::size_t c = 0; c < problem.channels.size(); ++c)
+      EXPECT_LE(relativeError(problem, previous.values[c], direct.values[c]), 1e-4);
+  };
+  addDab(64, 62);
+  EXPECT_EQ(previous.hierarchy->window(), first);
+  addDab(140, 130);
+  EXPECT_NE(previous.hierarchy->window(), first);
+  EXPECT_TRUE(previous.hierarchy->window().contains(first));
+}
+
 // The coarse rows of a hierarchy are computed on several threads: the hierarchy is the same, bit
 // for bit, for every thread count, built from scratch or updated from the previous region's.
 TEST(Membrane, HierarchyIsTheSameForEveryThreadCount) {
@@ -794,6 +856,31 @@ TEST(MembraneNodeData, AConstantGapIsClosedByAConstantOffset) {
       ASSERT_TRUE(field.sample(source->uv[std::size_t(v)], offset)) << v;
       EXPECT_NEAR((offset - Eigen::Vector3d(0, 0, -0.25)).norm(), 0, 1e-8);
     }
+  }
+}
+
+// A brush keeps the locators' answers per grid node from dab to dab: the setup is the one a fresh
+// call makes, bit for bit, while the stroke grows and the draft moves; a new grid starts afresh.
+TEST(MembraneNodeData, KeptLocationsGiveWhatFreshOnesGive) {
+  auto source = heightField(24, [](double x, double y) { return 0.1 * x * y; });
+  auto target = heightField(20, [](double x, double) { return 0.05 * x; });
+  const DomainLocator sourceLocator(*source), targetLocator(*target);
+  TriMesh draft = source->canvas->surface;
+  MembraneLocations kept;
+  Strokes strokes = disc({-0.3, 0}, 0.2);
+  for (int dab = 0; dab < 4; ++dab) {
+    const int gridSize = dab < 3 ? 64 : 48;
+    const Region2D region = paintRegion(strokes, *source, *target, RoiOptions{gridSize}).region;
+    for (auto v : draft.vertices())
+      draft.point(v)[2] += 0.01 * (dab + 1);
+    const MembraneSetup withKept = membraneSetup(region, *source, draft, sourceLocator,
+                                                 targetLocator, MembraneContinuity::C1, &kept);
+    const MembraneSetup fresh =
+        membraneSetup(region, *source, draft, sourceLocator, targetLocator, MembraneContinuity::C1);
+    EXPECT_EQ(withKept.problem.channels, fresh.problem.channels) << "dab " << dab;
+    EXPECT_EQ(withKept.defined, fresh.defined);
+    EXPECT_EQ(kept.grid, region.grid);
+    strokes.dabs.push_back({{-0.3 + 0.15 * (dab + 1), 0.05 * dab}, 0.2, false});
   }
 }
 
