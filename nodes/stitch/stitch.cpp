@@ -569,6 +569,19 @@ StitchBase stitchBase(const Parameterization& target) {
   for (std::size_t f = 0; f < inCanvas.size(); ++f)
     (inCanvas[f] ? base.canvasMeshFaces : outsideFaces).push_back(int(f));
   base.outsideFaces = appendFaces(base.outside, mesh, outsideFaces);
+  const TriMesh& outside = base.outside;
+  for (auto v : outside.vertices()) {
+    if (base.meshToCanvas[std::size_t(base.outsideFaces.sourceVertex[std::size_t(v.idx())])] < 0)
+      continue;
+    base.borderVertices.push_back(v.idx());
+    for (auto h : outside.voh_range(v)) {
+      base.borderHalfedges.push_back(h.idx());
+      base.borderHalfedges.push_back(outside.opposite_halfedge_handle(h).idx());
+    }
+  }
+  std::sort(base.borderHalfedges.begin(), base.borderHalfedges.end());
+  base.borderHalfedges.erase(std::unique(base.borderHalfedges.begin(), base.borderHalfedges.end()),
+                             base.borderHalfedges.end());
   return base;
 }
 
@@ -607,6 +620,26 @@ void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMes
   out.clear();
   reserveForPaste(out, targetMesh, sourceCanvas, base.canvasToMesh.size());
   out = base.outside;
+}
+
+void restoreOutside(const StitchBase& base, TriMesh& out) {
+  const TriMesh& outside = base.outside;
+  if (out.n_vertices() < outside.n_vertices() || out.n_edges() < outside.n_edges() ||
+      out.n_faces() < outside.n_faces())
+    throw StitchError("the mesh to restore is smaller than the target's outside part");
+  // Shrinking keeps the arrays' room: the next paste writes into memory already in use.
+  out.resize(outside.n_vertices(), outside.n_edges(), outside.n_faces());
+  for (int v : base.borderVertices)
+    out.set_halfedge_handle(TriMesh::VertexHandle(v),
+                            outside.halfedge_handle(TriMesh::VertexHandle(v)));
+  for (int i : base.borderHalfedges) {
+    const auto h = TriMesh::HalfedgeHandle(i);
+    out.set_vertex_handle(h, outside.to_vertex_handle(h));
+    out.set_face_handle(h, outside.face_handle(h));
+    // Sets the next of h and the prev of its next; h's own prev is its predecessor's next.
+    out.set_next_halfedge_handle(h, outside.next_halfedge_handle(h));
+    out.set_next_halfedge_handle(outside.prev_halfedge_handle(h), h);
+  }
 }
 
 namespace {
@@ -724,6 +757,7 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
     }
     targetPart = joinFaces(out, targetMesh, keptFaces, base->outsideFaces);
     outToMesh = base->outsideFaces.sourceVertex;
+    result.startsWithOutside = true;
   } else {
     keptFaces.clear();
     removedFaces.clear();

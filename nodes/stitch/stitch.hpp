@@ -37,6 +37,9 @@ struct StitchResult {
   std::size_t gapTriangles = 0;     // triangles of the seam strips
   std::size_t seamLoops = 0;        // boundary loops of R_in, each zipped to one of the target
   PasteMap map;                     // the origin of each vertex of `mesh`, and the seam faces
+  // Whether `mesh` starts with the base's `outside` part, element for element, with the rest
+  // joined to it: what restoreOutside needs.
+  bool startsWithOutside = false;
 };
 
 // How the target canvas sits in its mesh, and the mesh outside the canvas, which no paste
@@ -49,6 +52,9 @@ struct StitchBase {
   std::vector<int> canvasMeshFaces;   // the target mesh faces of the canvas, increasing
   TriMesh outside;                    // the target mesh's faces outside the canvas
   AppendedFaces outsideFaces;         // how `outside` maps to the target mesh
+  // The entries of `outside` that a paste changes when it joins faces to it: its vertices that
+  // are canvas vertices too, and every halfedge at one of them.
+  std::vector<int> borderVertices, borderHalfedges;
 };
 // Throws StitchError when the canvas does not map onto its mesh.
 StitchBase stitchBase(const Parameterization& target);
@@ -78,5 +84,11 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
 // and a paste from `sourceCanvas`: what every paste into this target starts from.
 void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
                  TriMesh& out);
+
+// Turns `out`, a paste into this base whose result startsWithOutside, back into the outside part
+// alone, as copyOutside makes it, in place: the paste's elements are dropped and the border
+// entries copied back, at a cost that follows the border rather than the mesh, and the arrays
+// keep their room. Throws StitchError when `out` is smaller than the outside part.
+void restoreOutside(const StitchBase& base, TriMesh& out);
 
 }  // namespace geobrush

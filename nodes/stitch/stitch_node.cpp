@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <deque>
 #include <future>
 #include <memory>
 #include <string>
@@ -16,10 +18,12 @@ using geobrush::Parameterization;
 using geobrush::Region2D;
 
 // Every dab re-stitches into the same target: the node keeps how the target canvas maps into its
-// mesh for as long as the target parameterization stays the same. And every result starts as a
-// copy of the target outside its canvas (tens of megabytes on a large target): after each dab the
-// node copies it for the next one on another thread, while the nodes before it (strokes, ROI,
-// warp: one thread each) work on that next dab.
+// mesh for as long as the target parameterization stays the same. And every result starts as the
+// target outside its canvas (tens of megabytes on a large target). One of the node's last results
+// that nothing holds any more (an evaluator keeps two runs' outputs, so the one of three dabs ago)
+// is turned back into that part in place (restoreOutside, the border alone); where none is free,
+// the part is copied for the next dab on another thread, while the nodes before the stitch
+// (strokes, ROI, warp) work on that next dab.
 class StitchNode final : public geobrush::Node {
  public:
   ~StitchNode() override { dropNext(); }
@@ -38,11 +42,14 @@ class StitchNode final : public geobrush::Node {
     try {
       if (!base_ || target != target_) {
         dropNext();
+        made_.clear();
         base_.reset();
         base_ = std::make_unique<geobrush::StitchBase>(geobrush::stitchBase(*target));
         target_ = target;
       }
-      std::shared_ptr<Mesh> mesh = next_.valid() ? next_.get() : nullptr;
+      std::shared_ptr<Mesh> mesh = reclaim();
+      const bool reclaimed = mesh != nullptr;
+      if (!mesh && next_.valid()) mesh = next_.get();
       const bool prepared = mesh != nullptr;
       if (!prepared) mesh = std::make_shared<Mesh>();
       geobrush::StitchOptions options;
@@ -50,14 +57,11 @@ class StitchNode final : public geobrush::Node {
       geobrush::StitchResult result =
           geobrush::stitchPasteInto(mesh->surface, *region, *source, draft->surface, offset.get(),
                                     *target, base_.get(), prepared, options);
-      const geobrush::StitchBase* base = base_.get();
-      next_ = std::async(std::launch::async, [base, target, canvas = source->canvas] {
-        auto next = std::make_shared<Mesh>();
-        const geobrush::TriMesh& targetMesh =
-            target->canvas->source ? target->canvas->source->surface : target->canvas->surface;
-        geobrush::copyOutside(*base, targetMesh, canvas->surface, next->surface);
-        return next;
-      });
+      made_.push_back({mesh, result.startsWithOutside});
+      if (made_.size() > kKept) made_.pop_front();
+      // Where this dab found no result to reclaim, the next one is unlikely to: its outside part
+      // is copied now.
+      if (!reclaimed) prepareNext(target, source->canvas);
       ctx.out("mesh", std::move(mesh));
       ctx.out("map", std::make_shared<const geobrush::PasteMap>(std::move(result.map)));
     } catch (const geobrush::StitchError& e) {
@@ -66,6 +70,40 @@ class StitchNode final : public geobrush::Node {
   }
 
  private:
+  struct Made {
+    std::shared_ptr<Mesh> mesh;
+    bool startsWithOutside = false;
+  };
+
+  // The oldest of the node's last results that no one else holds any more (no one can take hold
+  // of it again then: the node's is the last reference), turned back into the outside part; null
+  // where there is none.
+  std::shared_ptr<Mesh> reclaim() {
+    auto free = std::find_if(made_.begin(), made_.end(), [](const Made& made) {
+      return made.startsWithOutside && made.mesh.use_count() == 1;
+    });
+    if (free == made_.end()) return nullptr;
+    std::shared_ptr<Mesh> mesh = std::move(free->mesh);
+    made_.erase(free);
+    dropNext();
+    geobrush::restoreOutside(*base_, mesh->surface);
+    mesh->vertexColors.clear();
+    return mesh;
+  }
+
+  void prepareNext(std::shared_ptr<const Parameterization> target,
+                   std::shared_ptr<const geobrush::Canvas> canvas) {
+    dropNext();
+    const geobrush::StitchBase* base = base_.get();
+    next_ = std::async(std::launch::async, [base, target, canvas] {
+      auto next = std::make_shared<Mesh>();
+      const geobrush::TriMesh& targetMesh =
+          target->canvas->source ? target->canvas->source->surface : target->canvas->surface;
+      geobrush::copyOutside(*base, targetMesh, canvas->surface, next->surface);
+      return next;
+    });
+  }
+
   // Waits for the copy under way, which reads base_, and drops it.
   void dropNext() {
     if (next_.valid()) next_.get();
@@ -75,6 +113,8 @@ class StitchNode final : public geobrush::Node {
   std::unique_ptr<geobrush::StitchBase> base_;
   std::shared_ptr<const Parameterization> target_;
   std::future<std::shared_ptr<Mesh>> next_;  // the next result, its outside part copied
+  static constexpr std::size_t kKept = 3;
+  std::deque<Made> made_;  // the last kKept results, the oldest first
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

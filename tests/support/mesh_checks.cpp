@@ -217,6 +217,23 @@ bool bitIdentical(const TriMesh& a, const TriMesh& b) {
          faceIndices(a) == faceIndices(b);
 }
 
+bool sameHalfedgeStructure(const TriMesh& a, const TriMesh& b) {
+  if (a.n_vertices() != b.n_vertices() || a.n_edges() != b.n_edges() ||
+      a.n_faces() != b.n_faces() ||
+      std::memcmp(a.points(), b.points(), a.n_vertices() * sizeof(TriMesh::Point)) != 0)
+    return false;
+  for (auto v : a.vertices())
+    if (a.halfedge_handle(v) != b.halfedge_handle(v)) return false;
+  for (auto f : a.faces())
+    if (a.halfedge_handle(f) != b.halfedge_handle(f)) return false;
+  for (auto h : a.halfedges())
+    if (a.to_vertex_handle(h) != b.to_vertex_handle(h) || a.face_handle(h) != b.face_handle(h) ||
+        a.next_halfedge_handle(h) != b.next_halfedge_handle(h) ||
+        a.prev_halfedge_handle(h) != b.prev_halfedge_handle(h))
+      return false;
+  return true;
+}
+
 std::vector<double> edgeLengths(const TriMesh& mesh) {
   std::vector<double> lengths;
   lengths.reserve(mesh.n_edges());

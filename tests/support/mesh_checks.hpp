@@ -55,6 +55,10 @@ std::size_t closeVertexPairs(const TriMesh& mesh, double tolerance);
 // in face order).
 bool bitIdentical(const TriMesh& a, const TriMesh& b);
 
+// Whether both have bit-identical points and the same halfedge structure, element for element:
+// each vertex's and face's halfedge, and each halfedge's vertex, face, next and previous.
+bool sameHalfedgeStructure(const TriMesh& a, const TriMesh& b);
+
 // Every face as its vertex indices, starting from each face's first halfedge.
 std::vector<std::array<int, 3>> faceIndices(const TriMesh& mesh);
 
