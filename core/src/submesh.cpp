@@ -149,14 +149,14 @@ AppendedFaces appendFaces(TriMesh& out, const TriMesh& mesh, const std::vector<i
 }
 
 AppendedFaces joinFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int>& faces,
-                        const AppendedFaces& joined) {
+                        AppendedFaces joined) {
   using HalfedgeHandle = TriMesh::HalfedgeHandle;
   using VertexHandle = TriMesh::VertexHandle;
   AppendedFaces added;
   added.firstVertex = int(out.n_vertices());
-  added.vertexInOut = joined.vertexInOut;
-  added.edgeInOut = joined.edgeInOut;
-  added.faceInOut = joined.faceInOut;
+  added.vertexInOut = std::move(joined.vertexInOut);
+  added.edgeInOut = std::move(joined.edgeInOut);
+  added.faceInOut = std::move(joined.faceInOut);
   const int firstFace = int(out.n_faces());
   for (std::size_t k = 0; k < faces.size(); ++k)
     added.faceInOut[std::size_t(faces[k])] = firstFace + int(k);

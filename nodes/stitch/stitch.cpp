@@ -6,6 +6,7 @@
 #include <numeric>
 #include <optional>
 #include <queue>
+#include <unordered_set>
 
 #include <Eigen/Geometry>
 
@@ -37,17 +38,30 @@ bool pinched(const TriMesh& mesh, TriMesh::VertexHandle v, const std::vector<cha
 // vertex of the selection then has one fan of selected faces and the selection is a manifold.
 // A pinched vertex is a corner of a selected and of an unselected face: `candidates` lists faces
 // whose corners include every such vertex (e.g. the smaller of the two sets), so that the cost
-// follows the region rather than the mesh.
+// follows the region rather than the mesh, but for a pass over one byte per vertex. Each round
+// visits its vertices in increasing order.
 void removePinches(const TriMesh& mesh, std::vector<char>& selected,
                    const std::vector<int>& candidateFaces) {
-  std::vector<int> candidates;
+  std::vector<char> queued(mesh.n_vertices(), 0);
+  int lowest = int(mesh.n_vertices()), highest = -1;
+  auto queue = [&](TriMesh::VertexHandle v) {
+    queued[std::size_t(v.idx())] = 1;
+    lowest = std::min(lowest, v.idx());
+    highest = std::max(highest, v.idx());
+  };
   for (int f : candidateFaces)
     for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-      candidates.push_back(v.idx());
-  std::sort(candidates.begin(), candidates.end());
-  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-  while (!candidates.empty()) {
-    std::vector<int> next;
+      queue(v);
+  std::vector<int> candidates;
+  while (highest >= 0) {
+    candidates.clear();
+    for (int v = lowest; v <= highest; ++v)
+      if (queued[std::size_t(v)]) {
+        queued[std::size_t(v)] = 0;
+        candidates.push_back(v);
+      }
+    lowest = int(mesh.n_vertices());
+    highest = -1;
     for (int v : candidates) {
       const auto vh = TriMesh::VertexHandle(v);
       if (!pinched(mesh, vh, selected)) continue;
@@ -55,12 +69,9 @@ void removePinches(const TriMesh& mesh, std::vector<char>& selected,
         if (selected[std::size_t(f.idx())]) {
           selected[std::size_t(f.idx())] = 0;
           for (auto w : mesh.fv_range(f))
-            next.push_back(w.idx());
+            queue(w);
         }
     }
-    std::sort(next.begin(), next.end());
-    next.erase(std::unique(next.begin(), next.end()), next.end());
-    candidates = std::move(next);
   }
 }
 
@@ -800,16 +811,16 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
   };
   std::vector<std::vector<int>> seams;
   std::vector<std::vector<Vector2d>> seamUv;
-  std::vector<char> traced(out.n_halfedges(), 0);
+  std::unordered_set<int> tracedSeam;  // a few loops in a large mesh
   for (int o : seamSeeds) {
     if (o < 0 || !out.is_boundary(TriMesh::VertexHandle(o))) continue;
     for (auto start : out.voh_range(TriMesh::VertexHandle(o))) {
-      if (!out.is_boundary(start) || traced[std::size_t(start.idx())]) continue;
+      if (!out.is_boundary(start) || tracedSeam.count(start.idx())) continue;
       std::vector<int> loop;
       std::vector<Vector2d> uv;
       auto h = start;
       do {
-        traced[std::size_t(h.idx())] = 1;
+        tracedSeam.insert(h.idx());
         const int v = out.from_vertex_handle(h).idx();
         uv.push_back(uvInDomain(v));
         loop.push_back(v);
@@ -826,7 +837,8 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
   nothing.vertexInOut.assign(canvas.n_vertices(), -1);
   nothing.edgeInOut.assign(canvas.n_edges(), -1);
   nothing.faceInOut.assign(canvas.n_faces(), -1);
-  const AppendedFaces patch = joinFaces(out, canvas, patchFaces, nothing);
+  const int firstPatchHalfedge = int(out.n_halfedges());
+  const AppendedFaces patch = joinFaces(out, canvas, patchFaces, std::move(nothing));
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < patch.sourceVertex.size(); ++i) {
     const int c = patch.sourceVertex[i];
@@ -840,15 +852,17 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
   }
   result.patchVertices = patch.sourceVertex.size();
   std::vector<std::vector<int>> patchLoops;
-  traced.assign(out.n_halfedges(), 0);
+  // The patch's halfedges are the last ones.
+  std::vector<char> traced(out.n_halfedges() - std::size_t(firstPatchHalfedge), 0);
   for (int v = patch.firstVertex; v < int(out.n_vertices()); ++v) {
     if (!out.is_boundary(TriMesh::VertexHandle(v))) continue;
     for (auto start : out.voh_range(TriMesh::VertexHandle(v))) {
-      if (!out.is_boundary(start) || traced[std::size_t(start.idx())]) continue;
+      if (!out.is_boundary(start) || traced[std::size_t(start.idx() - firstPatchHalfedge)])
+        continue;
       std::vector<int> loop;
       auto h = start;
       do {
-        traced[std::size_t(h.idx())] = 1;
+        traced[std::size_t(h.idx() - firstPatchHalfedge)] = 1;
         loop.push_back(out.from_vertex_handle(h).idx());
         h = out.next_halfedge_handle(h);
       } while (h != start);

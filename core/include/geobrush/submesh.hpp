@@ -41,11 +41,11 @@ AppendedFaces appendFaces(TriMesh& out, const TriMesh& mesh, const std::vector<i
 // joinFaces' account of other faces of `mesh` in `out`): vertices and edges the two share are
 // reused and the boundary between them closes, as if all had been copied at once. New edges and
 // vertices come in the order the faces first use them. Costs O(1)
-// per new face plus copying the three index maps: a large unchanging part of a mesh can be
-// copied once and the rest joined to a copy of it. The result accounts for both: sourceVertex
-// and firstVertex for the vertices this call added, the maps for all. The new faces must not be
-// in `joined`.
+// per new face plus copying the three index maps (none where `joined` is moved in): a large
+// unchanging part of a mesh can be copied once and the rest joined to a copy of it. The result
+// accounts for both: sourceVertex and firstVertex for the vertices this call added, the maps for
+// all. The new faces must not be in `joined`.
 AppendedFaces joinFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int>& faces,
-                        const AppendedFaces& joined);
+                        AppendedFaces joined);
 
 }  // namespace geobrush
