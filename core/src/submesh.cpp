@@ -217,7 +217,10 @@ AppendedFaces joinFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int
     }
   }
   // The other side of each new edge: a face of `joined` or of this call (set above), or the
-  // boundary.
+  // boundary, which gets its successor anew and, where it is the only one leaving a new vertex,
+  // becomes that vertex's halfedge.
+  std::vector<int> boundaryLeaving(newVertices.size(), 0);  // per new vertex
+  std::vector<HalfedgeHandle> vertexBoundary(newVertices.size());
   for (int e : newEdges)
     for (int side = 0; side < 2; ++side) {
       const auto h = mesh.halfedge_handle(TriMesh::EdgeHandle(e), side);
@@ -225,12 +228,32 @@ AppendedFaces joinFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int
       const auto hOut = halfedgeInOut(h);
       out.set_vertex_handle(hOut, vertexInOut(mesh.to_vertex_handle(h)));
       out.set_face_handle(hOut, TriMesh::FaceHandle());
+      const int from = vertexInOut(mesh.from_vertex_handle(h)).idx() - added.firstVertex;
+      if (from >= 0) {
+        ++boundaryLeaving[std::size_t(from)];
+        vertexBoundary[std::size_t(from)] = hOut;
+      }
     }
-  // Every boundary halfedge that ends at a vertex the new faces reach gets its successor anew:
-  // the faces may have closed the gap it led into. Their vertices hold a boundary halfedge where
-  // they have one.
+  for (int e : newEdges)
+    for (int side = 0; side < 2; ++side) {
+      const auto h = mesh.halfedge_handle(TriMesh::EdgeHandle(e), side);
+      if (!selected(h)) out.set_next_halfedge_handle(halfedgeInOut(h), boundaryNext(h));
+    }
+  // Vertices hold a boundary halfedge where they have one. A new vertex with none is inside the
+  // copy, where mesh's own halfedge will do (the first the circulation below would find); one
+  // with a single boundary halfedge leaving it has it. Vertices `joined` had, and new ones where
+  // several fans meet, are circulated: every boundary halfedge that ends there gets its
+  // successor anew (the faces may have closed the gap it led into), and the vertex the last
+  // boundary halfedge leaving it.
   for (int v : reached) {
     const auto vh = VertexHandle(v);
+    const int index = vertexInOut(vh).idx() - added.firstVertex;
+    if (index >= 0 && boundaryLeaving[std::size_t(index)] < 2) {
+      out.set_halfedge_handle(vertexInOut(vh), boundaryLeaving[std::size_t(index)] == 1
+                                                   ? vertexBoundary[std::size_t(index)]
+                                                   : halfedgeInOut(mesh.halfedge_handle(vh)));
+      continue;
+    }
     HalfedgeHandle outgoing, boundary;
     for (auto h : mesh.voh_range(vh)) {
       if (added.edgeInOut[std::size_t(h.idx() / 2)] < 0) continue;

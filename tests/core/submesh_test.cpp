@@ -152,6 +152,37 @@ TEST(AppendFaces, GivesAPinchedSelectionAVertexThatCirculatorsGoRoundWhole) {
   EXPECT_EQ(facesRound, 2);
 }
 
+// Faces joined to nothing around one vertex of an icosphere: the whole fan (the vertex inside the
+// copy), part of it (on the boundary) and two faces that share only the vertex (a pinch): each
+// vertex holds a boundary halfedge where it has one, and circulators go round every fan.
+TEST(JoinFaces, GivesNewVerticesABoundaryHalfedgeWhereTheyHaveOne) {
+  const TriMesh sphere = test::icosphere(1);
+  const auto v = TriMesh::VertexHandle(0);
+  std::vector<int> fan;
+  for (auto f : sphere.vf_range(v))
+    fan.push_back(f.idx());
+  ASSERT_EQ(fan.size(), 5u);
+  AppendedFaces nothing;
+  nothing.vertexInOut.assign(sphere.n_vertices(), -1);
+  nothing.edgeInOut.assign(sphere.n_edges(), -1);
+  nothing.faceInOut.assign(sphere.n_faces(), -1);
+  const std::vector<std::vector<int>> selections = {
+      fan, {fan[0], fan[1], fan[2]}, {fan[0], fan[2]}};
+  for (std::size_t k = 0; k < selections.size(); ++k) {
+    SCOPED_TRACE(k);
+    TriMesh joined;
+    const AppendedFaces added = joinFaces(joined, sphere, selections[k], nothing);
+    expectConsistentConnectivity(joined);
+    const auto centre = TriMesh::VertexHandle(added.vertexInOut[0]);
+    EXPECT_EQ(joined.is_boundary(centre), k > 0);
+    int facesRound = 0;
+    for (auto f : joined.vf_range(centre))
+      facesRound += f.is_valid();
+    EXPECT_EQ(facesRound, int(selections[k].size()));
+    EXPECT_EQ(test::topology(joined).nonManifoldVertices, k == 2 ? 1u : 0u);
+  }
+}
+
 // A cap copied first and the rest of the sphere joined to it close into the whole sphere; joining
 // a ring of faces leaves two boundary loops where the parts meet nothing.
 TEST(JoinFaces, ClosesTheBoundaryBetweenTheCopiedParts) {
