@@ -66,8 +66,8 @@ struct Scene {
     const Field2D offset = membraneField(region, setup, solved.values);
     const auto start = std::chrono::steady_clock::now();
     StitchResult stitched = stitchPaste(region, *source, draft, &offset, *target, &base);
-    stitchMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                   .count();
+    stitchMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return stitched;
   }
 
