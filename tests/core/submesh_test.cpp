@@ -131,13 +131,30 @@ TEST(AppendFaces, AppendsAfterWhatIsThereAndKeepsTheMeshOpenToAddFace) {
   EXPECT_EQ(closed.eulerCharacteristic, 2);
 }
 
+namespace {
+
+// The faces around vertex 0, in circulation order.
+std::vector<int> facesAroundVertexZero(const TriMesh& mesh) {
+  std::vector<int> fan;
+  for (auto f : mesh.vf_range(TriMesh::VertexHandle(0)))
+    fan.push_back(f.idx());
+  return fan;
+}
+
+// The faces a circulator meets going round `v`.
+int facesRound(const TriMesh& mesh, TriMesh::VertexHandle v) {
+  int faces = 0;
+  for (auto f : mesh.vf_range(v))
+    faces += f.is_valid();
+  return faces;
+}
+
+}  // namespace
+
 TEST(AppendFaces, GivesAPinchedSelectionAVertexThatCirculatorsGoRoundWhole) {
   // Two opposite faces around one vertex of an icosphere share only that vertex.
   const TriMesh sphere = test::icosphere(1);
-  const auto v = TriMesh::VertexHandle(0);
-  std::vector<int> fan;
-  for (auto f : sphere.vf_range(v))
-    fan.push_back(f.idx());
+  const std::vector<int> fan = facesAroundVertexZero(sphere);
   ASSERT_EQ(fan.size(), 5u);
   TriMesh pinched;
   const AppendedFaces added = appendFaces(pinched, sphere, {fan[0], fan[2]});
@@ -145,11 +162,7 @@ TEST(AppendFaces, GivesAPinchedSelectionAVertexThatCirculatorsGoRoundWhole) {
   const test::Topology t = test::topology(pinched);
   EXPECT_EQ(t.nonManifoldVertices, 1u);
   EXPECT_EQ(t.faces, 2u);
-  const auto pinch = TriMesh::VertexHandle(added.vertexInOut[0]);
-  int facesRound = 0;
-  for (auto f : pinched.vf_range(pinch))
-    facesRound += f.is_valid();
-  EXPECT_EQ(facesRound, 2);
+  EXPECT_EQ(facesRound(pinched, TriMesh::VertexHandle(added.vertexInOut[0])), 2);
 }
 
 // Faces joined to nothing around one vertex of an icosphere: the whole fan (the vertex inside the
@@ -157,10 +170,7 @@ TEST(AppendFaces, GivesAPinchedSelectionAVertexThatCirculatorsGoRoundWhole) {
 // vertex holds a boundary halfedge where it has one, and circulators go round every fan.
 TEST(JoinFaces, GivesNewVerticesABoundaryHalfedgeWhereTheyHaveOne) {
   const TriMesh sphere = test::icosphere(1);
-  const auto v = TriMesh::VertexHandle(0);
-  std::vector<int> fan;
-  for (auto f : sphere.vf_range(v))
-    fan.push_back(f.idx());
+  const std::vector<int> fan = facesAroundVertexZero(sphere);
   ASSERT_EQ(fan.size(), 5u);
   AppendedFaces nothing;
   nothing.vertexInOut.assign(sphere.n_vertices(), -1);
@@ -175,10 +185,7 @@ TEST(JoinFaces, GivesNewVerticesABoundaryHalfedgeWhereTheyHaveOne) {
     expectConsistentConnectivity(joined);
     const auto centre = TriMesh::VertexHandle(added.vertexInOut[0]);
     EXPECT_EQ(joined.is_boundary(centre), k > 0);
-    int facesRound = 0;
-    for (auto f : joined.vf_range(centre))
-      facesRound += f.is_valid();
-    EXPECT_EQ(facesRound, int(selections[k].size()));
+    EXPECT_EQ(facesRound(joined, centre), int(selections[k].size()));
     EXPECT_EQ(test::topology(joined).nonManifoldVertices, k == 2 ? 1u : 0u);
   }
 }
