@@ -672,6 +672,42 @@ double relativeDifference(const std::vector<float>& a, const std::vector<float>&
   return difference / scale;
 }
 
+// The finest level's kernels sum each node's written-out stencil in the loop that uses it; they
+// give, bit for bit, what the stencil at each node (rowProduct) gives, for the plate and the
+// Laplace stencil, and the residual also written over its right-hand side.
+TEST(MembraneKernels, FinestLevelKernelsSumEachNodeAsItsRowProductDoes) {
+  using namespace membrane_detail;
+  std::mt19937 random(11);
+  for (MembraneContinuity continuity : {MembraneContinuity::C1, MembraneContinuity::C0}) {
+    const MembraneHierarchy hierarchy(64, 64, annulusWithNotch(64), continuity, {});
+    const Level& level = hierarchy.levels().front();
+    ASSERT_TRUE(level.customRows.empty());
+    const std::vector<float> b = randomOnUnknowns(level, random);
+    const std::vector<float> x = randomOnUnknowns(level, random);
+    const std::vector<float> d = randomOnUnknowns(level, random);
+    const float keep = 0.3f, gain = 0.37f;
+    std::vector<float> residual(level.grid.size(), 0.0f), stepD(level.grid.size(), 0.0f),
+        stepX(level.grid.size(), 0.0f);
+    for (int node : level.unknowns) {
+      const auto i = std::size_t(node);
+      residual[i] = b[i] - rowProduct(level, x.data(), node);
+      stepD[i] = keep * d[i] + gain * level.single.inverseDiagonal[i] * residual[i];
+      stepX[i] = x[i] + stepD[i];
+    }
+
+    std::vector<float> out(level.grid.size(), 0.0f);
+    subtractOperator(level, b.data(), x.data(), out.data());
+    EXPECT_EQ(out, residual);
+    std::vector<float> inPlace = b;
+    subtractOperator(level, inPlace.data(), x.data(), inPlace.data());
+    EXPECT_EQ(inPlace, residual);
+    std::vector<float> nextD = d, nextX(level.grid.size(), 0.0f);
+    chebyshevStep(level, b.data(), x.data(), nextX.data(), nextD.data(), keep, gain);
+    EXPECT_EQ(nextD, stepD);
+    EXPECT_EQ(nextX, stepX);
+  }
+}
+
 // The Vulkan passes compute what the CPU kernels do: on the finest level (the plate stencil) and
 // on coarse levels (49-point stencils, custom rows along the boundary of Q).
 TEST(MembraneVulkan, KernelsMatchTheCpuKernels) {
