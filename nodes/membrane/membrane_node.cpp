@@ -110,8 +110,8 @@ class MembraneNode final : public geobrush::Node {
     }
     if (!result.converged) {
       std::ostringstream message;
-      message << "the membrane did not converge: relative residual " << result.residual << " after "
-              << result.iterations << " iterations (tolerance " << options.tolerance << ")";
+      message << "the membrane did not reach the tolerance " << options.tolerance << " within "
+              << result.iterations << " iterations (relative residual " << result.residual << ")";
       throw NodeError(message.str());
     }
     report->values = {{"iterations", result.iterations},
@@ -169,7 +169,8 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .paramBool("derivative_constraints", true,
                        "On: biharmonic with value and slope fixed (C1). Off: harmonic with the "
                        "value only (C0), the paper's Fig. 10 comparison.")
-            .paramDouble("tolerance", 1e-7, "Relative residual at which the solve stops.")
+            .paramDouble("tolerance", 1e-6,
+                         "Estimated relative error (energy norm) at which the solve stops.")
             .range(1e-12, 1e-2)
             .paramInt("max_iterations", 100, "Conjugate-gradient iterations at most.")
             .range(1, 10000)

@@ -1,6 +1,8 @@
 // The offset membrane at brush resolution: a 256^2 grid, a disc-like region with a notch (45100
-// unknowns), three channels (x, y, z), tolerance 1e-6.
-//   BM_MembraneCold/threads      a solve from zero, hierarchy built;
+// unknowns), three channels (x, y, z), the default tolerance (an estimated energy-norm error of
+// 1e-6).
+//   BM_MembraneCold/threads      a solve with no previous one (a nested-iteration start), hierarchy
+//                                built;
 //   BM_MembraneAfterDab/threads  the next dab: Q grew, the hierarchy is updated from the previous
 //                                one, and the solve starts from the previous dab's solution;
 //   BM_MembraneHierarchy/update/threads
