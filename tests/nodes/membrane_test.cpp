@@ -1094,6 +1094,21 @@ TEST(MembraneNode, VulkanWithoutADeviceIsAnErrorOnTheParam) {
   EXPECT_THROW(solveMembrane(problemOn(32, disc(32)), options), std::runtime_error);
 }
 
+// A solve that cannot reach the tolerance in the iterations allowed fails on the node, naming
+// both.
+TEST(MembraneNode, ASolveShortOfTheToleranceIsAnError) {
+  try {
+    runMembraneNode({{"tolerance", 1e-12}, {"max_iterations", 1}});
+    ADD_FAILURE() << "one iteration reached 1e-12";
+  } catch (const NodeError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("did not reach the tolerance 1e-12 within 1 iterations"),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_TRUE(runMembraneNode({{"max_iterations", 100}}).offset);
+}
+
 TEST(MembraneNode, RefusesAnUnknownKernel) {
   const NodeType* type = test::registry().find("geobrush.membrane");
   ASSERT_TRUE(type);
