@@ -266,15 +266,8 @@ void BM_LiveBrush(benchmark::State& state) {
   state.counters["result_vertices"] = double(resultVertices);
 }
 
-// The live brush as the studio runs it: a whole clone graph through the evaluator, preprocess
-// cached, one dab appended to the strokes param per iteration and the paste evaluated. Unlike
-// BM_LiveBrush this includes every node a dab reaches (strokes, ROI correction, the warp's
-// partial draft) and the framework. The source is a 280^2 relief plane with a canvas of about
-// 50k vertices, the target a 163,842-vertex geodesic sphere. Counters: each node's mean time
-// per dab, from the evaluator's report.
-void BM_LiveBrushGraph(benchmark::State& state) {
-  const auto dir = std::filesystem::temp_directory_path() / "geobrush-live-brush-graph";
-  std::filesystem::create_directories(dir);
+// The clone graph of the live-brush and drag benchmarks, written to `file` and prepared.
+Graph cloneGraph(const std::filesystem::path& file) {
   Graph graph = parseGraph(R"({
     "format": "geobrush-graph", "formatVersion": 1,
     "nodes": {
@@ -324,8 +317,27 @@ void BM_LiveBrushGraph(benchmark::State& state) {
       {"from": "target_map.parameterization", "to": "stitch.target"},
       {"from": "membrane.offset", "to": "stitch.offset"}]
   })",
-                           dir / "live_brush.json");
+                           file);
   prepareGraph(graph, test::registry());
+  return graph;
+}
+
+// Per evaluation, each node's time that ran (not a cache hit), summed into `seconds`.
+void addNodeTimes(const EvalReport& report, std::map<std::string, double>& seconds) {
+  for (const NodeRun& run : report.runs)
+    if (!run.cacheHit) seconds[run.node] += run.seconds;
+}
+
+// The live brush as the studio runs it: a whole clone graph through the evaluator, preprocess
+// cached, one dab appended to the strokes param per iteration and the paste evaluated. Unlike
+// BM_LiveBrush this includes every node a dab reaches (strokes, ROI correction, the warp's
+// partial draft) and the framework. The source is a 280^2 relief plane with a canvas of about
+// 50k vertices, the target a 163,842-vertex geodesic sphere. Counters: each node's mean time
+// per dab, from the evaluator's report.
+void BM_LiveBrushGraph(benchmark::State& state) {
+  const auto dir = std::filesystem::temp_directory_path() / "geobrush-live-brush-graph";
+  std::filesystem::create_directories(dir);
+  Graph graph = cloneGraph(dir / "live_brush.json");
   Evaluator evaluator(test::registry());
   EvalOptions options;
   options.targets = {"stitch"};
@@ -348,8 +360,7 @@ void BM_LiveBrushGraph(benchmark::State& state) {
       state.SkipWithError(report.error.c_str());
       return;
     }
-    for (const NodeRun& run : report.runs)
-      if (!run.cacheHit) seconds[run.node] += run.seconds;
+    addNodeTimes(report, seconds);
     state.PauseTiming();
     resultVertices = std::dynamic_pointer_cast<const Mesh>(evaluator.output("stitch", "mesh"))
                          ->surface.n_vertices();
@@ -364,9 +375,53 @@ void BM_LiveBrushGraph(benchmark::State& state) {
                  ->surface.n_vertices());
 }
 
+// Dragging the target canvas with a painted ROI, as the studio runs it: the clone graph of
+// BM_LiveBrushGraph with a 12-dab stroke painted, its target canvas origin moved a step along the
+// sphere per iteration and the paste evaluated. Every node downstream of the target canvas runs:
+// the target DEM, the cage fit, the warp of the region's vertices, the ROI, the membrane (on the
+// region's unchanged hierarchy, warm-started from the previous move) and the stitch. Counters:
+// each node's mean time per move, from the evaluator's report.
+void BM_TargetMoveGraph(benchmark::State& state) {
+  const auto dir = std::filesystem::temp_directory_path() / "geobrush-target-move-graph";
+  std::filesystem::create_directories(dir);
+  Graph graph = cloneGraph(dir / "target_move.json");
+  Evaluator evaluator(test::registry());
+  EvalOptions options;
+  options.targets = {"stitch"};
+  std::vector<double> dabs;
+  for (int dab = 0; dab < 12; ++dab)
+    dabs.insert(dabs.end(), {-0.3 + 0.04 * dab, -0.1 + 0.014 * dab, 0.12, 1});
+  graph.nodes.at("strokes").params["dabs"] = dabs;
+  auto moveTo = [&](int step) {
+    const double angle = 0.004 * step;
+    graph.nodes.at("target_map").params["origin"] =
+        Vec3{std::sin(angle), 0.3 * std::sin(angle), std::cos(angle)};
+  };
+  moveTo(0);
+  if (const EvalReport first = evaluator.evaluate(graph, options); !first.ok) {
+    state.SkipWithError(first.error.c_str());
+    return;
+  }
+  std::map<std::string, double> seconds;
+  int step = 0;
+  for (auto _ : state) {
+    moveTo(++step);
+    const EvalReport report = evaluator.evaluate(graph, options);
+    if (!report.ok) {
+      state.SkipWithError(report.error.c_str());
+      return;
+    }
+    addNodeTimes(report, seconds);
+  }
+  for (const auto& [node, total] : seconds)
+    state.counters[node + "_ms"] =
+        benchmark::Counter(1000 * total, benchmark::Counter::kAvgIterations);
+}
+
 }  // namespace
 
 BENCHMARK(BM_LiveBrushGraph)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(30);
+BENCHMARK(BM_TargetMoveGraph)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(30);
 BENCHMARK(BM_LiveBrush)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(30);
 BENCHMARK(BM_TargetMove)
     ->Unit(benchmark::kMillisecond)
