@@ -266,8 +266,11 @@ void BM_LiveBrush(benchmark::State& state) {
   state.counters["result_vertices"] = double(resultVertices);
 }
 
-// The clone graph of the live-brush and drag benchmarks, written to `file` and prepared.
-Graph cloneGraph(const std::filesystem::path& file) {
+// The clone graph of the live-brush and drag benchmarks, prepared, as if read from `name` in a
+// temporary folder of that name.
+Graph cloneGraph(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("geobrush-" + name);
+  std::filesystem::create_directories(dir);
   Graph graph = parseGraph(R"({
     "format": "geobrush-graph", "formatVersion": 1,
     "nodes": {
@@ -317,7 +320,7 @@ Graph cloneGraph(const std::filesystem::path& file) {
       {"from": "target_map.parameterization", "to": "stitch.target"},
       {"from": "membrane.offset", "to": "stitch.offset"}]
   })",
-                           file);
+                           dir / (name + ".json"));
   prepareGraph(graph, test::registry());
   return graph;
 }
@@ -328,6 +331,13 @@ void addNodeTimes(const EvalReport& report, std::map<std::string, double>& secon
     if (!run.cacheHit) seconds[run.node] += run.seconds;
 }
 
+// The summed node times as counters NODE_ms, the mean per benchmark iteration.
+void setNodeCounters(benchmark::State& state, const std::map<std::string, double>& seconds) {
+  for (const auto& [node, total] : seconds)
+    state.counters[node + "_ms"] =
+        benchmark::Counter(1000 * total, benchmark::Counter::kAvgIterations);
+}
+
 // The live brush as the studio runs it: a whole clone graph through the evaluator, preprocess
 // cached, one dab appended to the strokes param per iteration and the paste evaluated. Unlike
 // BM_LiveBrush this includes every node a dab reaches (strokes, ROI correction, the warp's
@@ -335,9 +345,7 @@ void addNodeTimes(const EvalReport& report, std::map<std::string, double>& secon
 // 50k vertices, the target a 163,842-vertex geodesic sphere. Counters: each node's mean time
 // per dab, from the evaluator's report.
 void BM_LiveBrushGraph(benchmark::State& state) {
-  const auto dir = std::filesystem::temp_directory_path() / "geobrush-live-brush-graph";
-  std::filesystem::create_directories(dir);
-  Graph graph = cloneGraph(dir / "live_brush.json");
+  Graph graph = cloneGraph("live-brush-graph");
   Evaluator evaluator(test::registry());
   EvalOptions options;
   options.targets = {"stitch"};
@@ -366,9 +374,7 @@ void BM_LiveBrushGraph(benchmark::State& state) {
                          ->surface.n_vertices();
     state.ResumeTiming();
   }
-  for (const auto& [node, total] : seconds)
-    state.counters[node + "_ms"] =
-        benchmark::Counter(1000 * total, benchmark::Counter::kAvgIterations);
+  setNodeCounters(state, seconds);
   state.counters["result_vertices"] = double(resultVertices);
   state.counters["canvas_vertices"] =
       double(std::dynamic_pointer_cast<const Canvas>(evaluator.output("source_canvas", "canvas"))
@@ -382,9 +388,7 @@ void BM_LiveBrushGraph(benchmark::State& state) {
 // region's unchanged hierarchy, warm-started from the previous move) and the stitch. Counters:
 // each node's mean time per move, from the evaluator's report.
 void BM_TargetMoveGraph(benchmark::State& state) {
-  const auto dir = std::filesystem::temp_directory_path() / "geobrush-target-move-graph";
-  std::filesystem::create_directories(dir);
-  Graph graph = cloneGraph(dir / "target_move.json");
+  Graph graph = cloneGraph("target-move-graph");
   Evaluator evaluator(test::registry());
   EvalOptions options;
   options.targets = {"stitch"};
@@ -413,9 +417,7 @@ void BM_TargetMoveGraph(benchmark::State& state) {
     }
     addNodeTimes(report, seconds);
   }
-  for (const auto& [node, total] : seconds)
-    state.counters[node + "_ms"] =
-        benchmark::Counter(1000 * total, benchmark::Counter::kAvgIterations);
+  setNodeCounters(state, seconds);
 }
 
 }  // namespace
