@@ -1,11 +1,96 @@
 #include "geobrush/submesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 
 #include "geobrush/parallel.hpp"
 
 namespace geobrush {
+
+namespace {
+
+// The submesh's connectivity set directly, as add_face would link the faces one by one: new edges
+// in the order the faces first use them, each halfedge 2e running the way its first face runs it,
+// a face's halfedge the one into its first corner, a boundary vertex's halfedge its boundary
+// halfedge and an inner vertex's its halfedge in the last face around it (which closed its fan).
+// That link is unique only where the faces form one fan at every vertex: returns false, leaving
+// `sub.surface` empty, where they do not. `corner` holds the faces' corners, `local` maps mesh
+// vertices to submesh vertices; costs the region's size, but for a mark per mesh edge.
+bool linkManifold(const TriMesh& mesh, const std::vector<int>& faces,
+                  const std::vector<int>& corner, const std::vector<int>& local, Submesh& sub) {
+  using HalfedgeHandle = TriMesh::HalfedgeHandle;
+  const std::size_t nv = sub.sourceVertex.size(), nf = faces.size();
+  std::vector<int> edgeOf(mesh.n_edges(), -1);  // mesh edge -> submesh edge
+  std::vector<int> firstHalfedge;               // submesh edge -> the mesh halfedge that made it
+  std::vector<int> faceHalfedge(3 * nf);        // face k's halfedge out of corner i: 3k + i
+  for (std::size_t k = 0; k < nf; ++k) {
+    const int* c = corner.data() + 3 * k;
+    std::array<HalfedgeHandle, 3> around;  // by the corner it leaves
+    for (auto h : mesh.fh_range(TriMesh::FaceHandle(faces[k]))) {
+      const int from = mesh.from_vertex_handle(h).idx();
+      around[from == c[0] ? 0 : from == c[1] ? 1 : 2] = h;
+    }
+    for (std::size_t i = 0; i < 3; ++i) {
+      const int h = around[i].idx();
+      int& e = edgeOf[std::size_t(h / 2)];
+      if (e < 0) {
+        e = int(firstHalfedge.size());
+        firstHalfedge.push_back(h);
+      }
+      // The edge's halfedge 2e runs the way the face that made it runs it.
+      faceHalfedge[3 * k + i] = 2 * e + (h != firstHalfedge[std::size_t(e)]);
+    }
+  }
+  std::vector<int> halfedgeFace(2 * firstHalfedge.size(), -1);
+  std::vector<int> halfedgeTo(2 * firstHalfedge.size(), -1);
+  for (std::size_t k = 0; k < nf; ++k)
+    for (int i = 0; i < 3; ++i) {
+      const int h = faceHalfedge[3 * k + std::size_t(i)];
+      halfedgeFace[std::size_t(h)] = int(k);
+      halfedgeTo[std::size_t(h)] = local[std::size_t(corner[3 * k + std::size_t((i + 1) % 3)])];
+      halfedgeTo[std::size_t(h ^ 1)] = local[std::size_t(corner[3 * k + std::size_t(i)])];
+    }
+  std::vector<int> boundaryOut(nv, -1), lastOut(nv, -1);
+  for (std::size_t h = 0; h < halfedgeFace.size(); ++h) {
+    if (halfedgeFace[h] >= 0) continue;
+    const int from = halfedgeTo[h ^ 1];
+    if (boundaryOut[std::size_t(from)] >= 0) return false;  // a second fan
+    boundaryOut[std::size_t(from)] = int(h);
+  }
+  for (std::size_t k = 0; k < nf; ++k)
+    for (int i = 0; i < 3; ++i)
+      lastOut[std::size_t(local[std::size_t(corner[3 * k + std::size_t(i)])])] =
+          faceHalfedge[3 * k + std::size_t(i)];
+
+  TriMesh& out = sub.surface;
+  out.resize(nv, firstHalfedge.size(), nf);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const auto vh = TriMesh::VertexHandle(int(v));
+    out.set_point(vh, mesh.point(TriMesh::VertexHandle(sub.sourceVertex[v])));
+    out.set_halfedge_handle(vh, HalfedgeHandle(boundaryOut[v] >= 0 ? boundaryOut[v] : lastOut[v]));
+  }
+  for (std::size_t h = 0; h < halfedgeFace.size(); ++h) {
+    out.set_vertex_handle(HalfedgeHandle(int(h)), TriMesh::VertexHandle(halfedgeTo[h]));
+    if (halfedgeFace[h] < 0) {
+      out.set_face_handle(HalfedgeHandle(int(h)), TriMesh::FaceHandle());
+      out.set_next_halfedge_handle(HalfedgeHandle(int(h)),
+                                   HalfedgeHandle(boundaryOut[std::size_t(halfedgeTo[h])]));
+    }
+  }
+  for (std::size_t k = 0; k < nf; ++k) {
+    const auto fh = TriMesh::FaceHandle(int(k));
+    const int* h = faceHalfedge.data() + 3 * k;
+    out.set_halfedge_handle(fh, HalfedgeHandle(h[2]));
+    for (int i = 0; i < 3; ++i) {
+      out.set_face_handle(HalfedgeHandle(h[i]), fh);
+      out.set_next_halfedge_handle(HalfedgeHandle(h[i]), HalfedgeHandle(h[(i + 1) % 3]));
+    }
+  }
+  return true;
+}
+
+}  // namespace
 
 Submesh extractSubmesh(const TriMesh& mesh, const std::vector<int>& faces) {
   Submesh sub;
@@ -22,13 +107,17 @@ Submesh extractSubmesh(const TriMesh& mesh, const std::vector<int>& faces) {
       sub.sourceVertex.push_back(v);
     }
   std::sort(sub.sourceVertex.begin(), sub.sourceVertex.end());
+  for (std::size_t i = 0; i < sub.sourceVertex.size(); ++i)
+    local[std::size_t(sub.sourceVertex[i])] = int(i);
+  sub.sourceFace = faces;
+  if (linkManifold(mesh, faces, corner, local, sub)) return sub;
+
+  // Several fans at a vertex: add_face, face by face, links them where it can.
+  sub.sourceFace.clear();
   sub.surface.reserve(sub.sourceVertex.size(), sub.sourceVertex.size() + faces.size(),
                       faces.size());
-  for (std::size_t i = 0; i < sub.sourceVertex.size(); ++i) {
-    const int v = sub.sourceVertex[i];
-    local[std::size_t(v)] = int(i);
+  for (int v : sub.sourceVertex)
     sub.surface.add_vertex(mesh.point(TriMesh::VertexHandle(v)));
-  }
   sub.sourceFace.reserve(faces.size());
   for (std::size_t k = 0; k < faces.size(); ++k) {
     const int* c = corner.data() + 3 * k;
