@@ -278,15 +278,23 @@ RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& 
   RoiCoverage coverage;
   coverage.grid = roiGrid(source, options.resolution);
   coverage.source = domainCoverage(source, coverage.grid);
-  coverage.target = domainCoverage(target, coverage.grid);
   coverage.sourceLocator = std::make_shared<const DomainLocator>(source);
-  coverage.targetLocator = std::make_shared<const DomainLocator>(target);
   coverage.sourceHoles = canvasHoles(source);
-  coverage.targetHoles = canvasHoles(target);
-  coverage.memo.sourceCovered.assign(source.uv.size(), -1);
-  coverage.memo.targetCovered.assign(target.uv.size(), -1);
   coverage.memo.nodeFace.assign(coverage.grid.nodeCount(), -1);
+  coverage.memo.sourceCovered.assign(source.uv.size(), -1);
+  moveTarget(coverage, target);
   return coverage;
+}
+
+void moveTarget(RoiCoverage& coverage, const Parameterization& target) {
+  coverage.target = domainCoverage(target, coverage.grid);
+  coverage.targetLocator.reset();
+  coverage.targetLocator = std::make_shared<const DomainLocator>(target);
+  coverage.targetHoles = canvasHoles(target);
+  // Which source vertices the target covers, and which target vertices the source covers, are
+  // the new canvas' questions.
+  std::fill(coverage.memo.sourceCovered.begin(), coverage.memo.sourceCovered.end(), -1);
+  coverage.memo.targetCovered.assign(target.uv.size(), -1);
 }
 
 RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,

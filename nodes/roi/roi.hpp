@@ -64,6 +64,10 @@ struct RoiCoverage {
 };
 RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& target,
                         const RoiOptions& options = {});
+// Makes `coverage` the coverage of the same source and grid with another target canvas, keeping
+// what depends on the source alone (its coverage, locator and holes, and which source face holds
+// each grid node): dragging the target canvas costs the target canvas' size rather than both.
+void moveTarget(RoiCoverage& coverage, const Parameterization& target);
 
 struct RoiResult {
   Region2D region;

@@ -24,7 +24,8 @@ std::string dabList(const std::vector<int>& dabs) {
 }
 
 // Painting changes only the strokes: the node keeps the grid, the canvases' coverage and their
-// locators for as long as both parameterizations and the resolution stay the same.
+// locators for as long as both parameterizations and the resolution stay the same. Dragging the
+// target canvas changes only the target's: the source's are kept.
 class RoiNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -34,14 +35,21 @@ class RoiNode final : public geobrush::Node {
     geobrush::RoiOptions options;
     options.resolution = ctx.param<int>("resolution");
     try {
-      if (!coverage_ || source != source_ || target != target_ ||
-          options.resolution != resolution_) {
+      if (!coverage_ || source != source_ || options.resolution != resolution_) {
         coverage_.reset();
         coverage_ = std::make_unique<geobrush::RoiCoverage>(
             geobrush::roiCoverage(*source, *target, options));
         source_ = source;
         target_ = target;
         resolution_ = options.resolution;
+      } else if (target != target_) {
+        try {
+          geobrush::moveTarget(*coverage_, *target);
+        } catch (...) {
+          coverage_.reset();  // half moved
+          throw;
+        }
+        target_ = target;
       }
     } catch (const geobrush::RoiError& e) {
       throw NodeError::input("source", e.what());

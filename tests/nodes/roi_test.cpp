@@ -198,6 +198,44 @@ TEST(Roi, ACoverageKeptFromDabToDabGivesWhatAFreshOneGives) {
       << "some painted source vertices lie outside the target canvas";
 }
 
+// Dragging the target canvas: a coverage moved to each new target keeps the source's part and
+// gives what a fresh coverage gives, with the target partly off the source and then across it,
+// and the node gives the same through a drag.
+TEST(Roi, ACoverageMovedWithTheTargetGivesWhatAFreshOneGives) {
+  auto source = flatSquare(30);
+  RoiCoverage moved = roiCoverage(*source, *shifted(*source, {0.9, 0.0}), RoiOptions{80});
+  const auto sourceLocator = moved.sourceLocator;
+  const Strokes s = strokes({{{0.3, 0.1}, 0.5, false}, {{-0.2, -0.3}, 0.3, false}});
+  const NodeType* type = test::registry().find("geobrush.roi");
+  ASSERT_TRUE(type);
+  auto node = type->create();
+  auto strokesValue = std::make_shared<const Strokes>(s);
+  ParamMap params;
+  params["resolution"] = 80;
+  for (int step = 0; step < 6; ++step) {
+    SCOPED_TRACE(step);
+    const auto target = shifted(*source, {0.8 - 0.25 * step, 0.05 * step});
+    moveTarget(moved, *target);
+    const RoiResult viaMoved = paintRegion(s, *source, *target, moved);
+    const RoiResult fresh = paintRegion(s, *source, *target, RoiOptions{80});
+    EXPECT_EQ(viaMoved.region.inside, fresh.region.inside);
+    EXPECT_EQ(viaMoved.region.sourceVertices, fresh.region.sourceVertices);
+    EXPECT_EQ(viaMoved.region.targetVertices, fresh.region.targetVertices);
+    EXPECT_EQ(viaMoved.region.draftSupport, fresh.region.draftSupport);
+    EXPECT_EQ(viaMoved.dabsOutside, fresh.dabsOutside);
+    EXPECT_EQ(moved.sourceLocator, sourceLocator);
+
+    test::DirectContext ctx(
+        *type, {{"strokes", strokesValue}, {"source", source}, {"target", target}}, params);
+    node->compute(ctx);
+    const auto region = std::dynamic_pointer_cast<const Region2D>(ctx.outputs["region"]);
+    ASSERT_TRUE(region);
+    EXPECT_EQ(region->inside, fresh.region.inside);
+    EXPECT_EQ(region->sourceVertices, fresh.region.sourceVertices);
+    EXPECT_EQ(region->targetVertices, fresh.region.targetVertices);
+  }
+}
+
 TEST(Roi, DabsOutsideTheCanvasesAreReportedAndChangeNothing) {
   auto param = flatSquare(20);
   const RoiResult result =
