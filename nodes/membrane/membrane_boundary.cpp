@@ -55,9 +55,11 @@ MembraneSetup membraneSetup(const Region2D& region, const Parameterization& sour
   }
   MembraneLocations local;
   MembraneLocations& located = locations ? *locations : local;
-  if (located.grid != grid || located.known.size() != grid.nodeCount()) {
+  if (located.grid != grid || located.sourceKnown.size() != grid.nodeCount() ||
+      located.targetKnown.size() != grid.nodeCount()) {
     located.grid = grid;
-    located.known.assign(grid.nodeCount(), 0);
+    located.sourceKnown.assign(grid.nodeCount(), 0);
+    located.targetKnown.assign(grid.nodeCount(), 0);
     located.targetPoint.resize(grid.nodeCount());
     located.sourceFace.resize(grid.nodeCount());
     located.sourceBarycentric.resize(grid.nodeCount());
@@ -66,13 +68,15 @@ MembraneSetup membraneSetup(const Region2D& region, const Parameterization& sour
     for (int i = 0; i < grid.width; ++i) {
       const std::size_t n = grid.index(i, j);
       if (!sampled[n]) continue;
-      if (!located.known[n]) {
-        const Eigen::Vector2d u = grid.position(i, j);
-        const DomainHit sourceHit = sourceLocator.locate(u);
-        located.targetPoint[n] = targetLocator.locate(u).point;
+      if (!located.sourceKnown[n]) {
+        const DomainHit sourceHit = sourceLocator.locate(grid.position(i, j));
         located.sourceFace[n] = sourceHit.face;
         located.sourceBarycentric[n] = sourceHit.barycentric;
-        located.known[n] = 1;
+        located.sourceKnown[n] = 1;
+      }
+      if (!located.targetKnown[n]) {
+        located.targetPoint[n] = targetLocator.locate(grid.position(i, j)).point;
+        located.targetKnown[n] = 1;
       }
       const Eigen::Vector3d offset =
           located.targetPoint[n] -

@@ -3,6 +3,7 @@
 // R_out(u) - g_in(u) = E_t^-1(u) - G(E_s^-1(u)).
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "geobrush/domain_locator.hpp"
@@ -22,15 +23,19 @@ struct MembraneSetup {
 // What the locators answered at the grid's nodes: E_t^-1(u) and the source canvas face and
 // barycentric coordinates of u. They depend on the canvases and the grid alone, which stay the
 // same while a stroke is painted, so a brush keeps them from dab to dab and each dab locates only
-// the nodes it newly samples. Whoever keeps one clears it when a canvas changes; a change of
-// grid clears it by itself.
+// the nodes it newly samples. Whoever keeps one clears what a canvas change makes stale (a drag
+// of the target canvas leaves the source's answers valid); a change of grid clears it by itself.
 struct MembraneLocations {
   DomainGrid grid;
-  std::vector<std::uint8_t> known;  // per node
+  std::vector<std::uint8_t> sourceKnown, targetKnown;  // per node
   std::vector<Eigen::Vector3d> targetPoint;
   std::vector<int> sourceFace;
   std::vector<Eigen::Vector3d> sourceBarycentric;
-  void clear() { known.clear(); }
+  void clear() {
+    sourceKnown.clear();
+    targetKnown.clear();
+  }
+  void clearTarget() { std::fill(targetKnown.begin(), targetKnown.end(), 0); }
 };
 
 // `draft` is G(P_s) (the source canvas' connectivity); the locators are on `source` and `target`;

@@ -75,12 +75,18 @@ class MembraneNode final : public geobrush::Node {
       ctx.out("report", std::move(report));
       return;
     }
-    if (source != source_ || target != target_) {
+    if (source != source_) {
+      source_.reset();
       sourceLocator_ = std::make_unique<geobrush::DomainLocator>(*source);
-      targetLocator_ = std::make_unique<geobrush::DomainLocator>(*target);
       source_ = source;
-      target_ = target;
       locations_.clear();
+    }
+    // Dragging the target canvas: the source's locator and answers stay.
+    if (target != target_) {
+      target_.reset();
+      targetLocator_ = std::make_unique<geobrush::DomainLocator>(*target);
+      target_ = target;
+      locations_.clearTarget();
     }
     geobrush::MembraneSetup setup;
     try {

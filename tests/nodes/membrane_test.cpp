@@ -1025,6 +1025,40 @@ TEST(MembraneNode, WarmStartsFromThePreviousDab) {
   }
 }
 
+// Dragging the target canvas: the node keeps the source's locator and answers, locates the new
+// target afresh and warm-starts from the last membrane; each field solves its own target's data.
+TEST(MembraneNode, FollowsAMovedTarget) {
+  const NodeType* type = test::registry().find("geobrush.membrane");
+  ASSERT_TRUE(type);
+  auto source = heightField(30, [](double, double) { return 0.0; });
+  auto draft = std::make_shared<const Mesh>(source->canvas->surface);
+  auto node = type->create();
+  const Strokes strokes = disc({0, 0}, 0.4);
+  for (int move = 0; move < 3; ++move) {
+    SCOPED_TRACE(move);
+    const double tilt = 0.1 * move;
+    auto target = heightField(30, [tilt](double x, double y) { return 0.2 * x * y + tilt * x; });
+    auto region =
+        std::make_shared<Region2D>(paintRegion(strokes, *source, *target, RoiOptions{64}).region);
+    test::DirectContext ctx(
+        *type, {{"region", region}, {"source", source}, {"draft", draft}, {"target", target}});
+    node->compute(ctx);
+    const auto offset = std::dynamic_pointer_cast<const Field2D>(ctx.outputs["offset"]);
+    ASSERT_TRUE(offset);
+    EXPECT_EQ(node->usedHistory(), move > 0);
+    const Field2D fresh =
+        solveForNode(*region, *source, draft->surface, *target, MembraneContinuity::C1);
+    double largest = 0;
+    for (std::size_t n = 0; n < fresh.values.size(); ++n)
+      if (fresh.defined[n]) largest = std::max(largest, fresh.values[n].norm());
+    ASSERT_GT(largest, 0.01);
+    for (std::size_t n = 0; n < fresh.values.size(); ++n) {
+      if (!fresh.defined[n]) continue;
+      EXPECT_NEAR((offset->values[n] - fresh.values[n]).norm(), 0, 1e-4 * largest) << n;
+    }
+  }
+}
+
 // One dab through the node with the given params.
 struct NodeRun {
   std::shared_ptr<const Field2D> offset;
