@@ -546,11 +546,25 @@ std::vector<int> addBand(TriMesh& out, const SeamBand& band, const std::vector<i
 
 }  // namespace
 
-StitchBase stitchBase(const Parameterization& target) {
+namespace {
+
+// The target mesh a canvas lies on.
+const TriMesh& meshOf(const Canvas& canvas) {
+  return canvas.source ? canvas.source->surface : canvas.surface;
+}
+
+// Fills the base's canvas maps for `target`'s canvas, clearing the previous canvas' entries of
+// meshToCanvas (sized for the mesh already, or made so).
+void pointAtCanvas(StitchBase& base, const Parameterization& target) {
   if (!target.canvas) throw StitchError("the target parameterization has no canvas");
   const Canvas& canvas = *target.canvas;
-  const TriMesh& mesh = canvas.source ? canvas.source->surface : canvas.surface;
-  StitchBase base;
+  const TriMesh& mesh = meshOf(canvas);
+  if (base.meshToCanvas.size() != mesh.n_vertices()) {
+    base.meshToCanvas.assign(mesh.n_vertices(), -1);
+  } else {
+    for (int v : base.canvasToMesh)
+      base.meshToCanvas[std::size_t(v)] = -1;
+  }
   base.canvasToMesh = canvas.sourceVertex;
   base.canvasFaceToMesh = canvas.sourceFace;
   if (!canvas.source) {
@@ -559,31 +573,74 @@ StitchBase stitchBase(const Parameterization& target) {
     base.canvasFaceToMesh.resize(canvas.surface.n_faces());
     std::iota(base.canvasFaceToMesh.begin(), base.canvasFaceToMesh.end(), 0);
   }
+  auto fail = [&](const char* what) {
+    base.canvasToMesh.clear();
+    base.canvasFaceToMesh.clear();
+    std::fill(base.meshToCanvas.begin(), base.meshToCanvas.end(), -1);
+    throw StitchError(what);
+  };
   if (base.canvasToMesh.size() != canvas.surface.n_vertices() ||
       base.canvasFaceToMesh.size() != canvas.surface.n_faces() ||
       target.uv.size() != canvas.surface.n_vertices())
-    throw StitchError("the target canvas does not map its vertices and faces to the target mesh");
-  base.meshToCanvas.assign(mesh.n_vertices(), -1);
-  for (std::size_t c = 0; c < base.canvasToMesh.size(); ++c) {
-    const int v = base.canvasToMesh[c];
+    fail("the target canvas does not map its vertices and faces to the target mesh");
+  for (int v : base.canvasToMesh)
     if (v < 0 || std::size_t(v) >= mesh.n_vertices())
-      throw StitchError("the target canvas maps a vertex outside the target mesh");
-    base.meshToCanvas[std::size_t(v)] = int(c);
-  }
-  std::vector<char> inCanvas(mesh.n_faces(), 0);
-  for (int f : base.canvasFaceToMesh) {
+      fail("the target canvas maps a vertex outside the target mesh");
+  for (int f : base.canvasFaceToMesh)
     if (f < 0 || std::size_t(f) >= mesh.n_faces())
-      throw StitchError("the target canvas maps a face outside the target mesh");
-    inCanvas[std::size_t(f)] = 1;
+      fail("the target canvas maps a face outside the target mesh");
+  for (std::size_t c = 0; c < base.canvasToMesh.size(); ++c)
+    base.meshToCanvas[std::size_t(base.canvasToMesh[c])] = int(c);
+}
+
+// Grows the open faces ring by ring (the faces at a corner of an open face) until there are
+// `wanted` or no ring adds any.
+void growOpenPart(const TriMesh& mesh, std::vector<char>& open, std::size_t wanted) {
+  std::vector<int> ring;
+  for (auto f : mesh.faces())
+    if (open[std::size_t(f.idx())]) ring.push_back(f.idx());
+  std::size_t count = ring.size();
+  std::vector<char> seen(mesh.n_vertices(), 0);
+  while (count < wanted && !ring.empty()) {
+    std::vector<int> next;
+    for (int f : ring)
+      for (auto v : mesh.fv_range(TriMesh::FaceHandle(f))) {
+        if (seen[std::size_t(v.idx())]) continue;
+        seen[std::size_t(v.idx())] = 1;
+        for (auto g : mesh.vf_range(v))
+          if (!open[std::size_t(g.idx())]) {
+            open[std::size_t(g.idx())] = 1;
+            next.push_back(g.idx());
+          }
+      }
+    count += next.size();
+    ring = std::move(next);
   }
+}
+
+}  // namespace
+
+StitchBase stitchBase(const Parameterization& target, double openGrowth) {
+  StitchBase base;
+  pointAtCanvas(base, target);
+  const TriMesh& mesh = meshOf(*target.canvas);
+  base.openFace.assign(mesh.n_faces(), 0);
+  for (int f : base.canvasFaceToMesh)
+    base.openFace[std::size_t(f)] = 1;
+  if (openGrowth > 0)
+    growOpenPart(mesh, base.openFace,
+                 std::size_t(double(base.canvasFaceToMesh.size()) * (1 + openGrowth)));
   std::vector<int> outsideFaces;
-  for (std::size_t f = 0; f < inCanvas.size(); ++f)
-    (inCanvas[f] ? base.canvasMeshFaces : outsideFaces).push_back(int(f));
+  for (std::size_t f = 0; f < base.openFace.size(); ++f)
+    (base.openFace[f] ? base.openMeshFaces : outsideFaces).push_back(int(f));
   base.outsideFaces = appendFaces(base.outside, mesh, outsideFaces);
+  std::vector<char> openVertex(mesh.n_vertices(), 0);
+  for (int f : base.openMeshFaces)
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
+      openVertex[std::size_t(v.idx())] = 1;
   const TriMesh& outside = base.outside;
   for (auto v : outside.vertices()) {
-    if (base.meshToCanvas[std::size_t(base.outsideFaces.sourceVertex[std::size_t(v.idx())])] < 0)
-      continue;
+    if (!openVertex[std::size_t(base.outsideFaces.sourceVertex[std::size_t(v.idx())])]) continue;
     base.borderVertices.push_back(v.idx());
     for (auto h : outside.voh_range(v)) {
       base.borderHalfedges.push_back(h.idx());
@@ -594,6 +651,23 @@ StitchBase stitchBase(const Parameterization& target) {
   base.borderHalfedges.erase(std::unique(base.borderHalfedges.begin(), base.borderHalfedges.end()),
                              base.borderHalfedges.end());
   return base;
+}
+
+bool moveStitchBase(StitchBase& base, const Parameterization& target) {
+  if (!target.canvas) throw StitchError("the target parameterization has no canvas");
+  const Canvas& canvas = *target.canvas;
+  const TriMesh& mesh = meshOf(canvas);
+  if (mesh.n_faces() != base.openFace.size() || mesh.n_vertices() != base.meshToCanvas.size())
+    throw StitchError("the target canvas lies on another mesh than the stitch base's");
+  if (canvas.source) {
+    for (int f : canvas.sourceFace)
+      if (f < 0 || std::size_t(f) >= base.openFace.size() || !base.openFace[std::size_t(f)])
+        return false;
+  } else if (base.openMeshFaces.size() != mesh.n_faces()) {
+    return false;
+  }
+  pointAtCanvas(base, target);
+  return true;
 }
 
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
@@ -609,15 +683,17 @@ StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
   result.gapTriangles = made.gapTriangles;
   result.seamLoops = made.seamLoops;
   result.map = std::move(made.map);
+  result.startsWithOutside = made.startsWithOutside;
   return result;
 }
 
 namespace {
 
-// Room for the whole target, the source canvas and the seam strips: a paste never outgrows it.
+// Room for the whole target, the source canvas and the seam strips (an eighth of the open faces,
+// more than any outline across the open part needs): a paste never outgrows it.
 void reserveForPaste(TriMesh& out, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
-                     std::size_t targetCanvasVertices) {
-  const std::size_t strips = 2 * targetCanvasVertices / 8 + 1024;
+                     std::size_t openFaces) {
+  const std::size_t strips = openFaces / 8 + 1024;
   out.reserve(targetMesh.n_vertices() + sourceCanvas.n_vertices(),
               targetMesh.n_edges() + sourceCanvas.n_edges() + strips,
               targetMesh.n_faces() + sourceCanvas.n_faces() + strips);
@@ -629,7 +705,7 @@ void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMes
                  TriMesh& out) {
   // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
   out.clear();
-  reserveForPaste(out, targetMesh, sourceCanvas, base.canvasToMesh.size());
+  reserveForPaste(out, targetMesh, sourceCanvas, base.openMeshFaces.size());
   out = base.outside;
 }
 
@@ -707,6 +783,10 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
   std::optional<StitchBase> ownBase;
   if (!base) base = &ownBase.emplace(stitchBase(target));
   const TriMesh& targetCanvas = target.canvas->surface;
+  if (base->canvasToMesh.size() != targetCanvas.n_vertices() ||
+      base->canvasFaceToMesh.size() != targetCanvas.n_faces() ||
+      base->openFace.size() != targetMesh.n_faces())
+    throw StitchError("the stitch base was made for another target canvas");
   std::vector<char> outerBoundary(targetCanvas.n_vertices(), 0);
   for (int v : target.canvas->boundary)
     outerBoundary[std::size_t(v)] = 1;
@@ -752,11 +832,11 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
   if (!band) removePinches(targetMesh, kept, removedFaces);
   // The kept target faces, then the patch, their connectivity copied (add_face, face by face,
   // takes several times longer on a large target); room for the seam strips too. The part
-  // outside the canvas is copied whole from the base, unless pinches reached it.
-  auto reserve = [&] { reserveForPaste(out, targetMesh, canvas, targetCanvas.n_vertices()); };
+  // outside the open part is copied whole from the base, unless pinches reached it.
+  auto reserve = [&] { reserveForPaste(out, targetMesh, canvas, base->openMeshFaces.size()); };
   std::vector<int> keptFaces;
   removedFaces.clear();
-  for (int f : base->canvasMeshFaces)
+  for (int f : base->openMeshFaces)
     (kept[std::size_t(f)] ? keptFaces : removedFaces).push_back(f);
   AppendedFaces targetPart;
   std::vector<int> outToMesh;  // vertex of `out` -> target mesh vertex

@@ -42,30 +42,46 @@ struct StitchResult {
   bool startsWithOutside = false;
 };
 
-// How the target canvas sits in its mesh, and the mesh outside the canvas, which no paste
-// changes: built once per target canvas. Each result starts as a copy of `outside`, and the
-// canvas faces that stay are joined to it.
+// How the target canvas sits in its mesh, and the mesh outside an open part that holds the
+// canvas, which no paste changes: each result starts as a copy of `outside`, and the open faces
+// that stay are joined to it. The open part is the canvas' faces; a base grown for a canvas that
+// moves (see stitchBase) holds faces around the canvas too, so that it serves the canvases of a
+// drag until one leaves it (see moveStitchBase). Results are the same but for the order of their
+// elements.
 struct StitchBase {
   std::vector<int> canvasToMesh;      // target canvas vertex -> target mesh vertex
   std::vector<int> meshToCanvas;      // target mesh vertex -> target canvas vertex, or -1
   std::vector<int> canvasFaceToMesh;  // target canvas face -> target mesh face
-  std::vector<int> canvasMeshFaces;   // the target mesh faces of the canvas, increasing
-  TriMesh outside;                    // the target mesh's faces outside the canvas
+  std::vector<int> openMeshFaces;     // the target mesh faces of the open part, increasing
+  std::vector<char> openFace;         // per target mesh face: in the open part
+  TriMesh outside;                    // the target mesh's faces outside the open part
   AppendedFaces outsideFaces;         // how `outside` maps to the target mesh
   // The entries of `outside` that a paste changes when it joins faces to it: its vertices that
-  // are canvas vertices too, and every halfedge at one of them.
+  // are corners of open faces too, and every halfedge at one of them.
   std::vector<int> borderVertices, borderHalfedges;
+
+  // Whether the open part is the canvas' faces alone, as a base made for the canvas with no
+  // growth has it: results then do not depend on the canvases the base served before.
+  bool openIsCanvas() const { return openMeshFaces.size() == canvasFaceToMesh.size(); }
 };
-// Throws StitchError when the canvas does not map onto its mesh.
-StitchBase stitchBase(const Parameterization& target);
+// `openGrowth` > 0 grows the open part beyond the canvas' faces, ring of faces by ring, until it
+// holds (1 + openGrowth) times as many faces (or the canvas' whole connected part): room for the
+// canvas to move. Throws StitchError when the canvas does not map onto its mesh.
+StitchBase stitchBase(const Parameterization& target, double openGrowth = 0);
+
+// Points `base` at `target`, another canvas on the mesh it was made for, keeping its outside
+// part: a move of the target canvas then costs the canvas' size rather than the mesh's. Returns
+// false, `base` unchanged, where the open part does not hold every face of the new canvas. Throws
+// StitchError when the canvas does not map onto the base's mesh.
+bool moveStitchBase(StitchBase& base, const Parameterization& target);
 
 // `draft` is G(P_s): the source canvas surface with its vertices warped (same connectivity).
 // `offset` is the membrane x~ on the region's grid, or null to paste G alone (x~ = 0). An empty
 // region gives the target mesh unchanged. Throws StitchError when the draft does not match the
 // source canvas, the offset is undefined at a vertex of R_in, the region reaches the edge of the
 // target canvas, or the two boundaries cannot be paired loop by loop. `base`, when given, must be
-// stitchBase(target). Where the seam refinement (see StitchOptions) cannot make a valid seam, the
-// paste is made without it.
+// made for target's mesh and point at its canvas (stitchBase, moveStitchBase). Where the seam
+// refinement (see StitchOptions) cannot make a valid seam, the paste is made without it.
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const TriMesh& draft, const Field2D* offset,
                          const Parameterization& target, const StitchBase* base = nullptr,
@@ -80,8 +96,8 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
                              const Parameterization& target, const StitchBase* base = nullptr,
                              bool outHoldsOutside = false, const StitchOptions& options = {});
 
-// Copies the target's part outside its canvas into `out`, with room for the rest of the target
-// and a paste from `sourceCanvas`: what every paste into this target starts from.
+// Copies the target's part outside the base's open part into `out`, with room for the rest of the
+// target and a paste from `sourceCanvas`: what every paste into this target starts from.
 void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
                  TriMesh& out);
 

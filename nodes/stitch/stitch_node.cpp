@@ -18,15 +18,24 @@ using geobrush::Parameterization;
 using geobrush::Region2D;
 
 // Every dab re-stitches into the same target: the node keeps how the target canvas maps into its
-// mesh for as long as the target parameterization stays the same. And every result starts as the
-// target outside its canvas (tens of megabytes on a large target). One of the node's last results
-// that nothing holds any more (an evaluator keeps two runs' outputs, so the one of three dabs ago)
-// is turned back into that part in place (restoreOutside, the border alone); where none is free,
-// the part is copied for the next dab on another thread, while the nodes before the stitch
-// (strokes, ROI, warp) work on that next dab.
+// mesh (the stitch base) for as long as the target parameterization stays the same. And every
+// result starts as the target outside the base's open part (tens of megabytes on a large target).
+// One of the node's last results that nothing holds any more (an evaluator keeps two runs'
+// outputs, so the one of three dabs ago) is turned back into that part in place (restoreOutside,
+// the border alone); where none is free, the part is copied for the next dab on another thread,
+// while the nodes before the stitch (strokes, ROI, warp) work on that next dab.
+//
+// Dragging the target canvas gives a new canvas on the same mesh at every move: the first move
+// makes a base whose open part reaches beyond the canvas, and the moves after it keep that base
+// (and the results to reclaim) while their canvases stay inside the open part. Such results
+// differ from a fresh node's in the order of their elements alone; the node says it used history,
+// so that a settled evaluation makes them afresh.
 class StitchNode final : public geobrush::Node {
  public:
   ~StitchNode() override { dropNext(); }
+
+  // Whether the last result was built on a base made for an earlier canvas (see above).
+  bool usedHistory() const override { return usedHistory_; }
 
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
@@ -41,12 +50,21 @@ class StitchNode final : public geobrush::Node {
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
     try {
       if (!base_ || target != target_) {
-        dropNext();
-        made_.clear();
-        base_.reset();
-        base_ = std::make_unique<geobrush::StitchBase>(geobrush::stitchBase(*target));
+        target_.reset();
+        const bool sameMesh =
+            base_ && target->canvas && target->canvas->source == baseMesh_ && baseMesh_;
+        if (!sameMesh || !geobrush::moveStitchBase(*base_, *target)) {
+          dropNext();  // the copy under way reads the base
+          made_.clear();
+          base_.reset();
+          baseMesh_.reset();
+          base_ = std::make_unique<geobrush::StitchBase>(
+              geobrush::stitchBase(*target, sameMesh ? kMovingOpenGrowth : 0));
+          baseMesh_ = target->canvas->source;
+        }
         target_ = target;
       }
+      usedHistory_ = !base_->openIsCanvas();
       std::shared_ptr<Mesh> mesh = reclaim();
       const bool reclaimed = mesh != nullptr;
       if (!mesh && next_.valid()) mesh = next_.get();
@@ -109,10 +127,15 @@ class StitchNode final : public geobrush::Node {
     if (next_.valid()) next_.get();
   }
 
+  // A base made for a moved canvas opens twice the canvas' faces: a drag goes about two fifths of
+  // the canvas' radius before its canvas leaves the open part.
+  static constexpr double kMovingOpenGrowth = 1.0;
+  bool usedHistory_ = false;
   geobrush::ZeroDraftCache zeroDrafts_;
   std::unique_ptr<geobrush::StitchBase> base_;
-  std::shared_ptr<const Parameterization> target_;
-  std::future<std::shared_ptr<Mesh>> next_;  // the next result, its outside part copied
+  geobrush::MeshPtr baseMesh_;                      // the target mesh the base was made for
+  std::shared_ptr<const Parameterization> target_;  // the canvas the base points at
+  std::future<std::shared_ptr<Mesh>> next_;         // the next result, its outside part copied
   static constexpr std::size_t kKept = 3;
   std::deque<Made> made_;  // the last kKept results, the oldest first
 };

@@ -1,6 +1,8 @@
 // geobrush.stitch: R_in pasted into the target as one manifold mesh.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "canvas_fixtures.hpp"
@@ -20,6 +22,20 @@ namespace {
 
 std::shared_ptr<Parameterization> flatSquare(int n) {
   return test::heightFieldParameterization(n, [](double, double) { return 0.0; });
+}
+
+// A disc of a flat square of n x n quads around the quad (i, j) as the target canvas, uv its
+// points' x and y.
+std::shared_ptr<Parameterization> flatDiscAround(const MeshPtr& square, int n, int i, int j,
+                                                 double radius) {
+  auto canvas = std::make_shared<Canvas>(test::growDiscCanvas(square, 2 * (j * n + i), radius));
+  auto param = std::make_shared<Parameterization>();
+  for (auto v : canvas->surface.vertices()) {
+    param->uv.emplace_back(canvas->surface.point(v)[0], canvas->surface.point(v)[1]);
+    param->normal.push_back(Eigen::Vector3d::UnitZ());
+  }
+  param->canvas = canvas;
+  return param;
 }
 
 // A disc of the flat square [-1, 1]^2 of n x n quads as the target canvas, the rest of the square
@@ -341,6 +357,108 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   EXPECT_NE(made[6], made[5]);
   EXPECT_EQ(made[7], made[6]);
   EXPECT_EQ(made[9], made[8]);
+}
+
+// Each face as its three corner points, starting at the least, the faces sorted: the mesh up to
+// the order of its elements.
+std::vector<std::array<double, 9>> unorderedFaces(const TriMesh& mesh) {
+  std::vector<std::array<double, 9>> faces;
+  for (auto f : mesh.faces()) {
+    std::vector<TriMesh::Point> c;
+    for (auto v : mesh.fv_range(f))
+      c.push_back(mesh.point(v));
+    auto less = [](const TriMesh::Point& a, const TriMesh::Point& b) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    };
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end(), less), c.end());
+    std::array<double, 9> face;
+    for (int k = 0; k < 9; ++k)
+      face[std::size_t(k)] = c[std::size_t(k / 3)][k % 3];
+    faces.push_back(face);
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+// A base grown for a moving canvas holds the canvas and (1 + growth) times its faces; it serves
+// the canvases inside its open part, and pastes through it are what a fresh stitch makes up to
+// the order of their elements; a canvas that leaves the open part needs a new base.
+TEST(Stitch, AMovedBaseServesTheCanvasesInsideItsOpenPart) {
+  auto source = flatSquare(24);
+  constexpr int n = 40;
+  const MeshPtr square = test::heightGrid(n, [](double, double) { return 0.0; });
+  const auto first = flatDiscAround(square, n, 20, 20, 0.7);
+  const StitchBase exact = stitchBase(*first);
+  EXPECT_TRUE(exact.openIsCanvas());
+  StitchBase base = stitchBase(*first, 1.0);
+  EXPECT_FALSE(base.openIsCanvas());
+  EXPECT_GE(base.openMeshFaces.size(), 2 * first->canvas->surface.n_faces());
+  for (int f : first->canvas->sourceFace)
+    EXPECT_TRUE(base.openFace[std::size_t(f)]);
+  const Strokes painted = strokes({{{0.0, 0.05}, 0.2, false}});
+  int moved = 0;
+  for (int step = 1; step <= 8; ++step) {
+    SCOPED_TRACE(step);
+    const auto target = flatDiscAround(square, n, 20 + step, 20, 0.7);
+    if (!moveStitchBase(base, *target)) {
+      // About two fifths of the radius (five quads of the 0.7 disc's fourteen) keep it inside.
+      EXPECT_GT(step, 3);
+      break;
+    }
+    ++moved;
+    const Region2D region = paintRegion(painted, *source, *target, RoiOptions{64}).region;
+    const StitchResult viaMoved =
+        stitchPaste(region, *source, source->canvas->surface, nullptr, *target, &base);
+    const StitchResult fresh =
+        stitchPaste(region, *source, source->canvas->surface, nullptr, *target);
+    EXPECT_TRUE(viaMoved.startsWithOutside);
+    EXPECT_EQ(viaMoved.mesh.n_vertices(), fresh.mesh.n_vertices());
+    EXPECT_EQ(viaMoved.removedFaces, fresh.removedFaces);
+    EXPECT_EQ(unorderedFaces(viaMoved.mesh), unorderedFaces(fresh.mesh));
+    EXPECT_EQ(test::topology(viaMoved.mesh).nonManifoldVertices, 0u);
+  }
+  EXPECT_GE(moved, 3);
+  EXPECT_LT(moved, 8);
+  const auto other = flatSquare(7);
+  EXPECT_THROW(moveStitchBase(base, *other), StitchError);
+}
+
+// Dragging the target canvas over one mesh: the node keeps a base grown around the canvas and the
+// results it reclaims; each result is a fresh stitch's up to the order of its elements, and the
+// node says so (usedHistory), so that a settled evaluation makes it afresh.
+TEST(StitchNode, DraggingTheTargetCanvasReusesItsBase) {
+  const NodeType* type = test::registry().find("geobrush.stitch");
+  ASSERT_TRUE(type);
+  auto source = flatSquare(24);
+  const auto draft = std::make_shared<const Mesh>(source->canvas->surface);
+  constexpr int n = 40;
+  const MeshPtr square = test::heightGrid(n, [](double, double) { return 0.0; });
+  const Strokes painted = strokes({{{0.0, 0.05}, 0.2, false}});
+  const auto node = type->create();
+  std::vector<const Mesh*> made;
+  for (int step = 0; step < 6; ++step) {
+    SCOPED_TRACE(step);
+    const auto target = flatDiscAround(square, n, 20 + step, 20, 0.7);
+    auto region =
+        std::make_shared<Region2D>(paintRegion(painted, *source, *target, RoiOptions{64}).region);
+    test::DirectContext ctx(
+        *type, {{"region", region}, {"source", source}, {"draft", draft}, {"target", target}});
+    node->compute(ctx);
+    const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
+    ASSERT_TRUE(mesh);
+    made.push_back(mesh.get());
+    // The first canvas gets the exact base; the first move a grown one, which serves the rest.
+    EXPECT_EQ(node->usedHistory(), step > 0);
+    const StitchResult fresh =
+        stitchPaste(*region, *source, source->canvas->surface, nullptr, *target);
+    if (step == 0) {
+      EXPECT_TRUE(test::sameHalfedgeStructure(mesh->surface, fresh.mesh));
+    }
+    EXPECT_EQ(unorderedFaces(mesh->surface), unorderedFaces(fresh.mesh));
+  }
+  // Moves after the first keep the base, and so take back the result before them.
+  EXPECT_EQ(made[3], made[2]);
+  EXPECT_EQ(made[5], made[4]);
 }
 
 // A paste turned back into the target's outside part in place is what copyOutside makes, and a
