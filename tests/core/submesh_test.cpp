@@ -104,8 +104,8 @@ void expectLinkedAsAddFaceDoes(const TriMesh& mesh, const std::vector<int>& face
   ASSERT_EQ(sub.unattachedFace, -1);
   EXPECT_EQ(sub.sourceFace, faces);
   EXPECT_TRUE(std::is_sorted(sub.sourceVertex.begin(), sub.sourceVertex.end()));
-  EXPECT_TRUE(test::sameHalfedgeStructure(sub.surface,
-                                          addedFaceByFace(mesh, faces, sub.sourceVertex)));
+  EXPECT_TRUE(
+      test::sameHalfedgeStructure(sub.surface, addedFaceByFace(mesh, faces, sub.sourceVertex)));
   expectConsistentConnectivity(sub.surface);
 }
 
@@ -163,8 +163,8 @@ TEST(Submesh, TwoFansAtAVertexAreLinkedByAddFace) {
   const Submesh sub = extractSubmesh(sphere, bowTie);
   ASSERT_EQ(sub.unattachedFace, -1);
   EXPECT_EQ(sub.surface.n_faces(), 2u);
-  EXPECT_TRUE(test::sameHalfedgeStructure(sub.surface,
-                                          addedFaceByFace(sphere, bowTie, sub.sourceVertex)));
+  EXPECT_TRUE(
+      test::sameHalfedgeStructure(sub.surface, addedFaceByFace(sphere, bowTie, sub.sourceVertex)));
 }
 
 TEST(AppendFaces, CopiesWhatExtractSubmeshBuildsFaceByFace) {
