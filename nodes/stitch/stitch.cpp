@@ -593,14 +593,15 @@ void pointAtCanvas(StitchBase& base, const Parameterization& target) {
     base.meshToCanvas[std::size_t(base.canvasToMesh[c])] = int(c);
 }
 
-// Grows the open faces ring by ring (the faces at a corner of an open face) until there are
-// `wanted` or no ring adds any.
-void growOpenPart(const TriMesh& mesh, std::vector<char>& open, std::size_t wanted) {
+// Grows the open faces ring by ring (the faces at a corner of an open face), numbering each ring,
+// until there are `wanted` or no ring adds any. Returns the rings grown.
+int growOpenPart(const TriMesh& mesh, std::vector<int>& ringOf, std::size_t wanted) {
   std::vector<int> ring;
   for (auto f : mesh.faces())
-    if (open[std::size_t(f.idx())]) ring.push_back(f.idx());
+    if (ringOf[std::size_t(f.idx())] >= 0) ring.push_back(f.idx());
   std::size_t count = ring.size();
   std::vector<char> seen(mesh.n_vertices(), 0);
+  int rings = 0;
   while (count < wanted && !ring.empty()) {
     std::vector<int> next;
     for (int f : ring)
@@ -608,14 +609,17 @@ void growOpenPart(const TriMesh& mesh, std::vector<char>& open, std::size_t want
         if (seen[std::size_t(v.idx())]) continue;
         seen[std::size_t(v.idx())] = 1;
         for (auto g : mesh.vf_range(v))
-          if (!open[std::size_t(g.idx())]) {
-            open[std::size_t(g.idx())] = 1;
+          if (ringOf[std::size_t(g.idx())] < 0) {
+            ringOf[std::size_t(g.idx())] = rings + 1;
             next.push_back(g.idx());
           }
       }
+    if (next.empty()) break;
+    ++rings;
     count += next.size();
     ring = std::move(next);
   }
+  return rings;
 }
 
 }  // namespace
@@ -624,15 +628,15 @@ StitchBase stitchBase(const Parameterization& target, double openGrowth) {
   StitchBase base;
   pointAtCanvas(base, target);
   const TriMesh& mesh = meshOf(*target.canvas);
-  base.openFace.assign(mesh.n_faces(), 0);
+  base.openRing.assign(mesh.n_faces(), -1);
   for (int f : base.canvasFaceToMesh)
-    base.openFace[std::size_t(f)] = 1;
+    base.openRing[std::size_t(f)] = 0;
   if (openGrowth > 0)
-    growOpenPart(mesh, base.openFace,
-                 std::size_t(double(base.canvasFaceToMesh.size()) * (1 + openGrowth)));
+    base.openRings = growOpenPart(
+        mesh, base.openRing, std::size_t(double(base.canvasFaceToMesh.size()) * (1 + openGrowth)));
   std::vector<int> outsideFaces;
-  for (std::size_t f = 0; f < base.openFace.size(); ++f)
-    (base.openFace[f] ? base.openMeshFaces : outsideFaces).push_back(int(f));
+  for (std::size_t f = 0; f < base.openRing.size(); ++f)
+    (base.openRing[f] >= 0 ? base.openMeshFaces : outsideFaces).push_back(int(f));
   base.outsideFaces = appendFaces(base.outside, mesh, outsideFaces);
   std::vector<char> openVertex(mesh.n_vertices(), 0);
   for (int f : base.openMeshFaces)
@@ -657,16 +661,20 @@ bool moveStitchBase(StitchBase& base, const Parameterization& target) {
   if (!target.canvas) throw StitchError("the target parameterization has no canvas");
   const Canvas& canvas = *target.canvas;
   const TriMesh& mesh = meshOf(canvas);
-  if (mesh.n_faces() != base.openFace.size() || mesh.n_vertices() != base.meshToCanvas.size())
+  if (mesh.n_faces() != base.openRing.size() || mesh.n_vertices() != base.meshToCanvas.size())
     throw StitchError("the target canvas lies on another mesh than the stitch base's");
+  int reach = 0;
   if (canvas.source) {
-    for (int f : canvas.sourceFace)
-      if (f < 0 || std::size_t(f) >= base.openFace.size() || !base.openFace[std::size_t(f)])
+    for (int f : canvas.sourceFace) {
+      if (f < 0 || std::size_t(f) >= base.openRing.size() || base.openRing[std::size_t(f)] < 0)
         return false;
+      reach = std::max(reach, base.openRing[std::size_t(f)]);
+    }
   } else if (base.openMeshFaces.size() != mesh.n_faces()) {
     return false;
   }
   pointAtCanvas(base, target);
+  base.canvasReach = reach;
   return true;
 }
 
@@ -785,7 +793,7 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
   const TriMesh& targetCanvas = target.canvas->surface;
   if (base->canvasToMesh.size() != targetCanvas.n_vertices() ||
       base->canvasFaceToMesh.size() != targetCanvas.n_faces() ||
-      base->openFace.size() != targetMesh.n_faces())
+      base->openRing.size() != targetMesh.n_faces())
     throw StitchError("the stitch base was made for another target canvas");
   std::vector<char> outerBoundary(targetCanvas.n_vertices(), 0);
   for (int v : target.canvas->boundary)

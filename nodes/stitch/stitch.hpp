@@ -53,9 +53,13 @@ struct StitchBase {
   std::vector<int> meshToCanvas;      // target mesh vertex -> target canvas vertex, or -1
   std::vector<int> canvasFaceToMesh;  // target canvas face -> target mesh face
   std::vector<int> openMeshFaces;     // the target mesh faces of the open part, increasing
-  std::vector<char> openFace;         // per target mesh face: in the open part
-  TriMesh outside;                    // the target mesh's faces outside the open part
-  AppendedFaces outsideFaces;         // how `outside` maps to the target mesh
+  // Per target mesh face: the ring of the open part it lies in (0: the faces of the canvas the
+  // base was made for), or -1 outside it.
+  std::vector<int> openRing;
+  int openRings = 0;           // rings grown beyond that canvas
+  int canvasReach = 0;         // the outermost ring that the canvas pointed at reaches
+  TriMesh outside;             // the target mesh's faces outside the open part
+  AppendedFaces outsideFaces;  // how `outside` maps to the target mesh
   // The entries of `outside` that a paste changes when it joins faces to it: its vertices that
   // are corners of open faces too, and every halfedge at one of them.
   std::vector<int> borderVertices, borderHalfedges;

@@ -27,12 +27,16 @@ using geobrush::Region2D;
 //
 // Dragging the target canvas gives a new canvas on the same mesh at every move: the first move
 // makes a base whose open part reaches beyond the canvas, and the moves after it keep that base
-// (and the results to reclaim) while their canvases stay inside the open part. Such results
+// (and the results to reclaim) while their canvases stay inside the open part; halfway to its
+// edge, the next base is made on another thread. Such results
 // differ from a fresh node's in the order of their elements alone; the node says it used history,
 // so that a settled evaluation makes them afresh.
 class StitchNode final : public geobrush::Node {
  public:
-  ~StitchNode() override { dropNext(); }
+  ~StitchNode() override {
+    dropNext();
+    dropRebuilt();
+  }
 
   // Whether the last result was built on a base made for an earlier canvas (see above).
   bool usedHistory() const override { return usedHistory_; }
@@ -49,21 +53,7 @@ class StitchNode final : public geobrush::Node {
       throw NodeError::input("offset", "the membrane was solved on another grid than the region's");
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
     try {
-      if (!base_ || target != target_) {
-        target_.reset();
-        const bool sameMesh =
-            base_ && target->canvas && target->canvas->source == baseMesh_ && baseMesh_;
-        if (!sameMesh || !geobrush::moveStitchBase(*base_, *target)) {
-          dropNext();  // the copy under way reads the base
-          made_.clear();
-          base_.reset();
-          baseMesh_.reset();
-          base_ = std::make_unique<geobrush::StitchBase>(
-              geobrush::stitchBase(*target, sameMesh ? kMovingOpenGrowth : 0));
-          baseMesh_ = target->canvas->source;
-        }
-        target_ = target;
-      }
+      if (!base_ || target != target_) pointBaseAt(target, source->canvas);
       usedHistory_ = !base_->openIsCanvas();
       std::shared_ptr<Mesh> mesh = reclaim();
       const bool reclaimed = mesh != nullptr;
@@ -92,6 +82,71 @@ class StitchNode final : public geobrush::Node {
     std::shared_ptr<Mesh> mesh;
     bool startsWithOutside = false;
   };
+
+  struct Rebuilt {
+    std::unique_ptr<geobrush::StitchBase> base;  // null where it could not be made
+    std::shared_ptr<Mesh> outside;               // copyOutside of it
+  };
+
+  // Points the base at the target's canvas: the base moved, where its open part holds the canvas;
+  // else the base rebuilt ahead of time, where that one holds it; else a base made now (grown,
+  // where the canvas moved on the same mesh).
+  void pointBaseAt(const std::shared_ptr<const Parameterization>& target,
+                   const std::shared_ptr<const geobrush::Canvas>& sourceCanvas) {
+    target_.reset();
+    const bool sameMesh =
+        base_ && target->canvas && baseMesh_ && target->canvas->source == baseMesh_;
+    bool moved = sameMesh && geobrush::moveStitchBase(*base_, *target);
+    if (!moved && sameMesh && rebuilt_.valid()) {
+      Rebuilt ahead = rebuilt_.get();
+      if (ahead.base && geobrush::moveStitchBase(*ahead.base, *target)) {
+        dropNext();
+        made_.clear();
+        base_ = std::move(ahead.base);
+        std::promise<std::shared_ptr<Mesh>> copied;
+        copied.set_value(std::move(ahead.outside));
+        next_ = copied.get_future();
+        moved = true;
+      }
+    }
+    if (!moved) {
+      dropRebuilt();
+      dropNext();  // the copy under way reads the base
+      made_.clear();
+      base_.reset();
+      baseMesh_.reset();
+      base_ = std::make_unique<geobrush::StitchBase>(
+          geobrush::stitchBase(*target, sameMesh ? kMovingOpenGrowth : 0));
+      baseMesh_ = target->canvas->source;
+    } else if (base_->openRings > 0 && !rebuilt_.valid() &&
+               2 * base_->canvasReach >= base_->openRings) {
+      // Halfway to the open part's edge: the next base, around this canvas, is made on another
+      // thread while the drag goes on, so that leaving this one costs no rebuild.
+      rebuildAhead(target, sourceCanvas);
+    }
+    target_ = target;
+  }
+
+  void rebuildAhead(std::shared_ptr<const Parameterization> target,
+                    std::shared_ptr<const geobrush::Canvas> sourceCanvas) {
+    rebuilt_ = std::async(std::launch::async, [target, sourceCanvas] {
+      Rebuilt ahead;
+      try {
+        ahead.base = std::make_unique<geobrush::StitchBase>(
+            geobrush::stitchBase(*target, kMovingOpenGrowth));
+        ahead.outside = std::make_shared<Mesh>();
+        geobrush::copyOutside(*ahead.base, target->canvas->source->surface, sourceCanvas->surface,
+                              ahead.outside->surface);
+      } catch (const std::exception&) {
+        ahead.base.reset();  // made in the foreground when needed, which reports the error
+      }
+      return ahead;
+    });
+  }
+
+  void dropRebuilt() {
+    if (rebuilt_.valid()) rebuilt_.get();
+  }
 
   // The oldest of the node's last results that no one else holds any more (no one can take hold
   // of it again then: the node's is the last reference), turned back into the outside part; null
@@ -136,6 +191,7 @@ class StitchNode final : public geobrush::Node {
   geobrush::MeshPtr baseMesh_;                      // the target mesh the base was made for
   std::shared_ptr<const Parameterization> target_;  // the canvas the base points at
   std::future<std::shared_ptr<Mesh>> next_;         // the next result, its outside part copied
+  std::future<Rebuilt> rebuilt_;                    // the next base of a drag, made ahead
   static constexpr std::size_t kKept = 3;
   std::deque<Made> made_;  // the last kKept results, the oldest first
 };

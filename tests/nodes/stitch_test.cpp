@@ -394,7 +394,7 @@ TEST(Stitch, AMovedBaseServesTheCanvasesInsideItsOpenPart) {
   EXPECT_FALSE(base.openIsCanvas());
   EXPECT_GE(base.openMeshFaces.size(), 2 * first->canvas->surface.n_faces());
   for (int f : first->canvas->sourceFace)
-    EXPECT_TRUE(base.openFace[std::size_t(f)]);
+    EXPECT_EQ(base.openRing[std::size_t(f)], 0);
   const Strokes painted = strokes({{{0.0, 0.05}, 0.2, false}});
   int moved = 0;
   for (int step = 1; step <= 8; ++step) {
@@ -406,6 +406,8 @@ TEST(Stitch, AMovedBaseServesTheCanvasesInsideItsOpenPart) {
       break;
     }
     ++moved;
+    EXPECT_GE(base.canvasReach, 1);
+    EXPECT_LE(base.canvasReach, base.openRings);
     const Region2D region = paintRegion(painted, *source, *target, RoiOptions{64}).region;
     const StitchResult viaMoved =
         stitchPaste(region, *source, source->canvas->surface, nullptr, *target, &base);
@@ -424,8 +426,9 @@ TEST(Stitch, AMovedBaseServesTheCanvasesInsideItsOpenPart) {
 }
 
 // Dragging the target canvas over one mesh: the node keeps a base grown around the canvas and the
-// results it reclaims; each result is a fresh stitch's up to the order of its elements, and the
-// node says so (usedHistory), so that a settled evaluation makes it afresh.
+// results it reclaims, and makes the next base ahead; each result is a fresh stitch's up to the
+// order of its elements, and the node says so (usedHistory), so that a settled evaluation makes
+// it afresh.
 TEST(StitchNode, DraggingTheTargetCanvasReusesItsBase) {
   const NodeType* type = test::registry().find("geobrush.stitch");
   ASSERT_TRUE(type);
@@ -436,9 +439,10 @@ TEST(StitchNode, DraggingTheTargetCanvasReusesItsBase) {
   const Strokes painted = strokes({{{0.0, 0.05}, 0.2, false}});
   const auto node = type->create();
   std::vector<const Mesh*> made;
-  for (int step = 0; step < 6; ++step) {
+  // Fourteen quads: past the first grown base's open part, onto the one made ahead.
+  for (int step = 0; step < 14; ++step) {
     SCOPED_TRACE(step);
-    const auto target = flatDiscAround(square, n, 20 + step, 20, 0.7);
+    const auto target = flatDiscAround(square, n, 20 + step / 2, 20 + step % 2, 0.7);
     auto region =
         std::make_shared<Region2D>(paintRegion(painted, *source, *target, RoiOptions{64}).region);
     test::DirectContext ctx(
