@@ -41,16 +41,8 @@ std::shared_ptr<Parameterization> flatDiscAround(const MeshPtr& square, int n, i
 // A disc of the flat square [-1, 1]^2 of n x n quads as the target canvas, the rest of the square
 // outside it: a paste changes the canvas and joins it to the part outside.
 std::shared_ptr<Parameterization> flatDiscOnSquare(int n, double radius) {
-  const MeshPtr square = test::heightGrid(n, [](double, double) { return 0.0; });
-  auto canvas =
-      std::make_shared<Canvas>(test::growDiscCanvas(square, 2 * ((n / 2) * n + n / 2), radius));
-  auto param = std::make_shared<Parameterization>();
-  for (auto v : canvas->surface.vertices()) {
-    param->uv.emplace_back(canvas->surface.point(v)[0], canvas->surface.point(v)[1]);
-    param->normal.push_back(Eigen::Vector3d::UnitZ());
-  }
-  param->canvas = canvas;
-  return param;
+  return flatDiscAround(test::heightGrid(n, [](double, double) { return 0.0; }), n, n / 2, n / 2,
+                        radius);
 }
 
 Strokes strokes(std::vector<Dab> dabs) {
