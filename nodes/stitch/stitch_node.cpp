@@ -28,9 +28,9 @@ using geobrush::Region2D;
 // Dragging the target canvas gives a new canvas on the same mesh at every move: the first move
 // makes a base whose open part reaches beyond the canvas, and the moves after it keep that base
 // (and the results to reclaim) while their canvases stay inside the open part; halfway to its
-// edge, the next base is made on another thread. Such results
-// differ from a fresh node's in the order of their elements alone; the node says it used history,
-// so that a settled evaluation makes them afresh.
+// edge, the next base is made on another thread. Such results differ from a fresh node's in the
+// order of their elements alone; the node says it used history, so that a settled evaluation
+// makes them afresh.
 class StitchNode final : public geobrush::Node {
  public:
   ~StitchNode() override {
