@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -95,40 +96,58 @@ class GcWarpNode final : public geobrush::Node {
 
   // The draft with only `rows` warped, the others at their source positions. Rows warped for the
   // same target cage are kept from one evaluation to the next, so a dab warps only the rows it
-  // adds; rows that left the support go back to their source positions, so the value depends on
-  // the inputs alone.
+  // adds; rows that left the support, or were warped for another cage, go back to their source
+  // positions, so the value depends on the inputs alone.
   std::shared_ptr<const Mesh> partialDraft(const Canvas& canvas, const Cage& sourceCage,
                                            const std::shared_ptr<const Cage>& targetCage,
                                            const std::vector<int>& rows) {
     const geobrush::Hash cage =
         targetCage == partialCageValue_ ? partialCage_ : targetCage->contentHash();
     partialCageValue_ = targetCage;
-    if (partial_.n_vertices() != canvas.surface.n_vertices() || partialKey_ != key_ ||
-        partialCage_ != cage) {
+    if (partial_.n_vertices() != canvas.surface.n_vertices() || partialKey_ != key_) {
       partial_ = canvas.surface;
       warpedRow_.assign(canvas.surface.n_vertices(), 0);
       partialKey_ = key_;
-      partialCage_ = cage;
+      published_.clear();
     }
     std::vector<char> wanted(warpedRow_.size(), 0);
-    std::vector<int> missing;
-    for (int row : rows) {
+    for (int row : rows)
       wanted[std::size_t(row)] = 1;
+    // A moved target cage: every row is warped anew.
+    const bool newCage = partialCage_ != cage;
+    partialCage_ = cage;
+    for (std::size_t v = 0; v < warpedRow_.size(); ++v)
+      if (warpedRow_[v] && (!wanted[v] || newCage)) {
+        partial_.set_point(geobrush::TriMesh::VertexHandle(int(v)),
+                           canvas.surface.point(geobrush::TriMesh::VertexHandle(int(v))));
+        warpedRow_[v] = 0;
+      }
+    std::vector<int> missing;
+    for (int row : rows)
       if (!warpedRow_[std::size_t(row)]) missing.push_back(row);
-    }
     const auto warped = geobrush::applyGreenCoordinates(coordinates_->phi, coordinates_->psi,
                                                         sourceCage.mesh, targetCage->mesh, missing);
     for (std::size_t k = 0; k < missing.size(); ++k) {
       setPoint(partial_, missing[k], warped[k]);
       warpedRow_[std::size_t(missing[k])] = 1;
     }
-    for (std::size_t v = 0; v < warpedRow_.size(); ++v)
-      if (warpedRow_[v] && !wanted[v]) {
-        partial_.set_point(geobrush::TriMesh::VertexHandle(int(v)),
-                           canvas.surface.point(geobrush::TriMesh::VertexHandle(int(v))));
-        warpedRow_[v] = 0;
+    return publish();
+  }
+
+  // partial_ as an output value. One of the last values it gave that nothing holds any more (an
+  // evaluator keeps two runs' outputs) has the same connectivity, so only the points are copied
+  // into it; else a whole copy is made.
+  std::shared_ptr<const Mesh> publish() {
+    for (const std::shared_ptr<Mesh>& made : published_)
+      if (made.use_count() == 1) {
+        std::copy(partial_.points(), partial_.points() + partial_.n_vertices(),
+                  made->surface.property(made->surface.points_pph()).data_vector().begin());
+        return made;
       }
-    return std::make_shared<const Mesh>(partial_);
+    auto made = std::make_shared<Mesh>(partial_);
+    published_.push_back(made);
+    if (published_.size() > kPublished) published_.erase(published_.begin());
+    return made;
   }
 
   struct Key {
@@ -147,6 +166,8 @@ class GcWarpNode final : public geobrush::Node {
   Key partialKey_;
   geobrush::Hash partialCage_ = 0;
   std::shared_ptr<const Cage> partialCageValue_;  // the target cage partialCage_ hashes
+  static constexpr std::size_t kPublished = 3;
+  std::vector<std::shared_ptr<Mesh>> published_;  // the last values of partial_, as published
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

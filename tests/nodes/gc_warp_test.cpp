@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -13,6 +15,7 @@
 #include "geobrush/canvas.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "geobrush/node.hpp"
+#include "geobrush/region.hpp"
 #include "mesh_checks.hpp"
 #include "test_support.hpp"
 
@@ -346,6 +349,60 @@ TEST(GcWarpNode, KeepsTheCoordinatesWhileOnlyTheTargetCageMoves) {
   EXPECT_NE(third, first);
   const auto [fourth, unused2] = run(gridCanvas(5), source, source);
   EXPECT_NE(fourth, third);
+}
+
+// With a region connected, the node warps the region's draft support alone, keeps the rows
+// warped for the same target cage and reuses a draft value nothing holds any more: over dabs
+// (the support grows and shrinks) and cage moves, with values held or let go, each draft is the
+// support warped and every other vertex at its source position, bit for bit.
+TEST(GcWarpNode, APartialDraftIsTheSupportWarpedWhateverCameBefore) {
+  const NodeType* type = test::registry().find("geobrush.gc_warp");
+  ASSERT_NE(type, nullptr);
+  const auto canvas = gridCanvas(12);
+  const TriMesh box = test::boxCage({-1, -1, -1}, {1, 1, 1}, 2);
+  const auto source = cageValue(box);
+  const auto node = type->create();
+  const auto coordinates = computeGreenCoordinates(box, [&] {
+    std::vector<Eigen::Vector3d> points;
+    for (auto v : canvas->surface.vertices())
+      points.push_back(toEigen(canvas->surface.point(v)));
+    return points;
+  }());
+  std::vector<std::shared_ptr<const Mesh>> held;
+  std::set<const Mesh*> values;
+  for (int step = 0; step < 10; ++step) {
+    SCOPED_TRACE(step);
+    // Moves of the target cage at steps 4 and 7; the support a growing, then shrinking disc.
+    const double shift = 0.1 * (step >= 4) + 0.05 * (step >= 7);
+    const auto target = cageValue(mapCage(box, [shift](const Eigen::Vector3d& x) {
+      return Eigen::Vector3d(x.x() + shift, x.y() * (1 + shift), x.z());
+    }));
+    const double radius = 0.15 + 0.05 * (step < 6 ? step : 10 - step);
+    auto region = std::make_shared<Region2D>();
+    for (auto v : canvas->surface.vertices())
+      if (Eigen::Vector2d(canvas->surface.point(v)[0], canvas->surface.point(v)[1]).norm() < radius)
+        region->draftSupport.push_back(v.idx());
+    DirectContext ctx(
+        *type,
+        {{"canvas", canvas}, {"source_cage", source}, {"target_cage", target}, {"region", region}});
+    node->compute(ctx);
+    const auto draft = std::dynamic_pointer_cast<const Mesh>(ctx.outputs["draft"]);
+    ASSERT_NE(draft, nullptr);
+    values.insert(draft.get());
+    if (step % 3 == 0) held.push_back(draft);  // the others are let go at once
+    const auto warped = applyGreenCoordinates(coordinates.phi, coordinates.psi, box, target->mesh,
+                                              region->draftSupport);
+    std::vector<Eigen::Vector3d> expected;
+    for (auto v : canvas->surface.vertices())
+      expected.push_back(toEigen(canvas->surface.point(v)));
+    for (std::size_t k = 0; k < warped.size(); ++k)
+      expected[std::size_t(region->draftSupport[k])] = warped[k];
+    for (auto v : draft->surface.vertices())
+      ASSERT_EQ(toEigen(draft->surface.point(v)), expected[std::size_t(v.idx())]) << v.idx();
+    EXPECT_EQ(test::faceIndices(draft->surface), test::faceIndices(canvas->surface));
+  }
+  // Values let go were reused: fewer values than steps.
+  EXPECT_LT(values.size(), 10u);
 }
 
 TEST(GcWarpNode, NamesThePortOfABadCage) {
