@@ -221,9 +221,10 @@ std::vector<std::array<int, 3>> zip(const std::vector<int>& a, const std::vector
   }
   const StripWalk walk{uvA, uvB, start};
   Strip strip = greedyStrip(walk, keepOrientation);
-  if (turnedOver(walk, strip) > 0 && (a.size() + 1) * (b.size() + 1) <= kMaxStripGrid) {
+  const std::size_t greedyTurned = turnedOver(walk, strip);
+  if (greedyTurned > 0 && (a.size() + 1) * (b.size() + 1) <= kMaxStripGrid) {
     Strip fewest = fewestTurnedStrip(walk);
-    if (turnedOver(walk, fewest) < turnedOver(walk, strip)) strip = std::move(fewest);
+    if (turnedOver(walk, fewest) < greedyTurned) strip = std::move(fewest);
   }
   std::vector<std::array<int, 3>> triangles;
   std::size_t i = 0, j = 0;
@@ -852,8 +853,7 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
   const TriMesh& canvas = source.canvas->surface;
   if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
     throw StitchError("the draft does not have the source canvas' vertices and faces");
-  const TriMesh& targetMesh =
-      target.canvas->source ? target.canvas->source->surface : target.canvas->surface;
+  const TriMesh& targetMesh = meshOf(*target.canvas);
   StitchResult result;  // its mesh stays empty: the mesh is `out`
   auto keepTarget = [&] {
     out = targetMesh;
