@@ -137,18 +137,10 @@ TEST(CloneGraphs, ResultsAreClosedManifoldsOfTheExpectedGenus) {
 // A shipped graph's paste measured by geobrush.metrics, wired to its stitch node here.
 std::map<std::string, double> pasteMetrics(const std::string& name) {
   Graph graph = readGraphFile(test::sourceDir() / "graphs" / name);
-  graph.nodes["paste_metrics"] = GraphNode{"geobrush.metrics", 1, {}};
-  graph.connections.push_back({{"stitch", "mesh"}, {"paste_metrics", "mesh"}});
-  graph.connections.push_back({{"stitch", "map"}, {"paste_metrics", "map"}});
-  prepareGraph(graph, test::registry());
-  EvalOptions options;
-  options.targets = {"paste_metrics"};
-  Evaluator evaluator(test::registry());
-  const EvalReport report = evaluator.evaluate(graph, options);
-  EXPECT_TRUE(report.ok) << name << ": " << report.error;
-  const auto metrics =
-      std::dynamic_pointer_cast<const Metrics>(evaluator.output("paste_metrics", "metrics"));
-  return metrics ? metrics->values : std::map<std::string, double>{};
+  graph.nodes["metrics"] = GraphNode{"geobrush.metrics", 1, {}};
+  graph.connections.push_back({{"stitch", "mesh"}, {"metrics", "mesh"}});
+  graph.connections.push_back({{"stitch", "map"}, {"metrics", "map"}});
+  return test::graphMetrics(std::move(graph));
 }
 
 // The seams of the clones and fills on real meshes neither fold nor cut into the paste, down to

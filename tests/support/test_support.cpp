@@ -92,21 +92,27 @@ std::filesystem::path tempDir(const std::string& name) {
   return dir;
 }
 
-std::map<std::string, double> graphMetrics(const std::filesystem::path& file,
-                                           const std::vector<std::string>& assignments) {
-  Graph graph = readGraphFile(file);
-  for (const auto& assignment : assignments)
-    setParamFromText(graph, registry(), assignment);
+std::map<std::string, double> graphMetrics(Graph graph) {
   prepareGraph(graph, registry());
   EvalOptions options;
   static int runs = 0;
-  options.outputDir = tempDir("metrics-" + file.stem().string() + "-" + std::to_string(runs++));
+  options.outputDir =
+      tempDir("metrics-" + graph.file.stem().string() + "-" + std::to_string(runs++));
+  options.targets = {"metrics"};
   Evaluator evaluator(registry());
   const EvalReport report = evaluator.evaluate(graph, options);
   EXPECT_TRUE(report.ok) << report.error;
   const auto metrics =
       std::dynamic_pointer_cast<const Metrics>(evaluator.output("metrics", "metrics"));
   return metrics ? metrics->values : std::map<std::string, double>{};
+}
+
+std::map<std::string, double> graphMetrics(const std::filesystem::path& file,
+                                           const std::vector<std::string>& assignments) {
+  Graph graph = readGraphFile(file);
+  for (const auto& assignment : assignments)
+    setParamFromText(graph, registry(), assignment);
+  return graphMetrics(std::move(graph));
 }
 
 }  // namespace geobrush::test

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "geobrush/graph.hpp"
 #include "geobrush/registry.hpp"
 
 namespace geobrush::test {
@@ -40,9 +41,11 @@ std::string quoted(const std::filesystem::path& path);
 // A fresh, empty folder under the system temp dir, removed at exit.
 std::filesystem::path tempDir(const std::string& name);
 
-// A graph file run (with its parameters set by `assignments`, NODE.PARAM=VALUE, as
-// `geobrush run --set` does) into a temp folder: the values of its node "metrics" (empty, and a
-// failed expectation, when the run fails).
+// The graph's node "metrics" and what it reads, run into a temp folder: the metrics' values
+// (empty, and a failed expectation, when the run fails).
+std::map<std::string, double> graphMetrics(Graph graph);
+// The same of a graph file, with its parameters set by `assignments` (NODE.PARAM=VALUE, as
+// `geobrush run --set` does).
 std::map<std::string, double> graphMetrics(const std::filesystem::path& file,
                                            const std::vector<std::string>& assignments = {});
 
