@@ -35,6 +35,20 @@ DomainLocator::DomainLocator(const Parameterization& param) : param_(param) {
     faces_.push_back(ids);
   }
   if (faces_.empty()) throw std::invalid_argument("the canvas has no faces");
+  outlineEdges_.assign(faces_.size(), 0);
+  bool hasOutline = false;
+  for (auto h : surface.halfedges()) {
+    if (!surface.is_boundary(h)) continue;
+    // The boundary halfedge runs against its face's own halfedge on the same edge.
+    const auto inner = surface.opposite_halfedge_handle(h);
+    const int face = surface.face_handle(inner).idx();
+    const int from = surface.from_vertex_handle(inner).idx();
+    for (int k = 0; k < 3; ++k)
+      if (faces_[std::size_t(face)][std::size_t(k)] == from)
+        outlineEdges_[std::size_t(face)] |= std::uint8_t(1 << k);
+    hasOutline = true;
+  }
+  if (!hasOutline) outlineEdges_.clear();
   Vector2d lo = param.uv.front(), hi = param.uv.front();
   for (const auto& p : param.uv) {
     lo = lo.cwiseMin(p);
@@ -149,30 +163,40 @@ DomainHit DomainLocator::locate(const Vector2d& u) const {
   return nearestOutside(u, ci, cj);
 }
 
-// Outside every triangle: the one whose clamped barycentric point is closest to u (ties: the
-// lowest face index). Cells are searched in rings around u's cell; every point of a triangle
-// first met in ring r is at least (r - 1) steps from u, so the search stops once that bound
-// exceeds the best distance found.
+// Outside every triangle: the outline face whose boundary edge is closest to u, or without an
+// outline the triangle whose clamped barycentric point is (ties: the lowest face index). Cells
+// are searched in rings around u's cell; every point of a triangle first met in ring r is at least
+// (r - 1) steps from u, so the search stops once that bound exceeds the best distance found.
 DomainHit DomainLocator::nearestOutside(const Vector2d& u, double ci, double cj) const {
   const double limit = 2.0 * (cellsX_ + cellsY_);  // rings beyond reach no cell
   const long i0 = long(std::clamp(ci, -limit, limit));
   const long j0 = long(std::clamp(cj, -limit, limit));
   int best = -1;
   double bestDistance = std::numeric_limits<double>::infinity();
-  Vector3d bestBary;
   auto consider = [&](long i, long j) {
     for (int f : bucket(int(i), int(j))) {
-      const Vector3d b = barycentricOf(f, u);
-      Vector3d clamped = b.cwiseMax(0.0);
-      clamped /= clamped.sum();
-      Vector2d q = Vector2d::Zero();
-      for (int k = 0; k < 3; ++k)
-        q += clamped[k] * param_.uv[faces_[f][k]];
-      const double d = (q - u).squaredNorm();
+      double d = std::numeric_limits<double>::infinity();
+      if (outlineEdges_.empty()) {
+        Vector3d clamped = barycentricOf(f, u).cwiseMax(0.0);
+        clamped /= clamped.sum();
+        Vector2d q = Vector2d::Zero();
+        for (int k = 0; k < 3; ++k)
+          q += clamped[k] * param_.uv[faces_[f][k]];
+        d = (q - u).squaredNorm();
+      } else {
+        for (int k = 0; k < 3; ++k) {
+          if (!(outlineEdges_[std::size_t(f)] >> k & 1)) continue;
+          const Vector2d& a = param_.uv[faces_[f][k]];
+          const Vector2d edge = param_.uv[faces_[f][(k + 1) % 3]] - a;
+          const double length = edge.squaredNorm();
+          const double t = length > 0 ? std::clamp((u - a).dot(edge) / length, 0.0, 1.0) : 0.0;
+          d = std::min(d, (a + t * edge - u).squaredNorm());
+        }
+        if (d == std::numeric_limits<double>::infinity()) continue;
+      }
       if (d < bestDistance || (d == bestDistance && f < best)) {
         bestDistance = d;
         best = f;
-        bestBary = b;
       }
     }
   };
@@ -197,7 +221,7 @@ DomainHit DomainLocator::nearestOutside(const Vector2d& u, double ci, double cj)
     column(i0 - r, r);
     column(i0 + r, r);
   }
-  return hit(best, bestBary, false);
+  return hit(best, barycentricOf(best, u), false);
 }
 
 }  // namespace geobrush

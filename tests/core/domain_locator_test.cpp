@@ -61,6 +61,27 @@ TEST(DomainLocator, OutsideExtrapolatesFromTheNearestTriangle) {
   EXPECT_NEAR((hit.point - Vector3d(5, 2, 11)).norm(), 0, 1e-12);
 }
 
+// A fold whose triangles reach past the canvas' outline (an interior vertex pulled beyond the top
+// edge, as a handle's arch can lie over and beyond its base) is nearer to points above it than
+// the outline is; outside the canvas the map still continues the outline's own sheet, so that
+// neighbouring points do not jump between sheets.
+TEST(DomainLocator, OutsideContinuesTheOutlineNotAFoldReachingPastIt) {
+  Parameterization param = tiltedPlane();
+  param.uv[2 * 5 + 2] = {2.0, 4.6};  // vertex (2, 2) folded over the top edge y = 4
+  const DomainLocator locator(param);
+  for (const Vector2d& u : {Vector2d(2.0, 4.8), Vector2d(1.7, 4.9), Vector2d(2.3, 5.2)}) {
+    const DomainHit hit = locator.locate(u);
+    EXPECT_FALSE(hit.inside);
+    // A face on the top edge, whose affine map is the plane's.
+    EXPECT_NEAR((hit.point - Vector3d(u.x(), u.y(), 2 * u.x() + 1)).norm(), 0, 1e-12)
+        << u.transpose();
+    int onOutline = 0;
+    for (auto v : param.canvas->surface.fv_range(TriMesh::FaceHandle(hit.face)))
+      onOutline += param.uv[std::size_t(v.idx())].y() == 4.0;
+    EXPECT_EQ(onOutline, 2) << u.transpose();
+  }
+}
+
 TEST(DomainLocator, PrefersFacesThatAreNotReversed) {
   Parameterization param = tiltedPlane();
   // Fold: move the uv of vertex (1,1) over (2,2), so faces overlap in uv.

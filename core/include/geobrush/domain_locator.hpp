@@ -28,7 +28,11 @@ class DomainLocator {
 
   // The triangle holding u; where several do (fold-overs), the first by face
   // index that is not flagged reversed, else the first. Where none does, the
-  // nearest triangle, with barycentrics extrapolated (inside = false).
+  // triangle on the canvas' outline (a face with a boundary edge) whose boundary
+  // edge is nearest to u, with barycentrics extrapolated (inside = false): the
+  // outline does not fold in the domain (paper section 3.1), while the triangles
+  // of a fold (a handle's arch over its base) may reach past it, and the nearest
+  // of those would switch from sheet to sheet between neighbouring points.
   DomainHit locate(const Eigen::Vector2d& u) const;
 
  private:
@@ -44,6 +48,9 @@ class DomainLocator {
   int cellsX_ = 1, cellsY_ = 1;
   std::vector<int> bucketStart_;  // per cell, its first entry in bucketFaces_; one past the end
   std::vector<int> bucketFaces_;
+  // Per face, its boundary edges as corner pairs (k, k + 1 mod 3): bit k set. All zero on a
+  // canvas without boundary, which then answers from the nearest triangle.
+  std::vector<std::uint8_t> outlineEdges_;
 };
 
 }  // namespace geobrush
