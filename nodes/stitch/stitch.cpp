@@ -866,19 +866,26 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
     return result;
   }
 
-  // R_in: the source faces with every corner in the region, made manifold.
+  // R_in: the source faces with every corner in the region, made manifold. Counting each face's
+  // corners in the region visits a face once per corner; the faces with some corner out (along
+  // the outline) hold every vertex where R_in could be pinched.
   std::vector<char> inRegion(canvas.n_vertices(), 0);
-  for (int v : region.sourceVertices)
+  std::vector<char> cornersIn(canvas.n_faces(), 0);
+  std::vector<int> touched;
+  for (int v : region.sourceVertices) {
+    if (inRegion[std::size_t(v)]) continue;
     inRegion[std::size_t(v)] = 1;
+    for (auto f : canvas.vf_range(TriMesh::VertexHandle(v)))
+      if (cornersIn[std::size_t(f.idx())]++ == 0) touched.push_back(f.idx());
+  }
   std::vector<char> patchSelected(canvas.n_faces(), 0);
-  for (int v : region.sourceVertices)
-    for (auto f : canvas.vf_range(TriMesh::VertexHandle(v))) {
-      bool all = true;
-      for (auto corner : canvas.fv_range(f))
-        all = all && inRegion[std::size_t(corner.idx())];
-      patchSelected[std::size_t(f.idx())] = all;
-    }
-  removePinches(canvas, patchSelected, selectedFaces(patchSelected));
+  std::vector<int> alongOutline;
+  for (int f : touched) {
+    const bool whole = cornersIn[std::size_t(f)] == 3;
+    patchSelected[std::size_t(f)] = whole;
+    if (!whole) alongOutline.push_back(f);
+  }
+  removePinches(canvas, patchSelected, alongOutline);
   const std::vector<int> patchFaces = selectedFaces(patchSelected);
   if (patchFaces.empty()) {
     keepTarget();
