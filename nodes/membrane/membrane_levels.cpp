@@ -69,22 +69,36 @@ Stencil laplaceStencil() {
 }
 
 // The Galerkin product P^T S P of a stencil on the unmasked infinite grid: the coarse operator
-// wherever Q is far away.
+// wherever Q is far away. S P e_0 is gathered on the fine offsets it reaches, then restricted one
+// axis at a time, as galerkinRow does near the boundary.
 Stencil galerkinStencil(const Stencil& fine) {
-  Stencil coarse{};
+  constexpr int kWide = kSplineReach + kReach;
+  constexpr int kSide = 2 * kWide + 1;
+  std::array<std::array<double, kSide>, kSide> w{};
   for (int fy = -kSplineReach; fy <= kSplineReach; ++fy)
     for (int fx = -kSplineReach; fx <= kSplineReach; ++fx)
       for (int ky = -kReach; ky <= kReach; ++ky)
-        for (int kx = -kReach; kx <= kReach; ++kx) {
-          const double a = fine[stencilSlot(kx, ky)];
-          if (a == 0) continue;
-          const double weight = splineWeight(fx) * splineWeight(fy) * a;
-          const int gx = fx + kx, gy = fy + ky;
-          for (int jy = -kReach; jy <= kReach; ++jy)
-            for (int jx = -kReach; jx <= kReach; ++jx)
-              coarse[stencilSlot(jx, jy)] +=
-                  weight * splineWeight(gx - 2 * jx) * splineWeight(gy - 2 * jy);
-        }
+        for (int kx = -kReach; kx <= kReach; ++kx)
+          w[std::size_t(fy + ky + kWide)][std::size_t(fx + kx + kWide)] +=
+              splineWeight(fx) * splineWeight(fy) * fine[std::size_t(stencilSlot(kx, ky))];
+  std::array<std::array<double, kStencilSide>, kSide> halfway{};
+  for (int gy = 0; gy < kSide; ++gy)
+    for (int jx = -kReach; jx <= kReach; ++jx)
+      for (int dx = -kSplineReach; dx <= kSplineReach; ++dx) {
+        const int gx = 2 * jx + dx + kWide;
+        if (gx >= 0 && gx < kSide)
+          halfway[std::size_t(gy)][std::size_t(jx + kReach)] +=
+              splineWeight(dx) * w[std::size_t(gy)][std::size_t(gx)];
+      }
+  Stencil coarse{};
+  for (int jy = -kReach; jy <= kReach; ++jy)
+    for (int dy = -kSplineReach; dy <= kSplineReach; ++dy) {
+      const int gy = 2 * jy + dy + kWide;
+      if (gy < 0 || gy >= kSide) continue;
+      for (int jx = -kReach; jx <= kReach; ++jx)
+        coarse[std::size_t(stencilSlot(jx, jy))] +=
+            splineWeight(dy) * halfway[std::size_t(gy)][std::size_t(jx + kReach)];
+    }
   return coarse;
 }
 
