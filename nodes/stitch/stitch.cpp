@@ -840,10 +840,9 @@ namespace {
 
 // stitchPasteInto, refining the seam band as StitchOptions::seamRefinementRatio says; `refined`
 // tells whether it did.
-StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
-                       const TriMesh& draft, const Field2D* offset, const Parameterization& target,
-                       const StitchBase* base, bool outHoldsOutside, double refinementRatio,
-                       bool& refined) {
+StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
+                        const Parameterization& target, const StitchBase* base,
+                        bool outHoldsOutside, double refinementRatio, bool& refined) {
   refined = false;
   if (outHoldsOutside && (!base || out.n_vertices() != base->outside.n_vertices() ||
                           out.n_faces() != base->outside.n_faces()))
@@ -851,8 +850,6 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
   if (!outHoldsOutside) out.clear();
   if (!source.canvas || !target.canvas) throw StitchError("the parameterizations have no canvases");
   const TriMesh& canvas = source.canvas->surface;
-  if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
-    throw StitchError("the draft does not have the source canvas' vertices and faces");
   const TriMesh& targetMesh = meshOf(*target.canvas);
   StitchResult result;  // its mesh stays empty: the mesh is `out`
   auto keepTarget = [&] {
@@ -1024,7 +1021,7 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
     }
   }
 
-  // The patch, after the target's vertices, each vertex at x~(E_s(v)) + G(v).
+  // The patch, after the target's vertices, at the source canvas' positions until placePatch.
   // Joined to nothing: the copy costs the region's size, not the canvas'.
   AppendedFaces nothing;
   nothing.vertexInOut.assign(canvas.n_vertices(), -1);
@@ -1032,17 +1029,6 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
   nothing.faceInOut.assign(canvas.n_faces(), -1);
   const int firstPatchHalfedge = int(out.n_halfedges());
   const AppendedFaces patch = joinFaces(out, canvas, patchFaces, std::move(nothing));
-  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < patch.sourceVertex.size(); ++i) {
-    const int c = patch.sourceVertex[i];
-    const auto& g = draft.point(TriMesh::VertexHandle(c));
-    if (offset && !offset->sample(source.uv[std::size_t(c)], shift)) {
-      throw StitchError("the offset membrane is undefined at source canvas " + vertexText(c) +
-                        " of the region");
-    }
-    out.set_point(TriMesh::VertexHandle(patch.firstVertex + int(i)),
-                  {g[0] + shift.x(), g[1] + shift.y(), g[2] + shift.z()});
-  }
   result.patchVertices = patch.sourceVertex.size();
   std::vector<std::vector<int>> patchLoops;
   // The patch's halfedges are the last ones.
@@ -1118,20 +1104,54 @@ StitchResult pasteInto(TriMesh& out, const Region2D& region, const Parameterizat
 
 }  // namespace
 
-StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
-                             const TriMesh& draft, const Field2D* offset,
-                             const Parameterization& target, const StitchBase* base,
-                             bool outHoldsOutside, const StitchOptions& options) {
+StitchResult stitchLayoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
+                              const Parameterization& target, const StitchBase* base,
+                              bool outHoldsOutside, const StitchOptions& options) {
   bool refined = false;
   try {
-    return pasteInto(out, region, source, draft, offset, target, base, outHoldsOutside,
-                     options.seamRefinementRatio, refined);
+    return layoutInto(out, region, source, target, base, outHoldsOutside,
+                      options.seamRefinementRatio, refined);
   } catch (const StitchError&) {
     if (!refined) throw;
   }
   // The refined band could not be made manifold or joined (rare: R_in's outline winds through a
   // coarse face): the paste without it, as good as a coarse target allows, from a fresh copy.
-  return pasteInto(out, region, source, draft, offset, target, base, false, 0, refined);
+  return layoutInto(out, region, source, target, base, false, 0, refined);
+}
+
+void placePatch(TriMesh& out, const PasteMap& map, const Parameterization& source,
+                const TriMesh& draft, const Field2D* offset) {
+  const TriMesh& canvas = source.canvas->surface;
+  if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
+    throw StitchError("the draft does not have the source canvas' vertices and faces");
+  if (map.sourceVertex.size() != out.n_vertices())
+    throw StitchError("the paste map does not describe the mesh to place the patch in");
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  for (std::size_t v = 0; v < map.sourceVertex.size(); ++v) {
+    const int c = map.sourceVertex[v];
+    if (c < 0) continue;
+    const auto& g = draft.point(TriMesh::VertexHandle(c));
+    if (offset && !offset->sample(source.uv[std::size_t(c)], shift)) {
+      throw StitchError("the offset membrane is undefined at source canvas " + vertexText(c) +
+                        " of the region");
+    }
+    out.set_point(TriMesh::VertexHandle(int(v)),
+                  {g[0] + shift.x(), g[1] + shift.y(), g[2] + shift.z()});
+  }
+}
+
+StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Parameterization& source,
+                             const TriMesh& draft, const Field2D* offset,
+                             const Parameterization& target, const StitchBase* base,
+                             bool outHoldsOutside, const StitchOptions& options) {
+  if (!source.canvas) throw StitchError("the parameterizations have no canvases");
+  const TriMesh& canvas = source.canvas->surface;
+  if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
+    throw StitchError("the draft does not have the source canvas' vertices and faces");
+  StitchResult result =
+      stitchLayoutInto(out, region, source, target, base, outHoldsOutside, options);
+  placePatch(out, result.map, source, draft, offset);
+  return result;
 }
 
 }  // namespace geobrush

@@ -100,6 +100,17 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
                              const Parameterization& target, const StitchBase* base = nullptr,
                              bool outHoldsOutside = false, const StitchOptions& options = {});
 
+// The two halves of stitchPasteInto. The paste's connectivity and seam depend on the region, the
+// canvases and their parameterizations alone: stitchLayoutInto builds them, with R_in's vertices
+// at the source canvas' positions, while the offset membrane is still being solved; placePatch
+// then moves each vertex of R_in (map.sourceVertex >= 0) to x~(E_s(v)) + G(v). Together they give
+// stitchPasteInto's result bit for bit; they throw StitchError as it does.
+StitchResult stitchLayoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
+                              const Parameterization& target, const StitchBase* base = nullptr,
+                              bool outHoldsOutside = false, const StitchOptions& options = {});
+void placePatch(TriMesh& out, const PasteMap& map, const Parameterization& source,
+                const TriMesh& draft, const Field2D* offset);
+
 // Copies the target's part outside the base's open part into `out`, with room for the rest of the
 // target and a paste from `sourceCanvas`: what every paste into this target starts from.
 void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMesh& sourceCanvas,

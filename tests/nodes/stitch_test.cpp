@@ -150,6 +150,51 @@ TEST(Stitch, PatchVerticesGoToTheDraftPlusTheOffset) {
   }
 }
 
+// The layout, made before the draft and the offset exist, and the placement after them give the
+// paste bit for bit: connectivity, every position, the map.
+TEST(Stitch, LayoutThenPlacementIsThePaste) {
+  auto source = test::heightFieldParameterization(
+      24, [](double x, double y) { return 0.05 * std::sin(7 * x) * std::cos(5 * y); });
+  auto target = test::heightFieldParameterization(
+      19, [](double x, double y) { return 0.2 * (x * x + y * y); });
+  const RoiResult roi =
+      paintRegion(strokes({{{0.1, 0}, 0.55, false}}), *source, *target, RoiOptions{40});
+  TriMesh draft = source->canvas->surface;
+  for (auto v : draft.vertices())
+    draft.point(v)[2] += 0.1 + 0.2 * draft.point(v)[1];
+  Field2D offset;
+  offset.grid = roi.region.grid;
+  offset.defined.assign(offset.grid.nodeCount(), 1);
+  for (int j = 0; j < offset.grid.height; ++j)
+    for (int i = 0; i < offset.grid.width; ++i)
+      offset.values.push_back(Eigen::Vector3d(0.01 * i, -0.02 * j, 0.03));
+  const StitchResult paste = stitchPaste(roi.region, *source, draft, &offset, *target);
+  ASSERT_GT(paste.patchVertices, 50u);
+
+  TriMesh laidOut;
+  const StitchResult layout = stitchLayoutInto(laidOut, roi.region, *source, *target);
+  ASSERT_EQ(layout.map.sourceVertex, paste.map.sourceVertex);
+  EXPECT_EQ(layout.map.targetVertex, paste.map.targetVertex);
+  EXPECT_EQ(layout.map.seamFaces, paste.map.seamFaces);
+  placePatch(laidOut, layout.map, *source, draft, &offset);
+  ASSERT_EQ(laidOut.n_vertices(), paste.mesh.n_vertices());
+  ASSERT_EQ(laidOut.n_faces(), paste.mesh.n_faces());
+  for (auto v : laidOut.vertices())
+    ASSERT_EQ(laidOut.point(v), paste.mesh.point(v)) << "vertex " << v.idx();
+  for (auto f : laidOut.faces()) {
+    std::vector<int> a, b;
+    for (auto v : laidOut.fv_range(f))
+      a.push_back(v.idx());
+    for (auto v : paste.mesh.fv_range(f))
+      b.push_back(v.idx());
+    ASSERT_EQ(a, b) << "face " << f.idx();
+  }
+  // A map made for another mesh is refused rather than half applied.
+  PasteMap shorter = layout.map;
+  shorter.sourceVertex.pop_back();
+  EXPECT_THROW(placePatch(laidOut, shorter, *source, draft, &offset), StitchError);
+}
+
 // An annulus: R_in has two boundary loops, and the target keeps an island inside it.
 TEST(Stitch, AnAnnulusIsZippedAlongBothLoops) {
   auto source = flatSquare(30);
