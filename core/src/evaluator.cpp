@@ -2,7 +2,10 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
+#include <future>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -84,16 +87,20 @@ struct PendingFile {
 
 class EvalContext final : public Context {
  public:
+  // `preparing`: the context of Node::prepare, which runs off the evaluating thread: no outputs,
+  // no files, no progress reports.
   EvalContext(const NodeType& type, const GraphNode& node, const std::string& name,
               const Outputs& inputs, const std::filesystem::path& baseDir,
-              const std::filesystem::path& outputDir, const EvalOptions& options)
+              const std::filesystem::path& outputDir, const EvalOptions& options,
+              bool preparing = false)
       : type_(type),
         node_(node),
         name_(name),
         inputs_(inputs),
         baseDir_(baseDir),
         outputDir_(outputDir),
-        options_(options) {}
+        options_(options),
+        preparing_(preparing) {}
 
   std::filesystem::path path(std::string_view name) const override {
     const ParamDecl* decl = type_.findParam(name);
@@ -104,6 +111,8 @@ class EvalContext final : public Context {
   }
 
   void out(std::string_view port, ValuePtr value) override {
+    if (preparing_)
+      throw NodeError::output(port, "was set in prepare(); outputs come from compute()");
     const PortDecl* decl = type_.findOutput(port);
     if (!decl) throw NodeError::output(port, "'" + type_.id + "' declares no such output");
     if (!value) throw NodeError::output(port, "was set to nothing");
@@ -114,7 +123,7 @@ class EvalContext final : public Context {
   }
 
   void progress(double fraction) override {
-    if (options_.progress) options_.progress(name_, std::clamp(fraction, 0.0, 1.0));
+    if (options_.progress && !preparing_) options_.progress(name_, std::clamp(fraction, 0.0, 1.0));
   }
   bool cancelled() const override {
     return options_.cancel && options_.cancel->load(std::memory_order_relaxed);
@@ -123,6 +132,7 @@ class EvalContext final : public Context {
 
   void writeFile(const std::filesystem::path& path,
                  const std::function<void(const std::filesystem::path& tmp)>& write) override {
+    if (preparing_) throw NodeError("files are written in compute(), not in prepare()");
     if (path.empty()) throw NodeError("no output file given");
     std::error_code ec;
     if (!std::filesystem::is_directory(path.parent_path(), ec))
@@ -160,6 +170,7 @@ class EvalContext final : public Context {
   std::filesystem::path baseDir_;
   std::filesystem::path outputDir_;
   const EvalOptions& options_;
+  bool preparing_ = false;
   Outputs outputs_;
   std::vector<std::string> warnings_;
   std::vector<PendingFile> pending_;
@@ -174,6 +185,45 @@ struct Failure {
 std::string formatFailure(const Graph& graph, const std::string& node, const Failure& failure) {
   return GraphError(graph.file, node, failure.where, failure.message).what();
 }
+
+// Runs a node's prepare() or compute(); what it throws becomes its failure.
+template <typename Work>
+std::optional<Failure> guarded(const Work& work, bool& cancelled) {
+  try {
+    work();
+  } catch (const Cancelled&) {
+    cancelled = true;
+    return Failure{"", "cancelled"};
+  } catch (const NodeError& e) {
+    return Failure{e.where(), e.what()};
+  } catch (const std::exception& e) {
+    return Failure{"", std::string("failed: ") + e.what()};
+  } catch (...) {
+    return Failure{"", "failed with an unknown exception"};
+  }
+  return std::nullopt;
+}
+
+// A node's prepare(), run ahead on another thread or just before its compute().
+struct Preparation {
+  Outputs inputs;  // the prepareInputs that are connected
+  std::unique_ptr<EvalContext> context;
+  std::future<void> running;  // valid while it runs ahead
+  std::optional<Failure> failure;
+  bool cancelled = false;
+  double seconds = 0;
+  bool done = false;
+
+  void run(Node& node) {
+    const auto start = std::chrono::steady_clock::now();
+    failure = guarded([&] { node.prepare(*context); }, cancelled);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  void finish() {
+    if (running.valid()) running.get();
+    done = true;
+  }
+};
 
 }  // namespace
 
@@ -329,8 +379,69 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
   std::vector<PendingFile> pendingFiles;
   std::vector<std::pair<Hash, Impl::Entry>> deferredEntries;  // file writers: cached after commit
 
+  // Nodes that prepare (Node::prepare): each starts on another thread once the inputs it prepares
+  // from are ready while another of its inputs is not, so that it overlaps that input's
+  // computation; otherwise it runs just before the node's compute(). The outputs are the same.
+  auto cacheHit = [&](Hash key) {
+    auto hit = impl.cache.find(key);
+    return hit != impl.cache.end() && !(options.settle && hit->second.history);
+  };
+  std::map<std::string, Preparation> preparations;
+  std::vector<std::string> waiting;  // preparing nodes not started yet, in evaluation order
   for (const auto& name : order) {
     if (!needed.count(name)) continue;
+    if (!impl.registry.find(graph.nodes.at(name).type)->prepareInputs.empty() &&
+        !cacheHit(keys.at(name)))
+      waiting.push_back(name);
+  }
+  auto startPreparation = [&](const std::string& name, bool ahead) -> Preparation& {
+    const auto& [stableName, node] = *graph.nodes.find(name);
+    const NodeType& type = *impl.registry.find(node.type);
+    Preparation& preparation = preparations[stableName];
+    for (const auto& port : type.prepareInputs)
+      if (const Endpoint* from = findSource(sources, stableName, port))
+        preparation.inputs[port] = results.at(from->node).at(from->port);
+    preparation.context = std::make_unique<EvalContext>(type, node, stableName, preparation.inputs,
+                                                        baseDir, outputDir, options, true);
+    Node& instance = impl.instance(stableName, type, options.settle);
+    if (ahead) {
+      try {
+        preparation.running = std::async(std::launch::async,
+                                         [&preparation, &instance] { preparation.run(instance); });
+        return preparation;
+      } catch (const std::system_error&) {
+        // No thread to spare: it runs here.
+      }
+    }
+    preparation.run(instance);
+    return preparation;
+  };
+  auto startReadyPreparations = [&] {
+    for (auto it = waiting.begin(); it != waiting.end();) {
+      const NodeType& type = *impl.registry.find(graph.nodes.at(*it).type);
+      bool prepareReady = true, otherPending = false;
+      for (const auto& port : type.inputs) {
+        const Endpoint* from = findSource(sources, *it, port.name);
+        if (!from) continue;
+        const bool ready = results.count(from->node) > 0;
+        const auto& prepares = type.prepareInputs;
+        if (std::find(prepares.begin(), prepares.end(), port.name) != prepares.end())
+          prepareReady = prepareReady && ready;
+        else
+          otherPending = otherPending || !ready;
+      }
+      if (prepareReady && otherPending) {
+        startPreparation(*it, true);
+        it = waiting.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  };
+
+  for (const auto& name : order) {
+    if (!needed.count(name)) continue;
+    startReadyPreparations();
     const GraphNode& node = graph.nodes.at(name);
     const NodeType& type = *impl.registry.find(node.type);
     const Hash key = keys.at(name);
@@ -350,6 +461,10 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     auto hit = impl.cache.find(key);
     if (hit != impl.cache.end() && options.settle && hit->second.history) hit = impl.cache.end();
     if (hit != impl.cache.end()) {
+      // A node of the same key computed earlier in this run: a preparation started for this one
+      // is not needed.
+      if (auto prepared = preparations.find(name); prepared != preparations.end())
+        prepared->second.finish();
       hit->second.lastUsed = generation;
       run.cacheHit = true;
       run.history = history[name] = hit->second.history;
@@ -368,29 +483,42 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
 
     EvalContext ctx(type, node, name, inputs, baseDir, outputDir, options);
     std::optional<Failure> failure;
+    double preparedSeconds = 0;
+    bool prepared = false;
+    if (!type.prepareInputs.empty()) {
+      auto found = preparations.find(name);
+      Preparation& preparation =
+          found != preparations.end() ? found->second : startPreparation(name, false);
+      std::erase(waiting, name);
+      preparation.finish();
+      failure = preparation.failure;
+      report.cancelled = report.cancelled || preparation.cancelled;
+      preparedSeconds = preparation.seconds;
+      run.warnings = preparation.context->warnings();
+      prepared = true;
+    }
     const auto start = std::chrono::steady_clock::now();
     ++computeCount_;
-    try {
-      ctx.throwIfCancelled();
-      ctx.progress(0.0);
-      Node& instance = impl.instance(name, type, options.settle);
-      instance.compute(ctx);
-      run.history = instance.usedHistory() || inputHistory;
-      for (const auto& port : type.outputs)
-        if (!ctx.outputs().count(port.name))
-          throw NodeError::output(port.name, "was not set by '" + type.id + "'");
-    } catch (const Cancelled&) {
-      report.cancelled = true;
-      failure = Failure{"", "cancelled"};
-    } catch (const NodeError& e) {
-      failure = Failure{e.where(), e.what()};
-    } catch (const std::exception& e) {
-      failure = Failure{"", std::string("failed: ") + e.what()};
-    } catch (...) {
-      failure = Failure{"", "failed with an unknown exception"};
+    if (!failure) {
+      bool cancelled = false;
+      failure = guarded(
+          [&] {
+            ctx.throwIfCancelled();
+            ctx.progress(0.0);
+            // A prepared node computes on the instance that prepared.
+            Node& instance = impl.instance(name, type, options.settle && !prepared);
+            instance.compute(ctx);
+            run.history = instance.usedHistory() || inputHistory;
+            for (const auto& port : type.outputs)
+              if (!ctx.outputs().count(port.name))
+                throw NodeError::output(port.name, "was not set by '" + type.id + "'");
+          },
+          cancelled);
+      report.cancelled = report.cancelled || cancelled;
     }
-    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    run.warnings = ctx.warnings();
+    run.seconds = preparedSeconds +
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    run.warnings.insert(run.warnings.end(), ctx.warnings().begin(), ctx.warnings().end());
     for (auto& file : ctx.pending())
       pendingFiles.push_back(file);
 
@@ -414,6 +542,10 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
       deferredEntries.emplace_back(key, std::move(entry));
     report.runs.push_back(std::move(run));
   }
+
+  // Preparations under way for nodes this run did not reach (an input failed) end here.
+  for (auto& [name, preparation] : preparations)
+    preparation.finish();
 
   // The files of the run appear all together, or none of them.
   std::error_code ec;

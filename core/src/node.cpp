@@ -127,7 +127,16 @@ NodeTypeBuilder& NodeTypeBuilder::upgrade(int fromVersion, UpgradeFn fn) {
   return *this;
 }
 
+NodeTypeBuilder& NodeTypeBuilder::prepares(std::vector<std::string> inputs) {
+  type_.prepareInputs = std::move(inputs);
+  return *this;
+}
+
 NodeType NodeTypeBuilder::build() const {
+  for (const std::string& input : type_.prepareInputs)
+    if (!type_.findInput(input))
+      throw std::invalid_argument("node type '" + type_.id + "' prepares from '" + input +
+                                  "', which is not one of its inputs");
   return type_;
 }
 

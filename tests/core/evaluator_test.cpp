@@ -304,3 +304,90 @@ TEST(Evaluator, SettlingRecomputesWhatAWarmStartProducedWithFreshInstances) {
   // Settled results are cached as such: settling again computes nothing.
   EXPECT_EQ(evaluator.evaluate(graph, settle).computed(), 0);
 }
+
+namespace {
+
+// a ─┬──────────── prep.a (read in prepare)
+//    └─ wait ───── prep.b
+Graph preparedSum(const std::filesystem::path& file, double value, const std::string& how,
+                  const std::string& waitType = "test.await_prepared",
+                  const std::string& waitParams = "") {
+  std::string text = R"({
+    "format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {
+      "a": {"type": "test.number", "typeVersion": 1, "params": {"value": VALUE}},
+      "wait": {"type": "WAIT", "typeVersion": 1, "params": PARAMS},
+      "prep": {"type": "test.prepared_add", "typeVersion": 1, "params": {"how": "HOW"}}
+    },
+    "connections": [{"from": "a.value", "to": "prep.a"}, {"from": "a.value", "to": "wait.in"},
+                    {"from": "wait.value", "to": "prep.b"}]
+  })";
+  auto replace = [&](const std::string& key, const std::string& with) {
+    text.replace(text.find(key), key.size(), with);
+  };
+  const std::string number = std::to_string(value);
+  replace("VALUE", number);
+  replace("WAIT", waitType);
+  replace("PARAMS", waitParams.empty() ? "{\"token\": " + number + "}" : waitParams);
+  replace("HOW", how);
+  Graph graph = parseGraph(text, file);
+  prepareGraph(graph, test::testNodeRegistry());
+  return graph;
+}
+
+const NodeRun& runOf(const EvalReport& report, const std::string& node) {
+  for (const auto& run : report.runs)
+    if (run.node == node) return run;
+  throw std::out_of_range("no run of " + node);
+}
+
+}  // namespace
+
+// prep's prepare() needs only a: it runs while wait computes, and wait sees it (else wait passes
+// -1000 on after two seconds). The result is what a sequential evaluation gives.
+TEST(Evaluator, PrepareRunsWhileTheNodesOtherInputsCompute) {
+  const auto dir = test::tempDir("eval-prepare");
+  Graph graph = preparedSum(dir / "g.json", 7, "none");
+  Evaluator evaluator(test::testNodeRegistry());
+  const EvalReport report = evaluator.evaluate(graph);
+  ASSERT_TRUE(report.ok) << report.error;
+  EXPECT_EQ(scalar(evaluator, "prep"), 14.0);
+  EXPECT_EQ(runOf(report, "prep").warnings, std::vector<std::string>{"prepared from 7.000000"});
+  EXPECT_EQ(evaluator.evaluate(graph).computed(), 0);
+  // Its cached warnings stay; a changed input prepares and computes again.
+  graph.nodes.at("a").params["value"] = 8.0;
+  graph.nodes.at("wait").params["token"] = 8.0;
+  const EvalReport again = evaluator.evaluate(graph);
+  ASSERT_TRUE(again.ok) << again.error;
+  EXPECT_EQ(scalar(evaluator, "prep"), 16.0);
+}
+
+TEST(Evaluator, APrepareThatThrowsFailsItsNode) {
+  const auto dir = test::tempDir("eval-prepare-fails");
+  Evaluator evaluator(test::testNodeRegistry());
+  const EvalReport failed = evaluator.evaluate(
+      preparedSum(dir / "g.json", 11, "fail_in_prepare", "test.fail", R"({"how": "none"})"));
+  EXPECT_FALSE(failed.ok);
+  EXPECT_TRUE(runOf(failed, "prep").failed);
+  EXPECT_NE(failed.error.find("prep"), std::string::npos) << failed.error;
+  EXPECT_NE(failed.error.find("refused while preparing"), std::string::npos) << failed.error;
+  EXPECT_NE(failed.error.find("a"), std::string::npos) << failed.error;
+
+  const EvalReport output = evaluator.evaluate(
+      preparedSum(dir / "g2.json", 12, "output_in_prepare", "test.fail", R"({"how": "none"})"));
+  EXPECT_FALSE(output.ok);
+  EXPECT_NE(output.error.find("prepare()"), std::string::npos) << output.error;
+}
+
+// The other input fails while prepare() runs: the failure is that node's, and the evaluation
+// waits for the preparation before it returns.
+TEST(Evaluator, AnInputFailingWhileANodePreparesIsReported) {
+  const auto dir = test::tempDir("eval-prepare-input-fails");
+  Evaluator evaluator(test::testNodeRegistry());
+  const EvalReport report = evaluator.evaluate(
+      preparedSum(dir / "g.json", 13, "none", "test.fail", R"({"how": "node_error"})"));
+  EXPECT_FALSE(report.ok);
+  EXPECT_TRUE(runOf(report, "wait").failed);
+  EXPECT_NE(report.error.find("asked to fail"), std::string::npos) << report.error;
+  EXPECT_THROW(runOf(report, "prep"), std::out_of_range);
+}

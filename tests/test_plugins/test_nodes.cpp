@@ -1,8 +1,11 @@
 // Small node types that exercise the evaluator: numbers, sums, failures,
 // file writes, cancellation. Each compute also bumps a global counter per
 // type so tests can count recomputations from outside.
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <fstream>
+#include <optional>
 #include <thread>
 
 #include "geobrush/registry.hpp"
@@ -76,7 +79,62 @@ class WarmStarted final : public Node {
   bool usedHistory_ = false;
 };
 
+// The last value a test.prepared_add prepared from, for test.await_prepared to wait for.
+std::atomic<double> lastPrepared{std::nan("")};
+
+// Adds a and b, having read a in prepare(): the evaluator runs that ahead, while b is computed.
+class PreparedAdd final : public Node {
+ public:
+  void prepare(Context& ctx) override {
+    prepared_.reset();
+    const double a = ctx.in<Scalar>("a")->value;
+    if (ctx.param<std::string>("how") == "fail_in_prepare")
+      throw NodeError::input("a", "refused while preparing");
+    if (ctx.param<std::string>("how") == "output_in_prepare")
+      ctx.out("value", std::make_shared<Scalar>(a));
+    ctx.warn("prepared from " + std::to_string(a));
+    prepared_ = a;
+    lastPrepared = a;
+  }
+  void compute(Context& ctx) override {
+    if (!prepared_) throw NodeError("computed without being prepared");
+    ctx.out("value", std::make_shared<Scalar>(*prepared_ + ctx.in<Scalar>("b")->value));
+  }
+
+ private:
+  std::optional<double> prepared_;
+};
+
+// Passes its input through where a test.prepared_add prepared from `token` within two seconds of
+// this compute's start, else outputs -1000.
+void awaitPrepared(Context& ctx) {
+  const double token = ctx.param<double>("token");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  while (lastPrepared.load() != token && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  const bool seen = lastPrepared.load() == token;
+  ctx.out("value", std::make_shared<Scalar>(seen ? ctx.in<Scalar>("in")->value : -1000.0));
+}
+
 void registerNodes(PluginRegistrar& r) {
+  r.add(NodeTypeBuilder("test.prepared_add", 1)
+            .doc("Adds two scalars, reading the first in prepare().")
+            .input<Scalar>("a", "First term, read in prepare().")
+            .input<Scalar>("b", "Second term.")
+            .output<Scalar>("value", "The sum.")
+            .paramEnum("how", "none", {"none", "fail_in_prepare", "output_in_prepare"},
+                       "How prepare() misbehaves.")
+            .prepares({"a"})
+            .node<PreparedAdd>()
+            .build());
+  r.add(NodeTypeBuilder("test.await_prepared", 1)
+            .doc("Passes its input through once a test.prepared_add prepared from the token.")
+            .input<Scalar>("in", "Passed through.")
+            .output<Scalar>("value", "The input, or -1000 when nothing was prepared in time.")
+            .paramDouble("token", 0.0, "The value to wait for.")
+            .range(-1e9, 1e9)
+            .compute(awaitPrepared)
+            .build());
   r.add(NodeTypeBuilder("test.number", 1)
             .doc("Outputs its parameter as a scalar.")
             .output<Scalar>("value", "The number.")

@@ -106,6 +106,12 @@ T Context::param(std::string_view name) const {
 class Node {
  public:
   virtual ~Node() = default;
+  // Where the type declares prepareInputs (NodeTypeBuilder::prepares), every computation of the
+  // node is prepare() and then compute(), on this instance. prepare() sees those inputs alone and
+  // does the part of the work that needs no other: the evaluator runs it on another thread as
+  // soon as they are ready, while it computes the node's other inputs. It may not set outputs or
+  // write files; its warnings are the node's, and what it throws is the node's failure.
+  virtual void prepare(Context&) {}
   virtual void compute(Context& ctx) = 0;
   // True when the last compute() started from state left by earlier ones (a warm start), so
   // that its outputs may differ from a fresh instance's within the node's tolerance. The
@@ -133,8 +139,9 @@ struct NodeType {
   std::vector<PortDecl> outputs;
   std::vector<ParamDecl> params;
   std::function<std::unique_ptr<Node>()> create;
-  std::map<int, UpgradeFn> upgrades;  // key: the version upgraded from
-  std::string library;                // filled by the plugin loader
+  std::vector<std::string> prepareInputs;  // the inputs Node::prepare reads; empty: none
+  std::map<int, UpgradeFn> upgrades;       // key: the version upgraded from
+  std::string library;                     // filled by the plugin loader
 
   const PortDecl* findInput(std::string_view name) const;
   const PortDecl* findOutput(std::string_view name) const;
@@ -196,6 +203,8 @@ class NodeTypeBuilder {
   }
   // A stateless node given as a function.
   NodeTypeBuilder& compute(std::function<void(Context&)> fn);
+  // The declared inputs that the node's prepare() needs (see Node::prepare).
+  NodeTypeBuilder& prepares(std::vector<std::string> inputs);
   NodeTypeBuilder& upgrade(int fromVersion, UpgradeFn fn);
 
   NodeType build() const;
