@@ -2,6 +2,7 @@
 #include <deque>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "geobrush/node.hpp"
@@ -41,16 +42,13 @@ class StitchNode final : public geobrush::Node {
   // Whether the last result was built on a base made for an earlier canvas (see above).
   bool usedHistory() const override { return usedHistory_; }
 
-  void compute(Context& ctx) override {
+  // The paste's layout (stitchLayoutInto) needs the region and the canvases alone: the evaluator
+  // runs it while the membrane is solved and the cages warp the draft.
+  void prepare(Context& ctx) override {
+    laid_.reset();
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    // Unconnected, the draft is G = 0, made once per source canvas.
-    const auto draft =
-        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDrafts_.of(source->canvas);
     const auto target = ctx.in<Parameterization>("target");
-    const auto offset = ctx.hasInput("offset") ? ctx.in<Field2D>("offset") : nullptr;
-    if (offset && offset->grid != region->grid)
-      throw NodeError::input("offset", "the membrane was solved on another grid than the region's");
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
     try {
       if (!base_ || target != target_) pointBaseAt(target, source->canvas);
@@ -62,19 +60,42 @@ class StitchNode final : public geobrush::Node {
       if (!prepared) mesh = std::make_shared<Mesh>();
       geobrush::StitchOptions options;
       options.seamRefinementRatio = ctx.param<double>("seam_refinement");
-      geobrush::StitchResult result =
-          geobrush::stitchPasteInto(mesh->surface, *region, *source, draft->surface, offset.get(),
-                                    *target, base_.get(), prepared, options);
+      geobrush::StitchResult result = geobrush::stitchLayoutInto(
+          mesh->surface, *region, *source, *target, base_.get(), prepared, options);
       made_.push_back({mesh, result.startsWithOutside});
       if (made_.size() > kKept) made_.pop_front();
       // Where this dab found no result to reclaim, the next one is unlikely to: its outside part
       // is copied now.
       if (!reclaimed) prepareNext(target, source->canvas);
-      ctx.out("mesh", std::move(mesh));
-      ctx.out("map", std::make_shared<const geobrush::PasteMap>(std::move(result.map)));
+      laid_ = Laid{std::move(mesh), std::move(result.map)};
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("region", e.what());
     }
+  }
+
+  void compute(Context& ctx) override {
+    if (!laid_) throw NodeError("the paste was not laid out before it was placed");
+    const auto region = ctx.in<Region2D>("region");
+    const auto source = ctx.in<Parameterization>("source");
+    // Unconnected, the draft is G = 0, made once per source canvas.
+    const auto draft =
+        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDrafts_.of(source->canvas);
+    const auto offset = ctx.hasInput("offset") ? ctx.in<Field2D>("offset") : nullptr;
+    if (offset && offset->grid != region->grid)
+      throw NodeError::input("offset", "the membrane was solved on another grid than the region's");
+    const geobrush::TriMesh& canvas = source->canvas->surface;
+    if (draft->surface.n_vertices() != canvas.n_vertices() ||
+        draft->surface.n_faces() != canvas.n_faces())
+      throw NodeError::input("draft", "it does not have the source canvas' vertices and faces");
+    Laid laid = std::move(*laid_);
+    laid_.reset();
+    try {
+      geobrush::placePatch(laid.mesh->surface, laid.map, *source, draft->surface, offset.get());
+    } catch (const geobrush::StitchError& e) {
+      throw NodeError::input("offset", e.what());
+    }
+    ctx.out("mesh", std::move(laid.mesh));
+    ctx.out("map", std::make_shared<const geobrush::PasteMap>(std::move(laid.map)));
   }
 
  private:
@@ -185,6 +206,11 @@ class StitchNode final : public geobrush::Node {
   // A base made for a moved canvas opens twice the canvas' faces: a drag goes about two fifths of
   // the canvas' radius before its canvas leaves the open part.
   static constexpr double kMovingOpenGrowth = 1.0;
+  struct Laid {
+    std::shared_ptr<Mesh> mesh;  // the paste with R_in at the source canvas' positions
+    geobrush::PasteMap map;
+  };
+  std::optional<Laid> laid_;  // from prepare() to compute()
   bool usedHistory_ = false;
   geobrush::ZeroDraftCache zeroDrafts_;
   std::unique_ptr<geobrush::StitchBase> base_;
@@ -226,6 +252,7 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                          "mesh. Lower values also refine moderately coarse targets, at a cost "
                          "on every dab (a few ms for a few hundred seam faces).")
             .range(0, 1e3)
+            .prepares({"region", "source", "target"})
             .node<StitchNode>()
             .build());
 }

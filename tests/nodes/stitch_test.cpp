@@ -291,7 +291,7 @@ TEST(StitchNode, RefusesAnOffsetOnAnotherGrid) {
                                   {"target", param},
                                   {"offset", offset}});
   try {
-    type->create()->compute(ctx);
+    test::run(type->create(), ctx);
     FAIL() << "no error";
   } catch (const NodeError& e) {
     EXPECT_EQ(e.where(), "input 'offset'");
@@ -339,7 +339,7 @@ TEST(StitchNode, OutputsWhatStitchPasteMakes) {
                                   {"source", source},
                                   {"draft", std::make_shared<const Mesh>(source->canvas->surface)},
                                   {"target", target}});
-  type->create()->compute(ctx);
+  test::run(type->create(), ctx);
   const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
   ASSERT_TRUE(mesh);
   const StitchResult direct =
@@ -374,7 +374,7 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
       *region = paintRegion(strokes(dabs), *source, *target, RoiOptions{64}).region;
     test::DirectContext ctx(
         *type, {{"region", region}, {"source", source}, {"draft", draft}, {"target", target}});
-    node->compute(ctx);
+    test::run(*node, ctx);
     const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
     ASSERT_TRUE(mesh);
     made.push_back(mesh.get());
@@ -484,7 +484,7 @@ TEST(StitchNode, DraggingTheTargetCanvasReusesItsBase) {
         std::make_shared<Region2D>(paintRegion(painted, *source, *target, RoiOptions{64}).region);
     test::DirectContext ctx(
         *type, {{"region", region}, {"source", source}, {"draft", draft}, {"target", target}});
-    node->compute(ctx);
+    test::run(*node, ctx);
     const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
     ASSERT_TRUE(mesh);
     made.push_back(mesh.get());

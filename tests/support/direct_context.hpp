@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,5 +36,14 @@ class DirectContext final : public Context {
   std::map<std::string, ValuePtr, std::less<>> inputs_;
   std::map<std::string, ParamValue, std::less<>> params_;
 };
+
+// Computes `node` as the evaluator does: prepare(), then compute(), on the same context.
+inline void run(Node& node, Context& ctx) {
+  node.prepare(ctx);
+  node.compute(ctx);
+}
+inline void run(std::unique_ptr<Node> node, Context& ctx) {
+  run(*node, ctx);
+}
 
 }  // namespace geobrush::test
