@@ -68,48 +68,54 @@ Stencil laplaceStencil() {
   return s;
 }
 
-// The Galerkin product P^T S P of a stencil on the unmasked infinite grid: the coarse operator
-// wherever Q is far away. S P e_0 is gathered on the fine offsets it reaches, then restricted one
-// axis at a time, as galerkinRow does near the boundary.
-Stencil galerkinStencil(const Stencil& fine) {
-  constexpr int kWide = kSplineReach + kReach;
-  constexpr int kSide = 2 * kWide + 1;
-  std::array<std::array<double, kSide>, kSide> w{};
-  for (int fy = -kSplineReach; fy <= kSplineReach; ++fy)
-    for (int fx = -kSplineReach; fx <= kSplineReach; ++fx)
-      for (int ky = -kReach; ky <= kReach; ++ky)
-        for (int kx = -kReach; kx <= kReach; ++kx)
-          w[std::size_t(fy + ky + kWide)][std::size_t(fx + kx + kWide)] +=
-              splineWeight(fx) * splineWeight(fy) * fine[std::size_t(stencilSlot(kx, ky))];
+constexpr int kGalerkinWindow = kSplineReach + kReach;
+constexpr int kGalerkinSide = 2 * kGalerkinWindow + 1;
+using GalerkinWindow = std::array<std::array<double, kGalerkinSide>, kGalerkinSide>;
+
+// R w for w = A P e_I on the fine window around coarse node I: the coarse stencil row, restricted
+// one axis at a time. The coarse node j steps away covers fine offsets 2j - 2 .. 2j + 2.
+Stencil restrictWindow(const GalerkinWindow& w) {
+  constexpr int kWindow = kGalerkinWindow;
+  constexpr int kSide = kGalerkinSide;
   std::array<std::array<double, kStencilSide>, kSide> halfway{};
   for (int gy = 0; gy < kSide; ++gy)
     for (int jx = -kReach; jx <= kReach; ++jx)
       for (int dx = -kSplineReach; dx <= kSplineReach; ++dx) {
-        const int gx = 2 * jx + dx + kWide;
-        if (gx >= 0 && gx < kSide)
-          halfway[std::size_t(gy)][std::size_t(jx + kReach)] +=
-              splineWeight(dx) * w[std::size_t(gy)][std::size_t(gx)];
+        const int gx = 2 * jx + dx + kWindow;
+        if (gx < 0 || gx >= kSide) continue;
+        halfway[std::size_t(gy)][std::size_t(jx + kReach)] +=
+            splineWeight(dx) * w[std::size_t(gy)][std::size_t(gx)];
       }
-  Stencil coarse{};
+  Stencil row{};
   for (int jy = -kReach; jy <= kReach; ++jy)
     for (int dy = -kSplineReach; dy <= kSplineReach; ++dy) {
-      const int gy = 2 * jy + dy + kWide;
+      const int gy = 2 * jy + dy + kWindow;
       if (gy < 0 || gy >= kSide) continue;
       for (int jx = -kReach; jx <= kReach; ++jx)
-        coarse[std::size_t(stencilSlot(jx, jy))] +=
+        row[std::size_t(stencilSlot(jx, jy))] +=
             splineWeight(dy) * halfway[std::size_t(gy)][std::size_t(jx + kReach)];
     }
-  return coarse;
+  return row;
+}
+
+// The Galerkin product P^T S P of a stencil on the unmasked infinite grid: the coarse operator
+// wherever Q is far away. S P e_0 is gathered on the fine window it reaches and restricted, as
+// galerkinRow does near the boundary (so that its rows away from the boundary equal this one).
+Stencil galerkinStencil(const Stencil& fine) {
+  GalerkinWindow w{};
+  for (int fy = -kSplineReach; fy <= kSplineReach; ++fy)
+    for (int fx = -kSplineReach; fx <= kSplineReach; ++fx)
+      for (int ky = -kReach; ky <= kReach; ++ky)
+        for (int kx = -kReach; kx <= kReach; ++kx)
+          w[std::size_t(fy + ky + kGalerkinWindow)][std::size_t(fx + kx + kGalerkinWindow)] +=
+              splineWeight(fx) * splineWeight(fy) * fine[std::size_t(stencilSlot(kx, ky))];
+  return restrictWindow(w);
 }
 
 const Stencil& rowWeights(const Level& level, int node) {
   const int custom = level.customOfNode[std::size_t(node)];
   return custom < 0 ? level.regular : level.customRows[std::size_t(custom)].weights;
 }
-
-constexpr int kGalerkinWindow = kSplineReach + kReach;
-constexpr int kGalerkinSide = 2 * kGalerkinWindow + 1;
-using GalerkinWindow = std::array<std::array<double, kGalerkinSide>, kGalerkinSide>;
 
 // w += A P e_I before masking: the columns of A (its rows: the operators are symmetric) at the
 // fine unknowns under the B-spline of coarse node I, weighted by the spline. Reach is the fine
@@ -163,26 +169,7 @@ GEOBRUSH_MEMBRANE_KERNEL Stencil galerkinRow(const Level& fine, int coarseX, int
   for (int gy = 0; gy < kSide; ++gy)
     for (int gx = 0; gx < kSide; ++gx)
       w[std::size_t(gy)][std::size_t(gx)] *= unknown[std::size_t(gy)][std::size_t(gx)];
-  // The coarse node j steps away covers fine offsets 2j - 2 .. 2j + 2 from the center.
-  std::array<std::array<double, kStencilSide>, kSide> halfway{};
-  for (int gy = 0; gy < kSide; ++gy)
-    for (int jx = -kReach; jx <= kReach; ++jx)
-      for (int dx = -kSplineReach; dx <= kSplineReach; ++dx) {
-        const int gx = 2 * jx + dx + kWindow;
-        if (gx < 0 || gx >= kSide) continue;
-        halfway[std::size_t(gy)][std::size_t(jx + kReach)] +=
-            splineWeight(dx) * w[std::size_t(gy)][std::size_t(gx)];
-      }
-  Stencil row{};
-  for (int jy = -kReach; jy <= kReach; ++jy)
-    for (int dy = -kSplineReach; dy <= kSplineReach; ++dy) {
-      const int gy = 2 * jy + dy + kWindow;
-      if (gy < 0 || gy >= kSide) continue;
-      for (int jx = -kReach; jx <= kReach; ++jx)
-        row[std::size_t(stencilSlot(jx, jy))] +=
-            splineWeight(dy) * halfway[std::size_t(gy)][std::size_t(jx + kReach)];
-    }
-  return row;
+  return restrictWindow(w);
 }
 
 // Box dilation of `marks` by `radius` nodes (Chebyshev distance): separable, each pass an OR of
