@@ -371,7 +371,7 @@ TEST(Evaluator, APrepareThatThrowsFailsItsNode) {
   EXPECT_TRUE(runOf(failed, "prep").failed);
   EXPECT_NE(failed.error.find("prep"), std::string::npos) << failed.error;
   EXPECT_NE(failed.error.find("refused while preparing"), std::string::npos) << failed.error;
-  EXPECT_NE(failed.error.find("a"), std::string::npos) << failed.error;
+  EXPECT_NE(failed.error.find("input 'a'"), std::string::npos) << failed.error;
 
   const EvalReport output = evaluator.evaluate(
       preparedSum(dir / "g2.json", 12, "output_in_prepare", "test.fail", R"({"how": "none"})"));
