@@ -212,7 +212,6 @@ struct Preparation {
   std::optional<Failure> failure;
   bool cancelled = false;
   double seconds = 0;
-  bool done = false;
 
   void run(Node& node) {
     const auto start = std::chrono::steady_clock::now();
@@ -221,7 +220,6 @@ struct Preparation {
   }
   void finish() {
     if (running.valid()) running.get();
-    done = true;
   }
 };
 
