@@ -838,7 +838,7 @@ void restoreOutside(const StitchBase& base, TriMesh& out) {
 
 namespace {
 
-// stitchPasteInto, refining the seam band as StitchOptions::seamRefinementRatio says; `refined`
+// stitchLayoutInto, refining the seam band as StitchOptions::seamRefinementRatio says; `refined`
 // tells whether it did.
 StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
                         const Parameterization& target, const StitchBase* base,
@@ -1119,11 +1119,16 @@ StitchResult stitchLayoutInto(TriMesh& out, const Region2D& region, const Parame
   return layoutInto(out, region, source, target, base, false, 0, refined);
 }
 
-void placePatch(TriMesh& out, const PasteMap& map, const Parameterization& source,
-                const TriMesh& draft, const Field2D* offset) {
+void requireDraftOf(const TriMesh& draft, const Parameterization& source) {
+  if (!source.canvas) throw StitchError("the source parameterization has no canvas");
   const TriMesh& canvas = source.canvas->surface;
   if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
     throw StitchError("the draft does not have the source canvas' vertices and faces");
+}
+
+void placePatch(TriMesh& out, const PasteMap& map, const Parameterization& source,
+                const TriMesh& draft, const Field2D* offset) {
+  requireDraftOf(draft, source);
   if (map.sourceVertex.size() != out.n_vertices())
     throw StitchError("the paste map does not describe the mesh to place the patch in");
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
@@ -1144,10 +1149,7 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
                              const TriMesh& draft, const Field2D* offset,
                              const Parameterization& target, const StitchBase* base,
                              bool outHoldsOutside, const StitchOptions& options) {
-  if (!source.canvas) throw StitchError("the parameterizations have no canvases");
-  const TriMesh& canvas = source.canvas->surface;
-  if (draft.n_vertices() != canvas.n_vertices() || draft.n_faces() != canvas.n_faces())
-    throw StitchError("the draft does not have the source canvas' vertices and faces");
+  requireDraftOf(draft, source);  // before the layout's work, not after it
   StitchResult result =
       stitchLayoutInto(out, region, source, target, base, outHoldsOutside, options);
   placePatch(out, result.map, source, draft, offset);

@@ -110,6 +110,8 @@ StitchResult stitchLayoutInto(TriMesh& out, const Region2D& region, const Parame
                               bool outHoldsOutside = false, const StitchOptions& options = {});
 void placePatch(TriMesh& out, const PasteMap& map, const Parameterization& source,
                 const TriMesh& draft, const Field2D* offset);
+// Throws StitchError unless `draft` has the source canvas' vertices and faces.
+void requireDraftOf(const TriMesh& draft, const Parameterization& source);
 
 // Copies the target's part outside the base's open part into `out`, with room for the rest of the
 // target and a paste from `sourceCanvas`: what every paste into this target starts from.

@@ -83,10 +83,11 @@ class StitchNode final : public geobrush::Node {
     const auto offset = ctx.hasInput("offset") ? ctx.in<Field2D>("offset") : nullptr;
     if (offset && offset->grid != region->grid)
       throw NodeError::input("offset", "the membrane was solved on another grid than the region's");
-    const geobrush::TriMesh& canvas = source->canvas->surface;
-    if (draft->surface.n_vertices() != canvas.n_vertices() ||
-        draft->surface.n_faces() != canvas.n_faces())
-      throw NodeError::input("draft", "it does not have the source canvas' vertices and faces");
+    try {
+      geobrush::requireDraftOf(draft->surface, *source);
+    } catch (const geobrush::StitchError& e) {
+      throw NodeError::input("draft", e.what());
+    }
     Laid laid = std::move(*laid_);
     laid_.reset();
     try {
