@@ -1,0 +1,28 @@
+// Text from files and command lines, made safe to quote in a one-line message.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace geobrush {
+
+// How much of a quoted text a message shows.
+inline constexpr std::size_t kExcerptLimit = 200;
+
+// `text` with every byte that is not printable ASCII or part of a well-formed UTF-8 character
+// (U+00A0 and above) written as an escape (\n, \t, \r, \\, \xHH), so that a message stays one
+// line and sends nothing to the terminal but text. At most `limit` characters of `text` are
+// shown; a longer text ends in "... (N bytes)".
+std::string escapeText(std::string_view text, std::size_t limit = kExcerptLimit);
+
+// escapeText between single quotes: 'text'.
+std::string quoteText(std::string_view text, std::size_t limit = kExcerptLimit);
+// A path as messages name it: quoteText of its native form, whole up to 4096 bytes.
+std::string quotePath(const std::filesystem::path& path);
+
+// One line for stderr: escapeText of a whole message, bounded by `limit` bytes of it.
+std::string messageLine(std::string_view message, std::size_t limit = 2000);
+
+}  // namespace geobrush
