@@ -339,7 +339,8 @@ TEST(MeshIo, NamesTheFileForMissingUnreadableAndUnknownFiles) {
   EXPECT_EQ(readError(xyz),
             quoted(xyz) + ": unknown mesh format '.xyz' (supported: .obj, .ply, .off, .stl)");
   const auto garbage = writeFile(dir / "garbage.ply", "hello\n");
-  EXPECT_EQ(readError(garbage), quoted(garbage) + ": is not a readable PLY file");
+  EXPECT_EQ(readError(garbage),
+            quoted(garbage) + ": is not a PLY file: it does not start with the line 'ply'");
   const auto shortVertex = writeFile(dir / "short.obj", "v 0 0\n");
   EXPECT_EQ(readError(shortVertex),
             quoted(shortVertex) + ": line 1: a vertex needs three numbers: 'v 0 0'");

@@ -1,10 +1,12 @@
 // Reading, checking and writing meshes.
 //
-// PLY, OFF and STL go through OpenMesh IO. OBJ, the format of the shipped meshes and of saved
-// results, is read and written here: OpenMesh 9.0's readers and writers pass every point through
-// 32-bit floats, and an OBJ round trip must be exact. So OBJ keeps full double precision (written
-// as the shortest decimal that reads back to the same double), while PLY, OFF and STL hold
-// 32-bit float coordinates (STL by definition, PLY and OFF through OpenMesh).
+// Every format is read here (core/src/read_*.cpp), not by OpenMesh's readers: a file from another
+// tool may declare any size and hold anything, and each reader checks what a file declares
+// against what it holds before allocating, ends in a time linear in the file's size, and names
+// the file and the place of any problem. OBJ keeps full double precision both ways (written as
+// the shortest decimal that reads back to the same double); PLY keeps each property's declared
+// type (float or double); OFF and STL hold 32-bit floats. PLY, OFF and STL are written through
+// OpenMesh, whose writers pass every point through 32-bit floats.
 #pragma once
 
 #include <cstddef>
@@ -45,14 +47,21 @@ struct MeshReadResult {
   std::vector<std::string> warnings;  // what was repaired, dropped or triangulated
 };
 
-// Reads OBJ, PLY, OFF or STL (by extension) into a triangle mesh, keeping the file's vertex
-// order (STL has no shared vertices: OpenMesh merges corners at equal positions, in order of
-// first use). Polygons are fan-triangulated from their first corner, with a warning. Faces with
-// fewer than 3 corners, a repeated vertex or a vertex index out of range are dropped with a
-// warning. Throws MeshError, naming the file, for a missing or unreadable file, an unknown
-// extension, no usable faces, a non-finite coordinate (naming the first such vertex), or
-// (unless repaired) faces that make an edge or vertex non-manifold. Vertex colours are not read.
+// Reads OBJ, PLY (ASCII or binary), OFF (text or binary) or STL (ASCII or binary), by extension,
+// into a triangle mesh, keeping the file's vertex order (STL has no shared vertices: corners at
+// equal positions become one vertex, in order of first use). Polygons are fan-triangulated from
+// their first corner, with a warning. Faces with fewer than 3 corners, a repeated vertex or a
+// vertex index out of range are dropped with a warning. Throws MeshError, naming the file (and
+// the line or byte where it applies), for a missing file or one that is not a regular file, an
+// unknown extension, a malformed or truncated file, a count the file's size cannot hold, no
+// usable faces, a non-finite coordinate (naming the first such vertex), or (unless repaired) faces
+// that make an edge or vertex non-manifold. Vertex colours are not read.
 MeshReadResult readMesh(const std::filesystem::path& path, const MeshReadOptions& options = {});
+
+// readMesh of a file's bytes, held in memory; `name` is the file named in messages.
+MeshReadResult readMeshBytes(std::string_view bytes, MeshFormat format,
+                             const std::filesystem::path& name,
+                             const MeshReadOptions& options = {});
 
 // Why `format` cannot hold `mesh` so that it reads back: a non-finite coordinate, or one beyond
 // the 32-bit float range in PLY, OFF and STL (naming the first such vertex); or nothing.
