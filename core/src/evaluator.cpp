@@ -12,6 +12,7 @@
 #include "atomic_file.hpp"
 #include "geobrush/node.hpp"
 #include "geobrush/registry.hpp"
+#include "geobrush/text.hpp"
 
 namespace geobrush {
 namespace {
@@ -81,6 +82,7 @@ const Endpoint* findSource(const SourceIndex& sources, const std::string& node,
 }
 
 struct PendingFile {
+  std::string node;  // the node that wrote it, for messages
   std::filesystem::path target;
   std::filesystem::path tmp;
 };
@@ -136,13 +138,29 @@ class EvalContext final : public Context {
     if (path.empty()) throw NodeError("no output file given");
     std::error_code ec;
     if (!std::filesystem::is_directory(path.parent_path(), ec))
-      throw NodeError("cannot write " + path.string() + ": folder " + path.parent_path().string() +
-                      " does not exist");
-    const auto tmp = temporaryPathFor(path);
-    pending_.push_back({path, tmp});
+      throw NodeError("cannot write " + quotePath(path) + ": folder " +
+                      quotePath(path.parent_path()) + " does not exist");
+    std::filesystem::path file;
+    try {
+      file = replaceableTarget(path);
+    } catch (const std::runtime_error& e) {
+      throw NodeError(pathParamNaming(path), e.what());
+    }
+    const auto tmp = temporaryPathFor(file);
+    pending_.push_back({name_, path, tmp});
     write(tmp);
     if (!std::filesystem::exists(tmp, ec))
-      throw NodeError("writing " + path.string() + " produced no file");
+      throw NodeError("writing " + quotePath(path) + " produced no file");
+  }
+
+  // "param 'NAME'" for the OutputPath param that names `path`, so that a failed write names the
+  // param it came from; empty when none does.
+  std::string pathParamNaming(const std::filesystem::path& path) const {
+    for (const auto& decl : type_.params)
+      if (decl.kind == ParamKind::OutputPath &&
+          resolvePath(std::get<std::string>(effectiveParam(node_, decl)), outputDir_) == path)
+        return NodeError::param(decl.name, "").where();
+    return "";
   }
 
   Outputs& outputs() { return outputs_; }
@@ -342,6 +360,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
   try {
     order = topologicalOrder(graph);
     keys = nodeKeys(graph, options);
+    checkOutputPaths(graph, impl.registry, impl.outputDir(graph, options));
   } catch (const std::exception& e) {
     report.ok = false;
     report.error = e.what();
@@ -549,10 +568,11 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
   std::error_code ec;
   if (report.ok) {
     for (const auto& file : pendingFiles) {
-      std::filesystem::rename(file.tmp, file.target, ec);
-      if (ec) {
+      try {
+        replaceWithTemporary(file.tmp, file.target);
+      } catch (const std::runtime_error& e) {
         report.ok = false;
-        report.error = "cannot write " + file.target.string() + ": " + ec.message();
+        report.error = GraphError(graph.file, file.node, "", e.what()).what();
         break;
       }
       report.filesWritten.push_back(file.target);

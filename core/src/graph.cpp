@@ -5,26 +5,28 @@
 #include <set>
 
 #include "geobrush/registry.hpp"
+#include "geobrush/text.hpp"
 
 namespace geobrush {
 namespace {
 
 std::string formatGraphError(const std::filesystem::path& file, const std::string& node,
                              const std::string& where, const std::string& cause) {
-  std::string text = file.empty() ? std::string("<graph>") : file.string();
-  if (!node.empty()) text += ": node '" + node + "'";
+  std::string text = file.empty() ? std::string("<graph>") : escapeText(file.native(), 4096);
+  if (!node.empty()) text += ": node " + quoteText(node);
   if (!where.empty()) text += (node.empty() ? ": " : " ") + where;
   return text + ": " + cause;
 }
 
+// "node.port", escaped (its names come from the file), for quoting in a message.
 std::string describe(const Endpoint& endpoint) {
-  return endpoint.node + "." + endpoint.port;
+  return escapeText(endpoint.node + "." + endpoint.port);
 }
 
 std::string searchedDirsText(const NodeRegistry& registry) {
   std::string dirs;
   for (const auto& dir : registry.searchedDirs())
-    dirs += (dirs.empty() ? "" : ", ") + dir.string();
+    dirs += (dirs.empty() ? "" : ", ") + escapeText(dir.native(), 4096);
   return dirs.empty() ? "no plugin folder searched" : "searched " + dirs;
 }
 
@@ -32,8 +34,8 @@ void upgradeNode(const Graph& graph, const std::string& name, GraphNode& node,
                  const NodeType& type) {
   if (node.typeVersion > type.version) {
     throw GraphError(graph.file, name, "",
-                     "saved with typeVersion " + std::to_string(node.typeVersion) + " of '" +
-                         node.type + "', newer than the loaded plugin's version " +
+                     "saved with typeVersion " + std::to_string(node.typeVersion) + " of " +
+                         quoteText(node.type) + ", newer than the loaded plugin's version " +
                          std::to_string(type.version) + " (" + type.library + ")");
   }
   if (node.typeVersion < 1) throw GraphError(graph.file, name, "", "typeVersion must be >= 1");
@@ -41,7 +43,7 @@ void upgradeNode(const Graph& graph, const std::string& name, GraphNode& node,
     auto it = type.upgrades.find(node.typeVersion);
     if (it == type.upgrades.end()) {
       throw GraphError(graph.file, name, "",
-                       "'" + node.type + "' has no upgrade from typeVersion " +
+                       quoteText(node.type) + " has no upgrade from typeVersion " +
                            std::to_string(node.typeVersion) + " to " +
                            std::to_string(node.typeVersion + 1));
     }
@@ -63,14 +65,14 @@ void coerceParams(const Graph& graph, const std::string& name, GraphNode& node,
       std::string known;
       for (const auto& p : type.params)
         known += (known.empty() ? "" : ", ") + p.name;
-      throw GraphError(graph.file, name, "param '" + paramName + "'",
-                       "'" + node.type + "' has no such parameter (it has: " +
+      throw GraphError(graph.file, name, "param " + quoteText(paramName),
+                       quoteText(node.type) + " has no such parameter (it has: " +
                            (known.empty() ? "none" : known) + ")");
     }
     try {
       value = coerceParam(*decl, value);
     } catch (const std::exception& e) {
-      throw GraphError(graph.file, name, "param '" + paramName + "'", e.what());
+      throw GraphError(graph.file, name, "param " + quoteText(paramName), e.what());
     }
   }
 }
@@ -81,26 +83,26 @@ void checkConnections(const Graph& graph, const NodeRegistry& registry, bool req
     const std::string where = "connection '" + describe(c.from) + " -> " + describe(c.to) + "'";
     auto from = graph.nodes.find(c.from.node);
     if (from == graph.nodes.end())
-      throw GraphError(graph.file, c.from.node, where, "no node named '" + c.from.node + "'");
+      throw GraphError(graph.file, c.from.node, where, "no node named " + quoteText(c.from.node));
     auto to = graph.nodes.find(c.to.node);
     if (to == graph.nodes.end())
-      throw GraphError(graph.file, c.to.node, where, "no node named '" + c.to.node + "'");
+      throw GraphError(graph.file, c.to.node, where, "no node named " + quoteText(c.to.node));
     const NodeType& fromType = *registry.find(from->second.type);
     const NodeType& toType = *registry.find(to->second.type);
     const PortDecl* out = fromType.findOutput(c.from.port);
     if (!out)
-      throw GraphError(graph.file, c.from.node, "output '" + c.from.port + "'",
+      throw GraphError(graph.file, c.from.node, "output " + quoteText(c.from.port),
                        "'" + fromType.id + "' has no such output (" + where + ")");
     const PortDecl* in = toType.findInput(c.to.port);
     if (!in)
-      throw GraphError(graph.file, c.to.node, "input '" + c.to.port + "'",
+      throw GraphError(graph.file, c.to.node, "input " + quoteText(c.to.port),
                        "'" + toType.id + "' has no such input (" + where + ")");
     if (out->typeId != in->typeId)
-      throw GraphError(graph.file, c.to.node, "input '" + c.to.port + "'",
+      throw GraphError(graph.file, c.to.node, "input " + quoteText(c.to.port),
                        "type mismatch: it takes " + in->typeId + " but '" + describe(c.from) +
                            "' gives " + out->typeId);
     if (!fed.insert({c.to.node, c.to.port}).second)
-      throw GraphError(graph.file, c.to.node, "input '" + c.to.port + "'",
+      throw GraphError(graph.file, c.to.node, "input " + quoteText(c.to.port),
                        "has more than one incoming connection");
   }
   for (const auto& [name, node] : graph.nodes) {
@@ -137,18 +139,51 @@ void prepareGraph(Graph& graph, const NodeRegistry& registry, bool requireInputs
       const std::string file = expectedPluginFile(node.type);
       if (auto reason = registry.refusal(file))
         throw GraphError(graph.file, name, "",
-                         "node type '" + node.type + "' is unavailable: " + *reason);
+                         "node type " + quoteText(node.type) + " is unavailable: " + *reason);
       throw GraphError(graph.file, name, "",
-                       "unknown node type '" + node.type + "': no loaded plugin provides it (" +
-                           "expected plugin " + expectedPluginFile(node.type) + "; " +
+                       "unknown node type " + quoteText(node.type) +
+                           ": no loaded plugin provides it (expected plugin " +
+                           escapeText(expectedPluginFile(node.type)) + "; " +
                            searchedDirsText(registry) + "; add folders with GEOBRUSH_PLUGIN_PATH)");
     }
     upgradeNode(graph, name, node, *type);
     coerceParams(graph, name, node, *type);
   }
   checkConnections(graph, registry, requireInputs);
+  // A graph being edited may name one file twice for a while, as it may leave inputs open.
+  if (requireInputs) checkOutputPaths(graph, registry);
   topologicalOrder(graph);
   std::erase_if(graph.ui, [&](const auto& entry) { return !graph.nodes.count(entry.first); });
+}
+
+void checkOutputPaths(const Graph& graph, const NodeRegistry& registry,
+                      const std::filesystem::path& outputDir) {
+  struct Writer {
+    std::string node;
+    std::string param;
+  };
+  std::map<std::filesystem::path, Writer> writers;
+  for (const auto& [name, node] : graph.nodes) {
+    const NodeType* type = registry.find(node.type);
+    if (!type) continue;
+    for (const auto& decl : type->params) {
+      if (decl.kind != ParamKind::OutputPath) continue;
+      const auto set = node.params.find(decl.name);
+      const ParamValue& value = set == node.params.end() ? decl.defaultValue : set->second;
+      const auto* text = std::get_if<std::string>(&value);
+      if (!text || text->empty()) continue;  // an empty output path writes no file
+      // As the evaluator resolves it; with no folder, a relative path stays relative.
+      const std::filesystem::path path(*text);
+      const auto file = (path.is_absolute() ? path : outputDir / path).lexically_normal();
+      const auto [first, inserted] = writers.try_emplace(file, Writer{name, decl.name});
+      if (!inserted)
+        throw GraphError(graph.file, name, "param " + quoteText(decl.name),
+                         "writes " + quotePath(file) + ", as node " +
+                             quoteText(first->second.node) + " param " +
+                             quoteText(first->second.param) +
+                             " does: each would report writing it, and one would be lost");
+    }
+  }
 }
 
 void setParamFromText(Graph& graph, const NodeRegistry& registry, const std::string& assignment) {
@@ -156,24 +191,24 @@ void setParamFromText(Graph& graph, const NodeRegistry& registry, const std::str
   const auto dot = assignment.find('.');
   if (equals == std::string::npos || dot == std::string::npos || dot > equals)
     throw GraphError(graph.file, "", "",
-                     "--set expects NODE.PARAM=VALUE, got '" + assignment + "'");
+                     "--set expects NODE.PARAM=VALUE, got " + quoteText(assignment));
   const std::string nodeName = assignment.substr(0, dot);
   const std::string paramName = assignment.substr(dot + 1, equals - dot - 1);
   auto it = graph.nodes.find(nodeName);
   if (it == graph.nodes.end())
     throw GraphError(graph.file, nodeName, "",
-                     "no node of that name (in --set " + assignment + ")");
+                     "no node of that name (in --set " + quoteText(assignment) + ")");
   const NodeType* type = registry.find(it->second.type);
   if (!type)
-    throw GraphError(graph.file, nodeName, "", "unknown node type '" + it->second.type + "'");
+    throw GraphError(graph.file, nodeName, "", "unknown node type " + quoteText(it->second.type));
   const ParamDecl* decl = type->findParam(paramName);
   if (!decl)
-    throw GraphError(graph.file, nodeName, "param '" + paramName + "'",
+    throw GraphError(graph.file, nodeName, "param " + quoteText(paramName),
                      "'" + type->id + "' has no such parameter");
   try {
     it->second.params[paramName] = parseParamText(*decl, assignment.substr(equals + 1));
   } catch (const std::exception& e) {
-    throw GraphError(graph.file, nodeName, "param '" + paramName + "'", e.what());
+    throw GraphError(graph.file, nodeName, "param " + quoteText(paramName), e.what());
   }
 }
 
@@ -212,9 +247,9 @@ std::vector<std::string> topologicalOrder(const Graph& graph) {
       if (c.to.node == path.back() && pending[c.from.node] > 0) upstream = c.from.node;
     if (onPath.count(upstream)) {
       const auto first = std::find(path.begin(), path.end(), upstream) - path.begin();
-      std::string cycle = "'" + upstream + "'";
+      std::string cycle = quoteText(upstream);
       for (auto k = std::ptrdiff_t(path.size()) - 1; k >= first; --k)
-        cycle += " -> '" + path[k] + "'";
+        cycle += " -> " + quoteText(path[k]);
       throw GraphError(graph.file, upstream, "", "the graph has a cycle: " + cycle);
     }
     path.push_back(upstream);

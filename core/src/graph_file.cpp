@@ -1,16 +1,188 @@
 // JSON form of graphs; the only file that sees nlohmann_json.
+#include <algorithm>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
-#include <sstream>
+#include <set>
 
 #include "atomic_file.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/registry.hpp"
+#include "geobrush/text.hpp"
 
 namespace geobrush {
 namespace {
 
 using nlohmann::json;
+
+// Graph files are kilobytes; a larger file is a wrong path (a device, a mesh, a log), and reading
+// it whole would cost its size in memory.
+constexpr std::size_t kMaxGraphFileBytes = std::size_t(64) << 20;
+// A graph file nests six levels (root, nodes, node, params, dab rows, numbers).
+constexpr std::size_t kMaxJsonDepth = 64;
+
+// A JSON key as messages show it: "key".
+std::string jsonKey(std::string_view key) {
+  std::string text = "\"";
+  text += escapeText(key);
+  text += '"';
+  return text;
+}
+
+// Where in a graph file something is, as GraphError names it.
+struct Place {
+  std::string node;
+  std::string where;
+};
+
+// The node and param (or key) that a path of keys from the root names: nodes/NAME/params/PARAM
+// is node 'NAME' param 'PARAM'. An empty step is an object whose first key is not read yet.
+Place placeOf(const std::vector<std::string>& path) {
+  if (path.empty() || path[0].empty()) return {};
+  const std::string& top = path[0];
+  const auto step = [&](std::size_t i) { return i < path.size() ? path[i] : std::string(); };
+  if ((top == "nodes" || top == "ui") && !step(1).empty()) {
+    Place place{step(1), ""};
+    if (top == "ui")
+      place.where = step(2).empty() ? "ui" : "ui " + jsonKey(step(2));
+    else if (step(2) == "params" && !step(3).empty())
+      place.where = "param " + quoteText(step(3));
+    else if (!step(2).empty())
+      place.where = jsonKey(step(2));
+    return place;
+  }
+  const std::string index = step(1);  // of a connection, when "connections" is the array it must be
+  if (top == "connections" && !index.empty() && index.size() < 10 &&
+      std::all_of(index.begin(), index.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return {"", "connection " + std::to_string(std::stoul(index) + 1)};
+  // Inside an object whose first key is not read yet, the top key would say too much.
+  if (path.size() == 1 || !index.empty()) return {"", jsonKey(top)};
+  return {};
+}
+
+// Builds the document as nlohmann's DOM parser does, and keeps the path of keys (and array
+// indices) to where the parser is, so that an error names the node and param it happened in.
+// It refuses what the DOM parser lets through: a duplicate key (the DOM keeps the last one
+// silently) and nesting deeper than a graph file needs (every level costs memory).
+class GraphSaxParser {
+ public:
+  struct Problem {
+    std::vector<std::string> path;
+    std::string cause;
+  };
+
+  explicit GraphSaxParser(json& root) : dom_(root, /*allow_exceptions=*/false) {}
+
+  bool null() {
+    enterValue();
+    return dom_.null();
+  }
+  bool boolean(bool value) {
+    enterValue();
+    return dom_.boolean(value);
+  }
+  bool number_integer(json::number_integer_t value) {
+    enterValue();
+    return dom_.number_integer(value);
+  }
+  bool number_unsigned(json::number_unsigned_t value) {
+    enterValue();
+    return dom_.number_unsigned(value);
+  }
+  bool number_float(json::number_float_t value, const json::string_t& text) {
+    enterValue();
+    return dom_.number_float(value, text);
+  }
+  bool string(json::string_t& value) {
+    enterValue();
+    return dom_.string(value);
+  }
+  bool binary(json::binary_t& value) {
+    enterValue();
+    return dom_.binary(value);
+  }
+
+  bool start_object(std::size_t size) {
+    enterValue();
+    return open(false) && dom_.start_object(size);
+  }
+  bool key(json::string_t& key) {
+    Frame& frame = frames_.back();
+    frame.step = key;
+    if (!frame.keys.insert(key).second) return fail("duplicate key " + jsonKey(key));
+    return dom_.key(key);
+  }
+  bool end_object() {
+    frames_.pop_back();
+    return dom_.end_object();
+  }
+  bool start_array(std::size_t size) {
+    enterValue();
+    return open(true) && dom_.start_array(size);
+  }
+  bool end_array() {
+    frames_.pop_back();
+    return dom_.end_array();
+  }
+
+  bool parse_error(std::size_t, const std::string& token, const nlohmann::detail::exception& e) {
+    // 406: a number that no double holds, such as 1e309.
+    if (e.id == 406) return fail("number out of range: " + escapeText(token));
+    const std::string what = e.what();
+    const auto at = what.find("parse error");
+    return fail("malformed JSON: " +
+                escapeText(at == std::string::npos ? what : what.substr(at), 2 * kExcerptLimit));
+  }
+
+  const std::optional<Problem>& problem() const { return problem_; }
+
+ private:
+  // An object's or array's place in the path: the key read last, or the index of the element.
+  struct Frame {
+    bool array = false;
+    std::size_t elements = 0;
+    std::string step;
+    std::set<std::string> keys;
+  };
+
+  // In an array, a value is the next element.
+  void enterValue() {
+    if (!frames_.empty() && frames_.back().array)
+      frames_.back().step = std::to_string(frames_.back().elements++);
+  }
+  bool open(bool array) {
+    if (frames_.size() == kMaxJsonDepth)
+      return fail("nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    frames_.push_back({array, 0, "", {}});
+    return true;
+  }
+  bool fail(std::string cause) {
+    std::vector<std::string> path;
+    for (const auto& frame : frames_)
+      path.push_back(frame.step);
+    problem_ = Problem{std::move(path), std::move(cause)};
+    return false;
+  }
+
+  nlohmann::detail::json_sax_dom_parser<json> dom_;
+  std::vector<Frame> frames_;
+  std::optional<Problem> problem_;
+};
+
+json parseJson(const std::string& text, const std::filesystem::path& file) {
+  // nlohmann's lexer ends the input at a NUL byte and would ignore what follows; JSON text holds
+  // none (a string writes it as \u0000).
+  if (const auto nul = text.find('\0'); nul != std::string::npos)
+    throw GraphError(file, "", "", "malformed JSON: a NUL byte at byte " + std::to_string(nul + 1));
+  json root;
+  GraphSaxParser parser(root);
+  if (json::sax_parse(text, &parser)) return root;
+  if (const auto& problem = parser.problem()) {
+    const Place place = placeOf(problem->path);
+    throw GraphError(file, place.node, place.where, problem->cause);
+  }
+  throw GraphError(file, "", "", "malformed JSON");
+}
 
 bool validNodeName(const std::string& name) {
   if (name.empty()) return false;
@@ -21,6 +193,10 @@ bool validNodeName(const std::string& name) {
 
 ParamValue paramFromJson(const json& value) {
   if (value.is_boolean()) return value.get<bool>();
+  // An integer beyond int64 is read as the double it is near; no int param reaches it.
+  if (value.is_number_unsigned() &&
+      value.get<std::uint64_t>() > std::uint64_t(std::numeric_limits<std::int64_t>::max()))
+    return value.get<double>();
   if (value.is_number_integer()) return value.get<std::int64_t>();
   if (value.is_number()) return value.get<double>();
   if (value.is_string()) return value.get<std::string>();
@@ -42,7 +218,8 @@ ParamValue paramFromJson(const json& value) {
     }
     return list;
   }
-  throw std::invalid_argument("unsupported value " + value.dump());
+  throw std::invalid_argument(std::string(value.is_null() ? "null" : "an object") +
+                              " is not a parameter value");
 }
 
 json paramToJson(const ParamValue& value, int rowSize) {
@@ -77,7 +254,7 @@ Endpoint parseEndpoint(const Graph& graph, const json& value, const char* key) {
   if (dot == std::string::npos || dot == 0 || dot + 1 == text.size())
     throw GraphError(
         graph.file, "", "",
-        std::string("connection '") + key + "' must be \"node.port\", got \"" + text + "\"");
+        std::string("connection '") + key + "' must be \"node.port\", got " + jsonKey(text));
   return {text.substr(0, dot), text.substr(dot + 1)};
 }
 
@@ -92,11 +269,106 @@ T require(const Graph& graph, const std::string& node, const json& object, const
   return it->get<T>();
 }
 
+// An integer key's value that fits an int (format and type versions).
+int requireInt(const Graph& graph, const std::string& node, const json& object, const char* key) {
+  const json value =
+      require<json>(graph, node, object, key, &json::is_number_integer, "an integer");
+  // Compared as the file holds it: a huge unsigned value would read as a negative int64.
+  const bool fits =
+      value.is_number_unsigned()
+          ? value.get<std::uint64_t>() <= std::uint64_t(std::numeric_limits<int>::max())
+          : value.get<std::int64_t>() >= std::numeric_limits<int>::min();
+  if (!fits)
+    throw GraphError(graph.file, node, jsonKey(key), "number out of range: " + value.dump());
+  return int(value.get<std::int64_t>());
+}
+
+// A ui coordinate: absent is 0.
+double uiCoordinate(const Graph& graph, const std::string& node, const json& entry,
+                    const char* axis) {
+  const auto it = entry.find(axis);
+  if (it == entry.end()) return 0;
+  if (!it->is_number())
+    throw GraphError(graph.file, node, "ui " + jsonKey(axis), "must be a number");
+  return it->get<double>();
+}
+
 void rejectUnknownKeys(const Graph& graph, const std::string& node, const json& object,
                        std::initializer_list<const char*> known) {
   for (const auto& item : object.items()) {
     if (std::none_of(known.begin(), known.end(), [&](const char* k) { return item.key() == k; }))
-      throw GraphError(graph.file, node, "", "unknown key \"" + item.key() + "\"");
+      throw GraphError(graph.file, node, "", "unknown key " + jsonKey(item.key()));
+  }
+}
+
+GraphNode readNode(const Graph& graph, const std::string& name, const json& entry) {
+  if (!entry.is_object()) throw GraphError(graph.file, name, "", "must be an object");
+  rejectUnknownKeys(graph, name, entry, {"type", "typeVersion", "params"});
+  GraphNode node;
+  node.type = require<std::string>(graph, name, entry, "type", &json::is_string, "a string");
+  node.typeVersion = requireInt(graph, name, entry, "typeVersion");
+  const auto params = entry.find("params");
+  if (params == entry.end()) return node;
+  if (!params->is_object()) throw GraphError(graph.file, name, "", "\"params\" must be an object");
+  for (const auto& [param, value] : params->items()) {
+    try {
+      node.params[param] = paramFromJson(value);
+    } catch (const std::exception& e) {
+      throw GraphError(graph.file, name, "param " + quoteText(param), e.what());
+    }
+  }
+  return node;
+}
+
+// What the explicit checks missed, still named by file and node rather than by nlohmann's text.
+GraphError unexpectedJson(const Graph& graph, const std::string& node, const json::exception& e) {
+  return GraphError(graph.file, node, "", "unexpected JSON: " + escapeText(e.what()));
+}
+
+void readNodes(Graph& graph, const json& root) {
+  const auto nodes = root.find("nodes");
+  if (nodes == root.end()) return;
+  if (!nodes->is_object())
+    throw GraphError(graph.file, "", "", "\"nodes\" must be an object keyed by node name");
+  for (const auto& [name, entry] : nodes->items()) {
+    if (!validNodeName(name))
+      throw GraphError(graph.file, name, "",
+                       "node names may use only letters, digits, '_' and '-'");
+    try {
+      graph.nodes.emplace(name, readNode(graph, name, entry));
+    } catch (const json::exception& e) {
+      throw unexpectedJson(graph, name, e);
+    }
+  }
+}
+
+void readConnections(Graph& graph, const json& root) {
+  const auto connections = root.find("connections");
+  if (connections == root.end()) return;
+  if (!connections->is_array())
+    throw GraphError(graph.file, "", "", "\"connections\" must be an array");
+  for (const auto& entry : *connections) {
+    if (!entry.is_object() || !entry.contains("from") || !entry.contains("to"))
+      throw GraphError(graph.file, "", "",
+                       "each connection must be {\"from\": \"node.port\", \"to\": \"node.port\"}");
+    graph.connections.push_back({parseEndpoint(graph, entry.at("from"), "from"),
+                                 parseEndpoint(graph, entry.at("to"), "to")});
+  }
+}
+
+void readUi(Graph& graph, const json& root) {
+  const auto ui = root.find("ui");
+  if (ui == root.end()) return;
+  if (!ui->is_object())
+    throw GraphError(graph.file, "", "", "\"ui\" must be an object keyed by node name");
+  for (const auto& [name, entry] : ui->items()) {
+    if (!entry.is_object()) throw GraphError(graph.file, name, "", "ui entry must be an object");
+    try {
+      graph.ui[name] = {uiCoordinate(graph, name, entry, "x"),
+                        uiCoordinate(graph, name, entry, "y")};
+    } catch (const json::exception& e) {
+      throw unexpectedJson(graph, name, e);
+    }
   }
 }
 
@@ -105,83 +377,46 @@ void rejectUnknownKeys(const Graph& graph, const std::string& node, const json& 
 Graph parseGraph(const std::string& text, const std::filesystem::path& file) {
   Graph graph;
   graph.file = file;
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::parse_error& e) {
-    // e.what() carries "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
-    std::string what = e.what();
-    auto at = what.find("parse error");
-    throw GraphError(file, "", "",
-                     "malformed JSON: " + (at == std::string::npos ? what : what.substr(at)));
-  }
+  const json root = parseJson(text, file);
   if (!root.is_object()) throw GraphError(file, "", "", "a graph file must hold a JSON object");
   rejectUnknownKeys(graph, "", root, {"format", "formatVersion", "nodes", "connections", "ui"});
   if (root.value("format", json()) != kGraphFormat)
     throw GraphError(file, "", "", "not a GeoBrush graph (\"format\" must be \"geobrush-graph\")");
-  const auto version = require<std::int64_t>(graph, "", root, "formatVersion",
-                                             &json::is_number_integer, "an integer");
+  const int version = requireInt(graph, "", root, "formatVersion");
   if (version > kGraphFormatVersion)
     throw GraphError(file, "", "",
                      "formatVersion " + std::to_string(version) +
                          " was written by a newer GeoBrush; this one reads up to " +
                          std::to_string(kGraphFormatVersion));
   if (version < 1) throw GraphError(file, "", "", "formatVersion must be >= 1");
-
-  const json nodes = root.value("nodes", json::object());
-  if (!nodes.is_object())
-    throw GraphError(file, "", "", "\"nodes\" must be an object keyed by node name");
-  for (const auto& [name, entry] : nodes.items()) {
-    if (!validNodeName(name))
-      throw GraphError(file, name, "", "node names may use only letters, digits, '_' and '-'");
-    if (!entry.is_object()) throw GraphError(file, name, "", "must be an object");
-    rejectUnknownKeys(graph, name, entry, {"type", "typeVersion", "params"});
-    GraphNode node;
-    node.type = require<std::string>(graph, name, entry, "type", &json::is_string, "a string");
-    node.typeVersion = int(require<std::int64_t>(graph, name, entry, "typeVersion",
-                                                 &json::is_number_integer, "an integer"));
-    const json params = entry.value("params", json::object());
-    if (!params.is_object()) throw GraphError(file, name, "", "\"params\" must be an object");
-    for (const auto& [param, value] : params.items()) {
-      try {
-        node.params[param] = paramFromJson(value);
-      } catch (const std::exception& e) {
-        throw GraphError(file, name, "param '" + param + "'", e.what());
-      }
-    }
-    graph.nodes.emplace(name, std::move(node));
-  }
-
-  const json connections = root.value("connections", json::array());
-  if (!connections.is_array()) throw GraphError(file, "", "", "\"connections\" must be an array");
-  for (const auto& entry : connections) {
-    if (!entry.is_object() || !entry.contains("from") || !entry.contains("to"))
-      throw GraphError(file, "", "",
-                       "each connection must be {\"from\": \"node.port\", \"to\": \"node.port\"}");
-    graph.connections.push_back(
-        {parseEndpoint(graph, entry["from"], "from"), parseEndpoint(graph, entry["to"], "to")});
-  }
-
-  const json ui = root.value("ui", json::object());
-  if (!ui.is_object())
-    throw GraphError(file, "", "", "\"ui\" must be an object keyed by node name");
-  for (const auto& [name, entry] : ui.items()) {
-    if (!entry.is_object()) throw GraphError(file, name, "", "ui entry must be an object");
-    graph.ui[name] = {entry.value("x", 0.0), entry.value("y", 0.0)};
-  }
+  readNodes(graph, root);
+  readConnections(graph, root);
+  readUi(graph, root);
   return graph;
 }
 
 Graph readGraphFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw GraphError(path, "", "", "is a folder, not a graph file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    std::error_code ec;
+  if (!in)
     throw GraphError(path, "", "",
                      std::filesystem::exists(path, ec) ? "cannot read the file" : "no such file");
+  // Read through the stream, not by the file's size: devices and pipes have none.
+  std::string text;
+  std::string buffer(std::size_t(1) << 16, '\0');
+  while (in && text.size() <= kMaxGraphFileBytes) {
+    const auto wanted = std::min(buffer.size(), kMaxGraphFileBytes + 1 - text.size());
+    in.read(buffer.data(), std::streamsize(wanted));
+    text.append(buffer.data(), std::size_t(in.gcount()));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parseGraph(text.str(), path);
+  if (in.bad()) throw GraphError(path, "", "", "cannot read the file");
+  if (text.size() > kMaxGraphFileBytes)
+    throw GraphError(path, "", "",
+                     "larger than " + std::to_string(kMaxGraphFileBytes >> 20) +
+                         " MiB: not a graph file (graph files are kilobytes)");
+  return parseGraph(text, path);
 }
 
 std::string serializeGraph(const Graph& graph, const NodeRegistry* registry) {

@@ -4,7 +4,10 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
+
+#include "geobrush/text.hpp"
 
 namespace geobrush {
 namespace {
@@ -16,7 +19,16 @@ std::string number(double value) {
   for (int precision = 1; precision < 17; ++precision) {
     char shorter[32];
     std::snprintf(shorter, sizeof shorter, "%.*g", precision, value);
-    if (std::strtod(shorter, nullptr) == value) return shorter;
+    if (std::strtod(shorter, nullptr) == value) {
+      std::snprintf(text, sizeof text, "%s", shorter);
+      break;
+    }
+  }
+  // %g writes 400 as 4e+02 at one digit: a whole number is written whole where that is shorter.
+  if (std::strchr(text, 'e') && std::trunc(value) == value && std::abs(value) < 1e16) {
+    char whole[32];
+    std::snprintf(whole, sizeof whole, "%.0f", value);
+    if (std::strlen(whole) <= std::strlen(text)) return whole;
   }
   return text;
 }
@@ -55,8 +67,10 @@ double parseDouble(const std::string& text) {
     ++begin;
   if (begin < end && *begin == '+') ++begin;
   auto [ptr, ec] = std::from_chars(begin, end, value);
+  if (ec == std::errc::result_out_of_range && ptr == end)
+    throw std::invalid_argument("number out of range: " + quoteText(text));
   if (ec != std::errc() || ptr != end)
-    throw std::invalid_argument("'" + text + "' is not a number");
+    throw std::invalid_argument(quoteText(text) + " is not a number");
   return value;
 }
 
@@ -112,10 +126,17 @@ std::optional<std::string> checkParam(const ParamDecl& decl, const ParamValue& v
       if (!std::holds_alternative<double>(value)) return "expected a number";
       return checkRange(decl, std::get<double>(value));
     case ParamKind::String:
-    case ParamKind::InputPath:
-    case ParamKind::OutputPath:
       if (!std::holds_alternative<std::string>(value)) return "expected a string";
       return std::nullopt;
+    case ParamKind::InputPath:
+    case ParamKind::OutputPath: {
+      auto* text = std::get_if<std::string>(&value);
+      if (!text) return "expected a string";
+      // The file system would see the path only up to the NUL: another file than the one named.
+      if (text->find('\0') != std::string::npos)
+        return quoteText(*text) + ": a path may not contain a NUL character";
+      return std::nullopt;
+    }
     case ParamKind::Enum: {
       auto* text = std::get_if<std::string>(&value);
       if (!text) return "expected a string";
@@ -123,7 +144,7 @@ std::optional<std::string> checkParam(const ParamDecl& decl, const ParamValue& v
         std::string list;
         for (const auto& choice : decl.choices)
           list += (list.empty() ? "" : ", ") + choice;
-        return "'" + *text + "' is not one of: " + list;
+        return quoteText(*text) + " is not one of: " + list;
       }
       return std::nullopt;
     }
@@ -177,12 +198,14 @@ ParamValue parseParamText(const ParamDecl& decl, const std::string& text) {
     case ParamKind::Bool:
       if (text == "true" || text == "1" || text == "on") return true;
       if (text == "false" || text == "0" || text == "off") return false;
-      throw std::invalid_argument("'" + text + "' is not a boolean (true or false)");
+      throw std::invalid_argument(quoteText(text) + " is not a boolean (true or false)");
     case ParamKind::Int: {
       std::int64_t value = 0;
       auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (ec == std::errc::result_out_of_range && ptr == text.data() + text.size())
+        throw std::invalid_argument("number out of range: " + quoteText(text));
       if (ec != std::errc() || ptr != text.data() + text.size())
-        throw std::invalid_argument("'" + text + "' is not an integer");
+        throw std::invalid_argument(quoteText(text) + " is not an integer");
       return coerceParam(decl, value);
     }
     case ParamKind::Double:
@@ -194,7 +217,7 @@ ParamValue parseParamText(const ParamDecl& decl, const std::string& text) {
       return coerceParam(decl, text);
     case ParamKind::Vec3: {
       auto values = parseNumberList(text);
-      if (values.size() != 3) throw std::invalid_argument("expected x,y,z, got '" + text + "'");
+      if (values.size() != 3) throw std::invalid_argument("expected x,y,z, got " + quoteText(text));
       return coerceParam(decl, Vec3{values[0], values[1], values[2]});
     }
     case ParamKind::DoubleList:

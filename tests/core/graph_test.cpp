@@ -1,7 +1,9 @@
 // Graph files: parsing, round trips, and every kind of bad file.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
+#include <thread>
 
 #include "geobrush/graph.hpp"
 #include "test_support.hpp"
@@ -78,6 +80,27 @@ TEST(GraphFile, WritesAtomically) {
   EXPECT_EQ(read.nodes.size(), 3u);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
   EXPECT_THROW(writeGraphFile(graph, dir / "missing" / "g.json"), GraphError);
+}
+
+// Saved graphs go through the same check as every output: a regular file, or a link to one.
+TEST(GraphFile, WritesThroughALinkButNeverOverAFifo) {
+  const auto dir = test::tempDir("graph-write-special");
+  Graph graph = parseGraph(kSumGraph, dir / "g.json");
+  const auto fifo = dir / "fifo.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    writeGraphFile(graph, fifo);
+    ADD_FAILURE() << "replaced a FIFO";
+  } catch (const GraphError& e) {
+    EXPECT_TRUE(test::contains(e.what(), test::quoted(fifo) + ": is a FIFO"));
+  }
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  std::ofstream(dir / "saved.json") << "{}";
+  std::filesystem::create_symlink("saved.json", dir / "link.json");
+  writeGraphFile(graph, dir / "link.json");
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "link.json"));
+  EXPECT_EQ(readGraphFile(dir / "saved.json").nodes.size(), 3u);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 3);
 }
 
 TEST(GraphFile, UpgradesOlderTypeVersions) {
@@ -227,4 +250,193 @@ TEST(GraphFileErrors, UnknownKeysAndMissingFile) {
   } catch (const GraphError& e) {
     EXPECT_STREQ(e.what(), "/nonexistent/graph.json: no such file");
   }
+}
+
+// What nlohmann reports in its own words (a number no double holds, a value of the wrong type)
+// becomes a GraphError naming the file, node and param.
+TEST(GraphFileErrors, NumberOutOfRangeNamesTheNodeAndParam) {
+  EXPECT_EQ(prepareError(replaceOnce(kSumGraph, R"("value": 2})", R"("value": 1e309})")),
+            "bad.json: node 'a' param 'value': number out of range: 1e309");
+  EXPECT_EQ(prepareError(replaceOnce(kSumGraph, R"("value": 2})", R"("value": [1, -1e400]})")),
+            "bad.json: node 'a' param 'value': number out of range: -1e400");
+  EXPECT_EQ(prepareError(replaceOnce(kSumGraph, R"("typeVersion": 2)", R"("typeVersion": 2e999)")),
+            "bad.json: node 'sum' \"typeVersion\": number out of range: 2e999");
+  EXPECT_EQ(prepareError(replaceOnce(kSumGraph, R"("x": 10)", R"("x": 1e999)")),
+            "bad.json: node 'a' ui \"x\": number out of range: 1e999");
+  EXPECT_EQ(
+      prepareError(replaceOnce(kSumGraph, R"("formatVersion": 1)", R"("formatVersion": 1e999)")),
+      "bad.json: \"formatVersion\": number out of range: 1e999");
+  EXPECT_EQ(prepareError(R"({"format": "geobrush-graph", "formatVersion": 1,
+                             "connections": {"a": 1e999}})"),
+            "bad.json: \"connections\": number out of range: 1e999");
+  EXPECT_EQ(
+      prepareError(replaceOnce(kSumGraph, R"("to": "sum.a"})", R"("to": "sum.a", "x": -1e999})")),
+      "bad.json: connection 1: number out of range: -1e999");
+  // An integer beyond int64 is not read as what it wraps to (-1 here, inside the range).
+  auto huge =
+      prepareError(replaceOnce(kSumGraph, R"("value": 2})", R"("value": 18446744073709551615})"));
+  EXPECT_NE(huge.find("node 'a' param 'value': 1.8446744073709552e+19 is outside"),
+            std::string::npos)
+      << huge;
+  EXPECT_EQ(
+      prepareError(replaceOnce(kSumGraph, R"("typeVersion": 2)", R"("typeVersion": 4294967298)")),
+      "bad.json: node 'sum' \"typeVersion\": number out of range: 4294967298");
+}
+
+TEST(GraphFileErrors, WrongJsonTypesAreGraphErrorsWithTheirPlace) {
+  EXPECT_EQ(prepareError(replaceOnce(kSumGraph, R"("x": 10)", R"("x": "left")")),
+            "bad.json: node 'a' ui \"x\": must be a number");
+  auto object = prepareError(replaceOnce(kSumGraph, R"("value": 2})", R"("value": {"x": 1}})"));
+  EXPECT_EQ(object, "bad.json: node 'a' param 'value': an object is not a parameter value");
+}
+
+TEST(GraphFileErrors, MalformedJsonNamesWhereItBroke) {
+  auto error = prepareError(replaceOnce(kSumGraph, R"("value": 3.5})", R"("value": 3.5.1})"));
+  EXPECT_NE(error.find("bad.json: node 'b' param 'value': malformed JSON: parse error at line 5"),
+            std::string::npos)
+      << error;
+}
+
+// A JSON object names each key once: the DOM would keep the last silently.
+TEST(GraphFileErrors, DuplicateKeysAreRefusedAtAnyLevel) {
+  const std::string twice = replaceOnce(
+      kSumGraph, R"("sum": {)",
+      R"("a": {"type": "test.number", "typeVersion": 1, "params": {"value": 9}}, "sum": {)");
+  EXPECT_EQ(prepareError(twice), "bad.json: node 'a': duplicate key \"a\"");
+  EXPECT_EQ(prepareError(replaceOnce(kSumGraph, R"("value": 2})", R"("value": 2, "value": 5})")),
+            "bad.json: node 'a' param 'value': duplicate key \"value\"");
+  EXPECT_EQ(prepareError(replaceOnce(kSumGraph, R"("formatVersion": 1,)",
+                                     R"("formatVersion": 1, "formatVersion": 1,)")),
+            "bad.json: \"formatVersion\": duplicate key \"formatVersion\"");
+  EXPECT_EQ(
+      prepareError(replaceOnce(kSumGraph, R"("to": "sum.a"})", R"("to": "sum.a", "to": "x.y"})")),
+      "bad.json: connection 1: duplicate key \"to\"");
+  EXPECT_EQ(prepareError(replaceOnce(kSumGraph, R"("y": -20})", R"("y": -20, "y": 0})")),
+            "bad.json: node 'a' ui \"y\": duplicate key \"y\"");
+}
+
+TEST(GraphFileErrors, DeepNestingIsRefused) {
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  auto error = prepareError(replaceOnce(kSumGraph, R"("value": 2})", "\"value\": " + deep + "}"));
+  EXPECT_EQ(error, "bad.json: node 'a' param 'value': nested deeper than 64 levels");
+}
+
+// A NUL ends a path where the file system reads it: the file written would be another one.
+TEST(GraphFileErrors, NulInAPathParamIsRefused) {
+  const char* json = R"({"format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {"n": {"type": "test.number", "typeVersion": 1},
+              "w": {"type": "test.write_text", "typeVersion": 1, "params": {"path": "a\u0000.txt"}},
+              "r": {"type": "test.read_text", "typeVersion": 1, "params": {"path": "b.txt"}}},
+    "connections": [{"from": "n.value", "to": "w.value"}]})";
+  EXPECT_EQ(prepareError(json),
+            "bad.json: node 'w' param 'path': 'a\\x00.txt': a path may not contain a NUL "
+            "character");
+  EXPECT_EQ(prepareError(replaceOnce(replaceOnce(json, "a\\u0000.txt", "a.txt"), "b.txt",
+                                     "b.txt\\u0000.obj")),
+            "bad.json: node 'r' param 'path': 'b.txt\\x00.obj': a path may not contain a NUL "
+            "character");
+}
+
+// Two outputs to one file would each report writing it, and one would be lost.
+TEST(GraphFileErrors, TwoOutputsToOneFileAreRefused) {
+  const std::string json = R"({"format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {"n": {"type": "test.number", "typeVersion": 1},
+              "w1": {"type": "test.write_text", "typeVersion": 1, "params": {"path": "out/v.txt"}},
+              "w2": {"type": "test.write_text", "typeVersion": 1, "params": {"path": "out/./x/../v.txt"}}},
+    "connections": [{"from": "n.value", "to": "w1.value"}, {"from": "n.value", "to": "w2.value"}]})";
+  const auto error = prepareError(json);
+  EXPECT_NE(error.find("bad.json: node 'w2' param 'path': writes 'out/v.txt', as node 'w1' param "
+                       "'path' does"),
+            std::string::npos)
+      << error;
+  // Both at their default, value.txt.
+  EXPECT_NE(prepareError(replaceOnce(replaceOnce(json, R"(, "params": {"path": "out/v.txt"})", ""),
+                                     R"(, "params": {"path": "out/./x/../v.txt"})", ""))
+                .find("node 'w2' param 'path': writes 'value.txt', as node 'w1'"),
+            std::string::npos);
+  EXPECT_EQ(prepareError(replaceOnce(json, "out/./x/../v.txt", "out/w.txt")), "no error");
+
+  // An absolute path and a relative one meet only in the output folder, once it is known.
+  Graph graph =
+      parseGraph(replaceOnce(json, "out/./x/../v.txt", "/tmp/results/out/v.txt"), "bad.json");
+  EXPECT_NO_THROW(prepareGraph(graph, test::testNodeRegistry()));
+  EXPECT_NO_THROW(checkOutputPaths(graph, test::testNodeRegistry(), "/tmp/elsewhere"));
+  try {
+    checkOutputPaths(graph, test::testNodeRegistry(), "/tmp/results");
+    ADD_FAILURE() << "two writers of /tmp/results/out/v.txt";
+  } catch (const GraphError& e) {
+    EXPECT_TRUE(test::contains(e.what(), "'/tmp/results/out/v.txt', as node 'w1' param 'path'"));
+  }
+  // A graph being edited may name one file twice for a while.
+  Graph editing = parseGraph(json, "editing.json");
+  EXPECT_NO_THROW(prepareGraph(editing, test::testNodeRegistry(), false));
+}
+
+// Names and texts from the file are quoted escaped, and a long one is cut: one bounded line.
+TEST(GraphFileErrors, MessagesEscapeAndBoundWhatTheFileSays) {
+  const std::string value = "\\u001b]0;title\\u0007\\n" + std::string(100000, 'x');
+  const auto error = prepareError(replaceOnce(
+      kSumGraph, R"("type": "test.add", "typeVersion": 2})",
+      R"("type": "test.fail", "typeVersion": 1, "params": {"how": ")" + value + "\"}}"));
+  EXPECT_TRUE(test::contains(error, "bad.json: node 'sum' param 'how': '\\x1b]0;title\\x07\\nxxx"));
+  EXPECT_TRUE(test::contains(error, "xxx... (100011 bytes)' is not one of: none, node_error"));
+  EXPECT_LT(error.size(), 1000u);
+  for (char c : error)
+    EXPECT_GE(static_cast<unsigned char>(c), 0x20) << error;
+
+  Graph graph = parseGraph(kSumGraph, "sum.json");
+  prepareGraph(graph, test::testNodeRegistry());
+  try {
+    setParamFromText(graph, test::testNodeRegistry(), "a.value=1\n2");
+    ADD_FAILURE() << "set a value that is no number";
+  } catch (const GraphError& e) {
+    EXPECT_STREQ(e.what(), "sum.json: node 'a' param 'value': '1\\n2' is not a number");
+  }
+  try {
+    setParamFromText(graph, test::testNodeRegistry(), "a\x1b.value=1");
+    ADD_FAILURE() << "set a param of no node";
+  } catch (const GraphError& e) {
+    EXPECT_STREQ(e.what(),
+                 "sum.json: node 'a\\x1b': no node of that name (in --set 'a\\x1b.value=1')");
+  }
+}
+
+// Devices and pipes have no size: the file is read through the stream, and at most 64 MiB of it.
+TEST(GraphFileErrors, AFileOver64MiBIsRefusedBeforeParsing) {
+  const auto dir = test::tempDir("graph-huge");
+  const auto huge = dir / "huge.json";
+  std::ofstream(huge) << kSumGraph;
+  std::filesystem::resize_file(huge, (std::size_t(64) << 20) + 1);  // sparse: nothing written
+  try {
+    readGraphFile(huge);
+    ADD_FAILURE() << "parsed a 64 MiB file";
+  } catch (const GraphError& e) {
+    EXPECT_EQ(e.what(),
+              huge.string() + ": larger than 64 MiB: not a graph file (graph files are kilobytes)");
+  }
+  // Exactly 64 MiB is read (and is no JSON: the padding is NULs).
+  std::filesystem::resize_file(huge, std::size_t(64) << 20);
+  try {
+    readGraphFile(huge);
+    ADD_FAILURE() << "parsed NULs";
+  } catch (const GraphError& e) {
+    EXPECT_TRUE(test::contains(e.what(), "malformed JSON")) << e.what();
+  }
+  try {
+    readGraphFile(dir);
+    ADD_FAILURE() << "read a folder";
+  } catch (const GraphError& e) {
+    EXPECT_EQ(e.what(), dir.string() + ": is a folder, not a graph file");
+  }
+}
+
+TEST(GraphFile, ReadsAGraphFromAPipe) {
+  const auto dir = test::tempDir("graph-fifo");
+  const auto fifo = dir / "graph.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer([&] { std::ofstream(fifo) << kSumGraph; });
+  Graph graph;
+  EXPECT_NO_THROW(graph = readGraphFile(fifo));
+  writer.join();
+  EXPECT_EQ(graph.nodes.size(), 3u);
 }

@@ -82,6 +82,74 @@ TEST(Params, TextForms) {
   EXPECT_EQ(formatParam(std::vector<double>{1, 2.5}), "1,2.5");
 }
 
+// A NUL ends a path where the file system reads it: the file would be another than the one named.
+TEST(Params, PathsMayNotHoldNul) {
+  for (const ParamKind kind : {ParamKind::InputPath, ParamKind::OutputPath}) {
+    ParamDecl path{.name = "path",
+                   .kind = kind,
+                   .defaultValue = std::string("a.obj"),
+                   .doc = "p",
+                   .min = {},
+                   .max = {},
+                   .choices = {},
+                   .rowSize = 1};
+    const std::string withNul("a.obj\0.png", 10);
+    EXPECT_EQ(checkParam(path, withNul),
+              "'a.obj\\x00.png': a path may not contain a NUL character");
+    EXPECT_THROW(coerceParam(path, withNul), std::invalid_argument);
+    EXPECT_FALSE(checkParam(path, std::string("a.obj")));
+  }
+}
+
+TEST(Params, NumberTextsOutOfRangeOrNotFiniteSaySo) {
+  ParamDecl zoom{.name = "zoom",
+                 .kind = ParamKind::Double,
+                 .defaultValue = 1.0,
+                 .doc = "z",
+                 .min = 0.05,
+                 .max = 400.0,
+                 .choices = {},
+                 .rowSize = 1};
+  const auto error = [&](const std::string& text) -> std::string {
+    try {
+      parseParamText(zoom, text);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(error("1e400"), "number out of range: '1e400'");
+  EXPECT_EQ(error("nan"), "must be a finite number");
+  EXPECT_EQ(error("500"), "500 is outside [0.05, 400]");
+  EXPECT_EQ(error("2\x1b"), "'2\\x1b' is not a number");
+  ParamDecl count{.name = "n",
+                  .kind = ParamKind::Int,
+                  .defaultValue = std::int64_t(1),
+                  .doc = "n",
+                  .min = 1.0,
+                  .max = 8.0,
+                  .choices = {},
+                  .rowSize = 1};
+  EXPECT_THROW(
+      {
+        try {
+          parseParamText(count, "99999999999999999999");
+        } catch (const std::invalid_argument& e) {
+          EXPECT_STREQ(e.what(), "number out of range: '99999999999999999999'");
+          throw;
+        }
+      },
+      std::invalid_argument);
+}
+
+TEST(Params, WholeNumbersPrintWhole) {
+  EXPECT_EQ(formatParam(400.0), "400");
+  EXPECT_EQ(formatParam(-360.0), "-360");
+  EXPECT_EQ(formatParam(1e9), "1e+09");  // shorter than 1000000000
+  EXPECT_EQ(formatParam(0.05), "0.05");
+  EXPECT_EQ(formatParam(1e300), "1e+300");
+}
+
 TEST(Hasher, StableOrderSensitiveAndContentBased) {
   EXPECT_EQ(Hasher().str("abc").u64(7).digest(), Hasher().str("abc").u64(7).digest());
   EXPECT_NE(Hasher().u64(1).u64(2).digest(), Hasher().u64(2).u64(1).digest());

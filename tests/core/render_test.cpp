@@ -1,5 +1,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -709,6 +710,49 @@ TEST(ImageTest, PngErrorsNameThePath) {
     EXPECT_THAT(error.what(), HasSubstr(notPng.string()));
   }
   EXPECT_THROW(writePng(Image(), dir / "empty.png"), std::runtime_error);
+}
+
+// An existing output must be a regular file or a link to one (written through, the link kept):
+// a FIFO, a socket, a device or a folder is refused, not replaced by the PNG.
+TEST(ImageTest, PngReplacesOnlyARegularFileOrTheFileALinkNames) {
+  const auto dir = test::tempDir("render-png-special");
+  const Image image = randomImage(5, 3);
+  const auto fifo = dir / "fifo.png";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::filesystem::create_directory(dir / "folder.png");
+  for (const char* name : {"fifo.png", "folder.png"}) {
+    try {
+      writePng(image, dir / name);
+      ADD_FAILURE() << "replaced " << name;
+    } catch (const std::runtime_error& error) {
+      EXPECT_THAT(error.what(), HasSubstr(test::quoted(dir / name) + ": is a "));
+    }
+  }
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "folder.png"));
+
+  std::filesystem::create_directory(dir / "real");
+  std::ofstream(dir / "real" / "target.png") << "old";
+  std::filesystem::create_symlink("real/target.png", dir / "link.png");
+  writePng(image, dir / "link.png");
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "link.png"));
+  EXPECT_TRUE(readPng(dir / "real" / "target.png").rgba == image.rgba);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir / "real"), {}), 1);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 4);
+
+  // A link to a link to a FIFO, and a loop of links.
+  std::filesystem::create_symlink("fifo.png", dir / "hop1.png");
+  std::filesystem::create_symlink("hop1.png", dir / "hop2.png");
+  EXPECT_THROW(writePng(image, dir / "hop2.png"), std::runtime_error);
+  std::filesystem::create_symlink("loop_b.png", dir / "loop_a.png");
+  std::filesystem::create_symlink("loop_a.png", dir / "loop_b.png");
+  try {
+    writePng(image, dir / "loop_a.png");
+    ADD_FAILURE() << "wrote through a loop of links";
+  } catch (const std::runtime_error& error) {
+    EXPECT_THAT(error.what(), HasSubstr("too many levels of symbolic links"));
+  }
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
 }
 
 TEST(ImageTest, HashFollowsContentAndShape) {

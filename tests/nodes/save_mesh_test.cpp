@@ -1,6 +1,7 @@
 #include "save_mesh.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <fstream>
@@ -206,6 +207,73 @@ TEST(SaveMeshNode, RefusesAnUnknownExtensionOnThePathParam) {
   EXPECT_TRUE(test::contains(report.error, "param 'path'"));
   EXPECT_TRUE(test::contains(report.error, "unknown mesh format '.glb'"));
   EXPECT_EQ(filesUnder(dir), std::vector<fs::path>{});
+}
+
+// An existing destination must be a regular file or a link to one: renaming the saved file over
+// a FIFO (or a device, as /dev/full) would replace it.
+TEST(SaveMeshNode, NeverReplacesAFifo) {
+  const auto dir = test::tempDir("save-mesh-node-fifo");
+  const auto fifo = dir / "mesh.obj";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  Evaluator evaluator(test::registry());
+  const EvalReport report = evaluator.evaluate(
+      saveGraph(dir / "graph.json", test::meshPath("sphere.obj"), {{"sink", "mesh.obj"}}));
+  EXPECT_FALSE(report.ok);
+  EXPECT_TRUE(test::contains(
+      report.error, "graph.json: node 'sink' param 'path': " + test::quoted(fifo) + ": is a FIFO"));
+  EXPECT_TRUE(report.filesWritten.empty());
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(filesUnder(dir), std::vector<fs::path>{fifo});
+}
+
+// Written through the link: the link stays, the file it names is replaced, and the temporary
+// file is made beside that file (a rename is atomic only within one folder).
+TEST(SaveMeshNode, WritesThroughASymlink) {
+  const auto dir = test::tempDir("save-mesh-node-symlink");
+  fs::create_directory(dir / "real");
+  std::ofstream(dir / "real" / "sphere.obj") << "old";
+  fs::create_symlink(fs::path("real") / "sphere.obj", dir / "link.obj");
+  Evaluator evaluator(test::registry());
+  const auto input = test::meshPath("sphere.obj");
+  const EvalReport report =
+      evaluator.evaluate(saveGraph(dir / "graph.json", input, {{"sink", "link.obj"}}));
+  ASSERT_TRUE(report.ok) << report.error;
+  EXPECT_EQ(report.filesWritten, std::vector<fs::path>{dir / "link.obj"});
+  EXPECT_TRUE(fs::is_symlink(dir / "link.obj"));
+  EXPECT_EQ(readMesh(dir / "real" / "sphere.obj").mesh->contentHash(),
+            readMesh(input).mesh->contentHash());
+  auto files = filesUnder(dir);
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files,
+            (std::vector<fs::path>{dir / "link.obj", dir / "real", dir / "real" / "sphere.obj"}));
+}
+
+// Two saves of one file would both report writing it, and one mesh would be lost.
+TEST(SaveMeshNode, TwoSavesOfOneFileAreRefusedBeforeAnythingRuns) {
+  const auto dir = test::tempDir("save-mesh-node-twice");
+  const auto input = test::meshPath("sphere.obj");
+  try {
+    saveGraph(dir / "graph.json", input, {{"a", "m.obj"}, {"b", "sub/../m.obj"}});
+    ADD_FAILURE() << "two saves of m.obj";
+  } catch (const GraphError& e) {
+    EXPECT_TRUE(test::contains(e.what(),
+                               "node 'b' param 'path': writes 'm.obj', as node 'a' param 'path'"));
+  }
+  // An absolute path and a relative one meet in the output folder, known when evaluating.
+  const auto out = dir / "out";
+  fs::create_directory(out);
+  const Graph graph =
+      saveGraph(dir / "graph.json", input, {{"a", (out / "m.obj").string()}, {"b", "m.obj"}});
+  Evaluator evaluator(test::registry());
+  EvalOptions options;
+  options.outputDir = out;
+  const EvalReport report = evaluator.evaluate(graph, options);
+  EXPECT_FALSE(report.ok);
+  EXPECT_TRUE(test::contains(report.error, "node 'b' param 'path': writes " +
+                                               test::quoted(out / "m.obj") +
+                                               ", as node 'a' param 'path' does"));
+  EXPECT_TRUE(report.runs.empty()) << "refused before any node ran";
+  EXPECT_TRUE(filesUnder(out).empty());
 }
 
 }  // namespace

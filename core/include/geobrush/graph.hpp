@@ -84,6 +84,14 @@ void writeGraphFile(const Graph& graph, const std::filesystem::path& path,
 // then checked but cannot be evaluated.
 void prepareGraph(Graph& graph, const NodeRegistry& registry, bool requireInputs = true);
 
+// Throws GraphError when two OutputPath params of the graph (of two nodes, or two of one node)
+// name the same file, naming both nodes and the file: each would report writing it. Relative
+// paths resolve against `outputDir`; with none, only paths that name the same file wherever the
+// outputs go are compared (relative with relative, absolute with absolute). prepareGraph checks
+// without a folder; the evaluator checks with its output folder.
+void checkOutputPaths(const Graph& graph, const NodeRegistry& registry,
+                      const std::filesystem::path& outputDir = {});
+
 // Sets NODE.PARAM from its command-line text form ("--set NODE.PARAM=VALUE").
 // Throws GraphError.
 void setParamFromText(Graph& graph, const NodeRegistry& registry, const std::string& assignment);
