@@ -8,19 +8,25 @@
 #include "geobrush/graph.hpp"
 #include "geobrush/image.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/text.hpp"
 
 namespace geobrush::cli {
-namespace {
 
 void printError(const std::string& message) {
-  std::fprintf(stderr, "error: %s\n", message.c_str());
+  std::fprintf(stderr, "error: %s\n", messageLine(message).c_str());
 }
+
+void printWarning(const std::string& message) {
+  std::fprintf(stderr, "warning: %s\n", messageLine(message).c_str());
+}
+
+namespace {
 
 std::vector<std::string> loadPlugins(NodeRegistry& registry, bool quiet) {
   auto report = registry.loadPlugins(defaultPluginDirs());
   if (!quiet)
     for (const auto& error : report.errors)
-      std::fprintf(stderr, "warning: %s\n", error.c_str());
+      printWarning(error);
   return report.errors;
 }
 
@@ -36,7 +42,8 @@ class TerminalProgress {
       node_ = node;
       ++index_;
     }
-    std::fprintf(stderr, "\r\033[K[%d] %s %3d%%", index_, node.c_str(), int(fraction * 100 + 0.5));
+    std::fprintf(stderr, "\r\033[K[%d] %s %3d%%", index_, escapeText(node).c_str(),
+                 int(fraction * 100 + 0.5));
     std::fflush(stderr);
     dirty_ = true;
   }
@@ -64,6 +71,11 @@ int runGraph(const RunOptions& options) {
     prepareGraph(graph, registry);
     for (const auto& assignment : options.sets)
       setParamFromText(graph, registry, assignment);
+    // Now that --set and --out are known: two outputs to one file are a graph error, before
+    // anything runs.
+    checkOutputPaths(
+        graph, registry,
+        options.outDir.empty() ? graph.baseDir() : std::filesystem::absolute(options.outDir));
   } catch (const GraphError& e) {
     printError(e.what());
     if (options.json) {
@@ -80,7 +92,7 @@ int runGraph(const RunOptions& options) {
     std::error_code ec;
     std::filesystem::create_directories(options.outDir, ec);
     if (ec) {
-      printError(options.outDir.string() + ": cannot create the output folder: " + ec.message());
+      printError(quotePath(options.outDir) + ": cannot create the output folder: " + ec.message());
       return kExitUsage;
     }
     eval.outputDir = options.outDir;
@@ -97,10 +109,10 @@ int runGraph(const RunOptions& options) {
   if (!options.quiet && !options.json) {
     for (const auto& run : report.runs)
       for (const auto& warning : run.warnings)
-        std::fprintf(stderr, "warning: %s: node '%s': %s\n", options.graph.c_str(),
-                     run.node.c_str(), warning.c_str());
+        printWarning(escapeText(options.graph.native(), 4096) + ": node " + quoteText(run.node) +
+                     ": " + warning);
     for (const auto& file : report.filesWritten)
-      std::fprintf(stderr, "wrote %s\n", file.c_str());
+      std::fprintf(stderr, "wrote %s\n", messageLine(file.native()).c_str());
   }
   if (!report.ok) printError(report.error);
   if (options.json) std::cout << runReportJson(options.graph, report, pluginErrors);
@@ -114,8 +126,8 @@ int validateGraph(const std::filesystem::path& path, bool quiet) {
     Graph graph = readGraphFile(path);
     prepareGraph(graph, registry);
     if (!quiet)
-      std::printf("%s: ok (%zu nodes, %zu connections)\n", path.c_str(), graph.nodes.size(),
-                  graph.connections.size());
+      std::printf("%s: ok (%zu nodes, %zu connections)\n", messageLine(path.native()).c_str(),
+                  graph.nodes.size(), graph.connections.size());
     return kExitOk;
   } catch (const GraphError& e) {
     printError(e.what());
@@ -158,7 +170,7 @@ int renderFiles(const RenderCommandOptions& options) {
       auto loaded = readMesh(options.meshes[i]);
       // The reader's warnings name the file already.
       for (const auto& warning : loaded.warnings)
-        std::fprintf(stderr, "warning: %s\n", warning.c_str());
+        printWarning(warning);
       RenderItem item;
       item.mesh = loaded.mesh;
       item.color = kPalette[i % std::size(kPalette)];
@@ -169,16 +181,27 @@ int renderFiles(const RenderCommandOptions& options) {
       return kExitUsage;
     }
   }
+  RenderResult result;
   try {
-    const RenderResult result = renderMeshes(items, options.render);
-    writePng(result.image, options.output);
-    std::fprintf(stderr, "wrote %s (%dx%d, %s: %s)\n", options.output.c_str(), result.image.width,
-                 result.image.height, result.backend.c_str(), result.device.c_str());
-    return kExitOk;
+    result = renderMeshes(items, options.render);
   } catch (const std::exception& e) {
-    printError(options.output.string() + ": " + e.what());
+    printError(e.what());
     return kExitEvaluation;
   }
+  try {
+    // Its errors name the file (and refuse one that is not a regular file: a device, a FIFO).
+    writePng(result.image, options.output);
+  } catch (const std::exception& e) {
+    printError(e.what());
+    return kExitEvaluation;
+  }
+  std::fprintf(
+      stderr, "%s\n",
+      messageLine("wrote " + options.output.native() + " (" + std::to_string(result.image.width) +
+                  "x" + std::to_string(result.image.height) + ", " + result.backend + ": " +
+                  result.device + ")")
+          .c_str());
+  return kExitOk;
 }
 
 }  // namespace geobrush::cli

@@ -63,6 +63,11 @@ int validateGraph(const std::filesystem::path& graph, bool quiet);
 int listNodes(bool json);
 int renderFiles(const RenderCommandOptions& options);
 
+// One line on stderr, "error: ..." or "warning: ...": escaped and bounded (text.hpp's
+// messageLine), as messages quote names and texts from files and command lines.
+void printError(const std::string& message);
+void printWarning(const std::string& message);
+
 // JSON texts (report_json.cpp keeps nlohmann_json in one file).
 std::string runReportJson(const std::filesystem::path& graph, const EvalReport& report,
                           const std::vector<std::string>& pluginErrors);

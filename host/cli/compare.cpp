@@ -8,6 +8,7 @@
 #include "geobrush/graph.hpp"
 #include "geobrush/image.hpp"
 #include "geobrush/mesh.hpp"
+#include "geobrush/text.hpp"
 #include "geobrush/values.hpp"
 
 namespace geobrush::cli {
@@ -35,14 +36,16 @@ const Connection* measuredMesh(const Graph& graph) {
   return nullptr;
 }
 
-// Reads and checks one side's graph; false, with the error on the side, when it cannot be used.
+// Reads and checks one side's graph, to run with its outputs in `outDir`; false, with the error on
+// the side, when it cannot be used.
 bool prepareSide(const NodeRegistry& registry, ComparedGraph& side, Graph& graph,
-                 const std::vector<std::string>& sets) {
+                 const std::vector<std::string>& sets, const std::filesystem::path& outDir) {
   try {
     graph = readGraphFile(side.graph);
     prepareGraph(graph, registry);
     for (const auto& assignment : sets)
       setParamFromText(graph, registry, assignment);
+    checkOutputPaths(graph, registry, std::filesystem::absolute(outDir));
   } catch (const GraphError& e) {
     side.report.ok = false;
     side.report.error = e.what();
@@ -50,7 +53,8 @@ bool prepareSide(const NodeRegistry& registry, ComparedGraph& side, Graph& graph
   }
   if (!measuredMesh(graph)) {
     side.report.ok = false;
-    side.report.error = side.graph.string() + ": no geobrush.metrics node measures a mesh: " +
+    side.report.error = escapeText(side.graph.native(), 4096) +
+                        ": no geobrush.metrics node measures a mesh: " +
                         "compare reads its metrics and pictures the mesh it measures";
     return false;
   }
@@ -63,7 +67,7 @@ bool evaluateSide(const NodeRegistry& registry, ComparedGraph& side, const Graph
   std::filesystem::create_directories(outDir, ec);
   if (ec) {
     side.report.ok = false;
-    side.report.error = outDir.string() + ": cannot create the output folder: " + ec.message();
+    side.report.error = quotePath(outDir) + ": cannot create the output folder: " + ec.message();
     return false;
   }
   EvalOptions eval;
@@ -148,7 +152,7 @@ int compareGraphs(const CompareOptions& options) {
   const auto pluginErrors = registry.loadPlugins(defaultPluginDirs()).errors;
   if (!options.quiet && !options.json)
     for (const auto& error : pluginErrors)
-      std::fprintf(stderr, "warning: %s\n", error.c_str());
+      printWarning(error);
   ComparedGraph a, b;
   a.graph = options.graphA;
   b.graph = options.graphB;
@@ -156,21 +160,21 @@ int compareGraphs(const CompareOptions& options) {
   Graph graphA, graphB;
   const std::filesystem::path image =
       options.image.empty() ? options.outDir / "compare.png" : options.image;
+  const auto folderA = sideFolder(options.outDir, a.graph, "a", sameNames);
+  const auto folderB = sideFolder(options.outDir, b.graph, "b", sameNames);
   int status = kExitOk;
   std::string error;
   // Both graphs are read and checked before either runs.
-  if (!prepareSide(registry, a, graphA, options.sets)) {
+  if (!prepareSide(registry, a, graphA, options.sets, folderA)) {
     error = a.report.error;
     status = kExitUsage;
-  } else if (!prepareSide(registry, b, graphB, options.sets)) {
+  } else if (!prepareSide(registry, b, graphB, options.sets, folderB)) {
     error = b.report.error;
     status = kExitUsage;
-  } else if (!evaluateSide(registry, a, graphA,
-                           sideFolder(options.outDir, a.graph, "a", sameNames))) {
+  } else if (!evaluateSide(registry, a, graphA, folderA)) {
     error = a.report.error;
     status = kExitEvaluation;
-  } else if (!evaluateSide(registry, b, graphB,
-                           sideFolder(options.outDir, b.graph, "b", sameNames))) {
+  } else if (!evaluateSide(registry, b, graphB, folderB)) {
     error = b.report.error;
     status = kExitEvaluation;
   } else {
@@ -181,13 +185,13 @@ int compareGraphs(const CompareOptions& options) {
       status = kExitEvaluation;
     }
   }
-  if (!error.empty()) std::fprintf(stderr, "error: %s\n", error.c_str());
+  if (!error.empty()) printError(error);
   if (options.json) {
     std::cout << compareReportJson(a, b, status == kExitOk ? image : std::filesystem::path(),
                                    error);
   } else if (status == kExitOk) {
     if (!options.quiet) printTable(a, b);
-    if (!options.quiet) std::fprintf(stderr, "wrote %s\n", image.c_str());
+    if (!options.quiet) std::fprintf(stderr, "wrote %s\n", messageLine(image.native()).c_str());
   }
   return status;
 }

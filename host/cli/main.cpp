@@ -1,16 +1,64 @@
 // The `geobrush` command line: parsing only; the work is in commands.cpp.
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
 
 #include "commands.hpp"
 #include "geobrush/memory.hpp"
+#include "geobrush/text.hpp"
 
 using namespace geobrush;
+
+namespace {
+
+// Checks an option's text as the geobrush.render param of the same meaning reads it (the same
+// parser and the range both take from render.hpp), so that the command and the node agree.
+CLI::Validator renderRange(ParamKind kind, RenderRange range) {
+  ParamDecl decl;
+  decl.kind = kind;
+  decl.defaultValue = kind == ParamKind::Int ? ParamValue(std::int64_t(0)) : ParamValue(0.0);
+  decl.min = range.min;
+  decl.max = range.max;
+  const std::string description =
+      "[" + formatParam(range.min) + ", " + formatParam(range.max) + "]";
+  return CLI::Validator(
+      [decl](std::string& text) -> std::string {
+        try {
+          parseParamText(decl, text);
+          return {};
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+      },
+      description);
+}
+
+// The image is always PNG: another extension would name a file in a format it is not.
+CLI::Validator pngName() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::string extension = std::filesystem::path(text).extension().string();
+        std::transform(extension.begin(), extension.end(), extension.begin(),
+                       [](unsigned char c) { return char(std::tolower(c)); });
+        if (extension == ".png") return {};
+        return quoteText(text) + ": the image is written as PNG; name it .png";
+      },
+      "PNG");
+}
+
+// CLI11's errors as the program's other errors: one escaped, bounded "error:" line.
+std::string failureLine(const CLI::App*, const CLI::Error& e) {
+  return "error: " + messageLine(e.what()) + "\n";
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   geobrush::reuseFreedMemory();
   CLI::App app{"GeoBrush: clone 3D surface geometry with node graphs, headless."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "geobrush 0.1.0");
+  app.failure_message(failureLine);
 
   cli::RunOptions run;
   auto* runCmd = app.add_subcommand("run", "Evaluate a graph file and write its outputs.");
@@ -47,18 +95,21 @@ int main(int argc, char** argv) {
   std::string backend = "auto";
   auto* renderCmd = app.add_subcommand("render", "Render mesh files to a PNG image.");
   renderCmd->add_option("meshes", render.meshes, "Mesh files (OBJ, PLY, OFF, STL)")->required();
-  renderCmd->add_option("-o,--output", render.output, "PNG file to write")->required();
+  renderCmd->add_option("-o,--output", render.output, "PNG file to write")
+      ->required()
+      ->check(pngName());
   renderCmd->add_option("--width", render.render.width, "Image width in pixels")
-      ->check(CLI::Range(1, 8192));
+      ->check(renderRange(ParamKind::Int, kRenderSizeRange));
   renderCmd->add_option("--height", render.render.height, "Image height in pixels")
-      ->check(CLI::Range(1, 8192));
-  renderCmd->add_option("--azimuth", render.render.view.azimuthDeg, "Degrees around +y");
+      ->check(renderRange(ParamKind::Int, kRenderSizeRange));
+  renderCmd->add_option("--azimuth", render.render.view.azimuthDeg, "Degrees around +y")
+      ->check(renderRange(ParamKind::Double, kRenderAzimuthRange));
   renderCmd->add_option("--elevation", render.render.view.elevationDeg, "Degrees above xz")
-      ->check(CLI::Range(-89.0, 89.0));
+      ->check(renderRange(ParamKind::Double, kRenderElevationRange));
   renderCmd->add_option("--fov", render.render.view.fovDeg, "Vertical field of view, degrees")
-      ->check(CLI::Range(1.0, 170.0));
+      ->check(renderRange(ParamKind::Double, kRenderFovRange));
   renderCmd->add_option("--zoom", render.render.view.zoom, "Closer than the fitted view if > 1")
-      ->check(CLI::PositiveNumber);
+      ->check(renderRange(ParamKind::Double, kRenderZoomRange));
   renderCmd->add_flag("--wireframe", render.wireframe, "Draw triangle edges");
   renderCmd->add_option("--backend", backend, "auto, vulkan or cpu")
       ->check(CLI::IsMember({"auto", "vulkan", "cpu"}));
@@ -82,7 +133,7 @@ int main(int argc, char** argv) {
       return cli::renderFiles(render);
     }
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", messageLine(e.what()).c_str());
     return cli::kExitEvaluation;
   }
   return cli::kExitUsage;

@@ -1,8 +1,11 @@
 // The geobrush program: commands, exit statuses, reports, and one clear
 // error line with no output written for each kind of bad input.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
+#include <sstream>
+#include <thread>
 
 #include "geobrush/image.hpp"
 #include "geobrush/render.hpp"
@@ -29,6 +32,28 @@ std::string loadSaveGraph(const std::string& meshPath) {
 
 bool isEmptyDir(const std::filesystem::path& dir) {
   return !std::filesystem::exists(dir) || std::filesystem::is_empty(dir);
+}
+
+// Every line of stderr is text a terminal shows as it is (no control characters: they are
+// escaped) and bounded, whatever the files and arguments held.
+::testing::AssertionResult printableBoundedLines(const std::string& err) {
+  std::istringstream lines(err);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.size() > 4096)
+      return ::testing::AssertionFailure() << "a line of " << line.size() << " bytes";
+    for (char c : line)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+        return ::testing::AssertionFailure() << "a control character in: " << line;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+std::vector<std::string> namesIn(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 struct BadCase {
@@ -153,6 +178,38 @@ std::vector<BadCase> badCases() {
        1,
        "graph.json: node 'f': failed: a std::exception from the node",
        {{"GEOBRUSH_PLUGIN_PATH", test::testPluginDir().string()}}},
+      {"number_out_of_range",
+       replaced(kPrimitiveSave, R"("typeVersion": 1},)",
+                R"("typeVersion": 1, "params": {"size": 1e309}},)"),
+       {},
+       2,
+       "graph.json: node 'shape' param 'size': number out of range: 1e309"},
+      {"ui_wrong_type",
+       replaced(kPrimitiveSave, R"("connections")",
+                R"("ui": {"shape": {"x": "left"}}, "connections")"),
+       {},
+       2,
+       "graph.json: node 'shape' ui \"x\": must be a number"},
+      {"duplicate_node",
+       replaced(kPrimitiveSave, R"("save": {)",
+                R"("shape": {"type": "geobrush.primitive", "typeVersion": 1}, "save": {)"),
+       {},
+       2,
+       "graph.json: node 'shape': duplicate key \"shape\""},
+      {"nul_in_save_path",
+       replaced(kPrimitiveSave, R"("typeVersion": 1}},)",
+                R"("typeVersion": 1, "params": {"path": "r.obj\u0000.obj"}}},)"),
+       {},
+       2,
+       "graph.json: node 'save' param 'path': 'r.obj\\x00.obj': a path may not contain a NUL "
+       "character"},
+      {"control_characters_and_a_huge_text",
+       replaced(kPrimitiveSave, R"("typeVersion": 1},)",
+                R"("typeVersion": 1, "params": {"shape": "\u001b[2J\r\n)" +
+                    std::string(100000, 'x') + R"("}},)"),
+       {},
+       2,
+       "graph.json: node 'shape' param 'shape': '\\x1b[2J\\r\\nxxx"},
       {"good_tetra_bad_save_folder",
        replaced(loadSaveGraph("tetra.obj"), R"("typeVersion": 1}},)",
                 R"("typeVersion": 1, "params": {"path": "no/such/folder/r.obj"}}},)"),
@@ -175,6 +232,7 @@ TEST_P(BadInput, OneErrorLineNonZeroExitNoOutput) {
   EXPECT_EQ(result.status, c.status) << result.err;
   EXPECT_EQ(result.errorLines(), 1) << result.err;
   EXPECT_NE(result.err.find(c.expected), std::string::npos) << result.err;
+  EXPECT_TRUE(printableBoundedLines(result.err));
   EXPECT_TRUE(isEmptyDir(out)) << "a failed run must write nothing";
 }
 
@@ -279,4 +337,178 @@ TEST(Cli, RendersMeshFiles) {
   EXPECT_EQ(missing.status, 2);
   EXPECT_EQ(missing.errorLines(), 1) << missing.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+}
+
+// Texts from the command line are escaped as those from files are.
+TEST(Cli, SetTextsAreEscapedAndBounded) {
+  const auto out = test::tempDir("cli-set-escaped");
+  const auto graph = (test::sourceDir() / "graphs" / "default.json").string();
+  auto bad = runCli({"run", graph, "--out", out.string(), "--set",
+                     "shape.shape=\x1b]0;title\x07\n" + std::string(50000, 'y')});
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_EQ(bad.errorLines(), 1) << bad.err;
+  EXPECT_TRUE(test::contains(bad.err, "node 'shape' param 'shape': '\\x1b]0;title\\x07\\nyyy"));
+  EXPECT_TRUE(test::contains(bad.err, "yyy... (50011 bytes)' is not one of:"));
+  EXPECT_TRUE(printableBoundedLines(bad.err));
+  EXPECT_LT(bad.err.size(), 1000u);
+  auto noNode = runCli({"run", graph, "--out", out.string(), "--set", "sha\npe.size=1"});
+  EXPECT_EQ(noNode.status, 2);
+  EXPECT_TRUE(test::contains(noNode.err, "node 'sha\\npe': no node of that name"));
+  EXPECT_TRUE(printableBoundedLines(noNode.err));
+  EXPECT_TRUE(isEmptyDir(out));
+}
+
+// Two nodes saving one file would both report "wrote" it, and one of the meshes would be lost.
+TEST(Cli, TwoOutputsToOneFileAreRefusedBeforeRunning) {
+  const auto dir = test::tempDir("cli-two-saves");
+  const auto out = dir / "out";
+  const std::string twoSaves =
+      replaced(kPrimitiveSave, R"("connections": [)",
+               R"("connections": [{"from": "shape.mesh", "to": "again.mesh"}, )");
+  writeText(dir / "graph.json",
+            replaced(twoSaves, R"("save": {)",
+                     R"("again": {"type": "geobrush.save_mesh", "typeVersion": 1,
+                                  "params": {"path": "./result.obj"}}, "save": {)"));
+  auto result = runCli({"run", (dir / "graph.json").string(), "--out", out.string()});
+  EXPECT_EQ(result.status, 2) << result.err;
+  EXPECT_EQ(result.errorLines(), 1) << result.err;
+  EXPECT_TRUE(test::contains(result.err,
+                             "graph.json: node 'save' param 'path': writes "
+                             "'result.obj', as node 'again' param 'path' does"));
+  EXPECT_TRUE(isEmptyDir(out));
+  EXPECT_EQ(runCli({"validate", (dir / "graph.json").string()}).status, 2);
+
+  // An absolute path meets a relative one in the output folder given: known only then.
+  writeText(dir / "graph.json",
+            replaced(twoSaves, R"("save": {)",
+                     R"("again": {"type": "geobrush.save_mesh", "typeVersion": 1,
+                                  "params": {"path": ")" +
+                         (out / "result.obj").string() + R"("}}, "save": {)"));
+  EXPECT_EQ(runCli({"validate", (dir / "graph.json").string()}).status, 0);
+  auto mixed = runCli({"run", (dir / "graph.json").string(), "--out", out.string()});
+  EXPECT_EQ(mixed.status, 2) << mixed.err;
+  EXPECT_TRUE(test::contains(mixed.err, "node 'save' param 'path': writes " +
+                                            test::quoted(out / "result.obj") +
+                                            ", as node 'again' param 'path' does"));
+  EXPECT_TRUE(isEmptyDir(out));
+  // --set can make the collision too.
+  auto set = runCli({"run", (dir / "graph.json").string(), "--out", (dir / "other").string(),
+                     "--set", "save.path=" + (dir / "other" / "x" / ".." / "result.obj").string(),
+                     "--set", "again.path=result.obj"});
+  EXPECT_EQ(set.status, 2) << set.err;
+  EXPECT_TRUE(isEmptyDir(dir / "other"));
+}
+
+// Devices and pipes have no size: the file is read through the stream, and at most 64 MiB of it.
+TEST(Cli, RefusesAGraphFileOver64MiBAndReadsOneFromAPipe) {
+  const auto dir = test::tempDir("cli-graph-size");
+  const auto huge = dir / "huge.json";
+  writeText(huge, kPrimitiveSave);
+  std::filesystem::resize_file(huge, (std::size_t(64) << 20) + 1);  // sparse: nothing written
+  auto result = runCli({"run", huge.string(), "--out", (dir / "out").string()});
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.errorLines(), 1) << result.err;
+  EXPECT_TRUE(test::contains(result.err, huge.string() + ": larger than 64 MiB"));
+  EXPECT_TRUE(isEmptyDir(dir / "out"));
+
+  const auto fifo = dir / "piped.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer([&] { std::ofstream(fifo) << kPrimitiveSave; });
+  auto piped = runCli({"validate", fifo.string()});
+  writer.join();
+  EXPECT_EQ(piped.status, 0) << piped.err;
+}
+
+// The render command checks its options as the render node checks its params (the ranges are
+// render.hpp's), each error naming the option; its image is a PNG, named so.
+TEST(Cli, RenderOptionErrorsNameTheOption) {
+  const auto dir = test::tempDir("cli-render-options");
+  const std::string mesh = test::meshPath("sphere.obj").string();
+  const std::string png = (dir / "x.png").string();
+  const std::vector<std::vector<std::string>> bad = {
+      {"--zoom", "1e400"},  {"--zoom", "0"},      {"--zoom", "abc"},    {"--width", "0"},
+      {"--width", "16.5"},  {"--height", "9000"}, {"--fov", "nan"},     {"--fov", "170"},
+      {"--azimuth", "inf"}, {"--azimuth", "400"}, {"--elevation", "90"}};
+  for (const auto& option : bad) {
+    auto result = runCli({"render", mesh, "-o", png, option[0], option[1]});
+    EXPECT_EQ(result.status, 2) << option[0] << " " << option[1] << ": " << result.err;
+    EXPECT_EQ(result.errorLines(), 1) << result.err;
+    EXPECT_TRUE(test::contains(result.err, "error: " + option[0] + ": ")) << option[1];
+    EXPECT_TRUE(printableBoundedLines(result.err));
+  }
+  auto range = runCli({"render", mesh, "-o", png, "--width", "8"});
+  EXPECT_TRUE(test::contains(range.err, "error: --width: 8 is outside [" +
+                                            formatParam(kRenderSizeRange.min) + ", " +
+                                            formatParam(kRenderSizeRange.max) + "]"));
+  for (const char* name : {"x.jpg", "x.png.txt", "x"}) {
+    auto result = runCli({"render", mesh, "-o", (dir / name).string()});
+    EXPECT_EQ(result.status, 2) << name;
+    EXPECT_EQ(result.errorLines(), 1) << result.err;
+    EXPECT_TRUE(test::contains(result.err, "error: --output: " + test::quoted(dir / name)));
+  }
+  EXPECT_TRUE(isEmptyDir(dir));
+  // Any letter case names a PNG; the ranges' ends are inside.
+  auto upper = runCli({"render", mesh, "-o", (dir / "X.PNG").string(), "--width", "16", "--height",
+                       "16", "--zoom", "50", "--fov", "5", "--elevation", "-89"});
+  EXPECT_EQ(upper.status, 0) << upper.err;
+  EXPECT_EQ(readPng(dir / "X.PNG").width, 16);
+}
+
+// An existing output must be a regular file, or a link to one (written through: the link stays).
+TEST(Cli, NeverReplacesADeviceFifoOrFolder) {
+  const auto dir = test::tempDir("cli-special-outputs");
+  const std::string mesh = test::meshPath("sphere.obj").string();
+  const auto fifo = dir / "fifo.png";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::filesystem::create_directory(dir / "folder.png");
+  std::filesystem::create_symlink("fifo.png", dir / "to_fifo.png");
+  for (const char* name : {"fifo.png", "folder.png", "to_fifo.png"}) {
+    auto result = runCli({"render", mesh, "-o", (dir / name).string(), "--width", "32"});
+    EXPECT_EQ(result.status, 1) << name;
+    EXPECT_EQ(result.errorLines(), 1) << result.err;
+    EXPECT_TRUE(test::contains(result.err, "error: " + test::quoted(dir / name) + ": "));
+  }
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "folder.png"));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "to_fifo.png"));
+
+  // geobrush.save_mesh in a graph: the node fails, naming its param; nothing is written.
+  writeText(dir / "graph.json", kPrimitiveSave);
+  const auto fifoObj = dir / "fifo.obj";
+  ASSERT_EQ(::mkfifo(fifoObj.c_str(), 0600), 0);
+  auto run = runCli({"run", (dir / "graph.json").string(), "--set", "save.path=fifo.obj"});
+  EXPECT_EQ(run.status, 1) << run.err;
+  EXPECT_EQ(run.errorLines(), 1) << run.err;
+  EXPECT_TRUE(test::contains(
+      run.err, "graph.json: node 'save' param 'path': " + test::quoted(fifoObj) + ": is a FIFO"));
+  EXPECT_TRUE(std::filesystem::is_fifo(fifoObj));
+  EXPECT_EQ(namesIn(dir), (std::vector<std::string>{"fifo.obj", "fifo.png", "folder.png",
+                                                    "graph.json", "to_fifo.png"}));
+}
+
+TEST(Cli, WritesThroughASymlinkToARegularFile) {
+  const auto dir = test::tempDir("cli-symlink-output");
+  std::filesystem::create_directories(dir / "real");
+  std::filesystem::create_directories(dir / "out");
+  writeText(dir / "real" / "picture.png", "old");
+  writeText(dir / "real" / "mesh.obj", "old");
+  std::filesystem::create_symlink("../real/picture.png", dir / "out" / "picture.png");
+  std::filesystem::create_symlink(dir / "real" / "mesh.obj", dir / "out" / "mesh.obj");
+
+  auto render = runCli({"render", test::meshPath("sphere.obj").string(), "-o",
+                        (dir / "out" / "picture.png").string(), "--width", "32", "--height", "24"});
+  ASSERT_EQ(render.status, 0) << render.err;
+  writeText(dir / "graph.json", kPrimitiveSave);
+  auto run = runCli({"run", (dir / "graph.json").string(), "--out", (dir / "out").string(), "--set",
+                     "save.path=mesh.obj", "--set", "shape.resolution=2"});
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_TRUE(test::contains(run.err, "wrote " + (dir / "out" / "mesh.obj").string()));
+
+  // The links stay; the files they lead to are replaced, and no temporary file is left anywhere.
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "out" / "picture.png"));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "out" / "mesh.obj"));
+  EXPECT_EQ(readPng(dir / "real" / "picture.png").width, 32);
+  EXPECT_GT(std::filesystem::file_size(dir / "real" / "mesh.obj"), 100u);
+  EXPECT_EQ(namesIn(dir / "out"), (std::vector<std::string>{"mesh.obj", "picture.png"}));
+  EXPECT_EQ(namesIn(dir / "real"), (std::vector<std::string>{"mesh.obj", "picture.png"}));
 }

@@ -1,6 +1,7 @@
 // geobrush.render: the node wrapper around core's renderer (whose own
 // analytic tests are in tests/core/render_test.cpp).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
@@ -123,4 +124,36 @@ TEST(RenderNode, CpuAndVulkanBackendsAgree) {
   for (std::size_t i = 0; i < cpu.image->rgba.size(); i += 4)
     close += std::abs(int(cpu.image->rgba[i]) - int(vulkan.image->rgba[i])) <= 8;
   EXPECT_GT(double(close) / (cpu.image->rgba.size() / 4), 0.98);
+}
+
+// One source for the ranges: the node declares those of render.hpp, which `geobrush render`
+// checks its options against.
+TEST(RenderNode, DeclaresTheRangesOfRenderHpp) {
+  const NodeType* type = test::registry().find("geobrush.render");
+  ASSERT_NE(type, nullptr);
+  const std::pair<const char*, RenderRange> ranges[] = {
+      {"width", kRenderSizeRange},      {"height", kRenderSizeRange},
+      {"azimuth", kRenderAzimuthRange}, {"elevation", kRenderElevationRange},
+      {"fov", kRenderFovRange},         {"zoom", kRenderZoomRange}};
+  for (const auto& [name, range] : ranges) {
+    const ParamDecl* decl = type->findParam(name);
+    ASSERT_NE(decl, nullptr) << name;
+    EXPECT_EQ(decl->min, range.min) << name;
+    EXPECT_EQ(decl->max, range.max) << name;
+  }
+}
+
+TEST(RenderNode, NeverReplacesAFifo) {
+  const auto dir = test::tempDir("render-node-fifo");
+  const auto fifo = dir / "picture.png";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto result = renderFile(dir, test::meshPath("sphere.obj").string(),
+                           {{"path", std::string("picture.png")},
+                            {"width", std::int64_t(32)},
+                            {"height", std::int64_t(32)}});
+  EXPECT_FALSE(result.report.ok);
+  EXPECT_TRUE(test::contains(result.report.error,
+                             "node 'render' param 'path': " + test::quoted(fifo) + ": is a FIFO"));
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
 }

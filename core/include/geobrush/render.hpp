@@ -40,6 +40,18 @@ struct RenderFrame {
   double radius = 1;
 };
 
+// The inclusive ranges of a render's size and camera, shared by the geobrush.render node's params
+// and the options of `geobrush render`: one source, so that both accept the same values.
+struct RenderRange {
+  double min;
+  double max;
+};
+inline constexpr RenderRange kRenderSizeRange{16, 8192};      // width and height, in pixels
+inline constexpr RenderRange kRenderAzimuthRange{-360, 360};  // degrees
+inline constexpr RenderRange kRenderElevationRange{-89, 89};  // degrees; the poles have no "up"
+inline constexpr RenderRange kRenderFovRange{5, 120};         // degrees
+inline constexpr RenderRange kRenderZoomRange{0.05, 50};
+
 enum class RenderBackend { Auto, Vulkan, Cpu };
 
 struct RenderOptions {
