@@ -125,13 +125,17 @@ std::optional<std::string> checkParam(const ParamDecl& decl, const ParamValue& v
       if (auto* i = std::get_if<std::int64_t>(&value)) return checkRange(decl, double(*i));
       if (!std::holds_alternative<double>(value)) return "expected a number";
       return checkRange(decl, std::get<double>(value));
-    case ParamKind::String:
-      if (!std::holds_alternative<std::string>(value)) return "expected a string";
+    case ParamKind::String: {
+      auto* text = std::get_if<std::string>(&value);
+      if (!text) return "expected a string";
+      if (!isUtf8(*text)) return quoteText(*text) + " is not UTF-8 text, as graph files hold";
       return std::nullopt;
+    }
     case ParamKind::InputPath:
     case ParamKind::OutputPath: {
       auto* text = std::get_if<std::string>(&value);
       if (!text) return "expected a string";
+      if (!isUtf8(*text)) return quoteText(*text) + " is not UTF-8 text, as graph files hold";
       // The file system would see the path only up to the NUL: another file than the one named.
       if (text->find('\0') != std::string::npos)
         return quoteText(*text) + ": a path may not contain a NUL character";

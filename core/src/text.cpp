@@ -92,6 +92,24 @@ std::string quoteText(std::string_view text, std::size_t limit) {
   return quoted;
 }
 
+bool isUtf8(std::string_view text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    // Two-byte forms of U+0080..U+009F are well-formed too, though escapeText escapes them.
+    const bool c1Control = c == 0xC2 && i + 1 < text.size() &&
+                           static_cast<unsigned char>(text[i + 1]) >= 0x80 &&
+                           static_cast<unsigned char>(text[i + 1]) < 0xA0;
+    const std::size_t length = c1Control ? 2 : utf8CharLength(text.substr(i));
+    if (length == 0) return false;
+    i += length;
+  }
+  return true;
+}
+
 std::string quotePath(const std::filesystem::path& path) {
   return quoteText(path.native(), 4096);
 }

@@ -55,7 +55,7 @@ std::string runReportJson(const std::filesystem::path& graph, const EvalReport& 
                {"cacheHits", report.cacheHits()},
                {"pluginErrors", pluginErrors}};
   if (!report.ok) root["error"] = report.error;
-  return root.dump(2) + "\n";
+  return root.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
 std::string nodeTypesJson(const NodeRegistry& registry) {
@@ -83,7 +83,7 @@ std::string nodeTypesJson(const NodeRegistry& registry) {
                      {"outputs", portsJson(type->outputs)},
                      {"params", params}});
   }
-  return json(types).dump(2) + "\n";
+  return json(types).dump(2, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
 std::string compareReportJson(const ComparedGraph& a, const ComparedGraph& b,
@@ -103,7 +103,7 @@ std::string compareReportJson(const ComparedGraph& a, const ComparedGraph& b,
   json root = {{"a", side(a)}, {"b", side(b)}, {"ok", error.empty()}};
   if (!image.empty()) root["image"] = image.string();
   if (!error.empty()) root["error"] = error;
-  return root.dump(2) + "\n";
+  return root.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace geobrush::cli

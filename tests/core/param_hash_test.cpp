@@ -101,6 +101,24 @@ TEST(Params, PathsMayNotHoldNul) {
   }
 }
 
+TEST(Params, TextsMustBeUtf8AsGraphFilesHoldThem) {
+  // A --set value reaches a graph only as text that a graph file can be saved with.
+  for (const ParamKind kind : {ParamKind::String, ParamKind::InputPath, ParamKind::OutputPath}) {
+    ParamDecl text{.name = "text",
+                   .kind = kind,
+                   .defaultValue = std::string("a.obj"),
+                   .doc = "t",
+                   .min = {},
+                   .max = {},
+                   .choices = {},
+                   .rowSize = 1};
+    EXPECT_EQ(checkParam(text, std::string("a\xff.obj")),
+              "'a\\xff.obj' is not UTF-8 text, as graph files hold");
+    EXPECT_THROW(parseParamText(text, "a\xc3.obj"), std::invalid_argument);
+    EXPECT_FALSE(checkParam(text, std::string("t\xc3\xaate.obj")));
+  }
+}
+
 TEST(Params, NumberTextsOutOfRangeOrNotFiniteSaySo) {
   ParamDecl zoom{.name = "zoom",
                  .kind = ParamKind::Double,

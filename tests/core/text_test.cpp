@@ -59,3 +59,13 @@ TEST(Text, MessageLineIsOneBoundedLineThatKeepsItsQuotedEscapes) {
   EXPECT_EQ(line, std::string(2000, 'm') + "... (100000 bytes)");
   EXPECT_EQ(line.find('\n'), std::string::npos);
 }
+
+TEST(Text, TellsWellFormedUtf8) {
+  EXPECT_TRUE(isUtf8("plain \t text"));
+  EXPECT_TRUE(isUtf8("t\xc3\xaate \xe2\x82\xac \xf0\x9f\x99\x82 \xc2\x85"));
+  EXPECT_FALSE(isUtf8("\xff"));
+  EXPECT_FALSE(isUtf8("\xc3"));              // cut short
+  EXPECT_FALSE(isUtf8("\xc0\xaf"));          // overlong
+  EXPECT_FALSE(isUtf8("\xed\xa0\x80"));      // a surrogate
+  EXPECT_FALSE(isUtf8("\xf4\x90\x80\x80"));  // beyond U+10FFFF
+}

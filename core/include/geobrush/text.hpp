@@ -22,6 +22,9 @@ std::string quoteText(std::string_view text, std::size_t limit = kExcerptLimit);
 // A path as messages name it: quoteText of its native form, whole up to 4096 bytes.
 std::string quotePath(const std::filesystem::path& path);
 
+// Whether `text` is well-formed UTF-8 (what JSON, and so a graph file, can hold).
+bool isUtf8(std::string_view text);
+
 // One line for stderr: escapeText of a whole message, bounded by `limit` bytes of it.
 std::string messageLine(std::string_view message, std::size_t limit = 2000);
 
