@@ -15,7 +15,6 @@
 // Several open fans at a vertex (a bow tie) stay joined there, as add_face joins them.
 #include <algorithm>
 #include <array>
-#include <unordered_map>
 
 #include "mesh_read.hpp"
 
@@ -71,141 +70,158 @@ std::uint64_t key(int from, int to) {
   return std::uint64_t(std::uint32_t(from)) << 32 | std::uint32_t(to);
 }
 
-// The triangles around each vertex, and which of them are kept joined.
-class Fans {
+// Which triangles are joined into one mesh, and each one's neighbour across each edge.
+class Joins {
  public:
-  explicit Fans(const Triangles& triangles, std::size_t points)
+  Joins(const Triangles& triangles, std::size_t points)
       : triangles_(triangles), joined_(triangles.corners.size(), 1) {
-    faceOf_.reserve(3 * triangles.corners.size());
     joinEdgesInOrder();
     listCornersOfVertices(points);
   }
 
+  std::size_t triangles() const { return joined_.size(); }
   bool joined(std::size_t t) const { return joined_[t]; }
-
-  // The joined triangle that runs from -> to, or -1.
-  int faceRunning(int from, int to) const {
-    const auto it = faceOf_.find(key(from, to));
-    return it != faceOf_.end() && joined_[std::size_t(it->second)] ? it->second : -1;
-  }
-
-  // The corners (3t + i) of vertex v in joined triangles, in triangle order.
-  std::vector<int> cornersOf(int v) const {
-    std::vector<int> corners;
-    for (int c = firstCorner_[std::size_t(v)]; c < firstCorner_[std::size_t(v) + 1]; ++c)
-      if (joined_[std::size_t(vertexCorner_[std::size_t(c)] / 3)])
-        corners.push_back(vertexCorner_[std::size_t(c)]);
-    return corners;
-  }
-
-  int vertexAt(int corner) const { return triangles_.corners[std::size_t(corner / 3)][corner % 3]; }
-  int nextAt(int corner) const { return corner - corner % 3 + (corner % 3 + 1) % 3; }
-  int previousAt(int corner) const { return corner - corner % 3 + (corner % 3 + 2) % 3; }
-
-  // The corner of v in the joined triangle across v's outgoing edge in corner's triangle (the next
-  // around v), or -1 at a boundary.
-  int successor(int corner) const {
-    const int v = vertexAt(corner), x = vertexAt(nextAt(corner));
-    const int t = faceRunning(x, v);
-    return t < 0 ? -1 : cornerOf(t, v);
-  }
-  int predecessor(int corner) const {
-    const int v = vertexAt(corner), y = vertexAt(previousAt(corner));
-    const int t = faceRunning(v, y);
-    return t < 0 ? -1 : cornerOf(t, v);
-  }
-
   void splitOff(std::size_t t) { joined_[t] = 0; }
 
- private:
+  // Corners are numbered 3t + i: corner i of triangle t.
+  int vertexAt(int corner) const {
+    return triangles_.corners[std::size_t(corner / 3)][std::size_t(corner % 3)];
+  }
+  static int nextAt(int corner) { return corner - corner % 3 + (corner % 3 + 1) % 3; }
+  static int previousAt(int corner) { return corner - corner % 3 + (corner % 3 + 2) % 3; }
+
+  // The joined triangle on the other side of the edge that leaves `corner`, or -1.
+  int across(int corner) const {
+    const int t = across_[std::size_t(corner)];
+    return t >= 0 && joined_[std::size_t(t)] ? t : -1;
+  }
+  // The corner at `v` of triangle t.
   int cornerOf(int t, int v) const {
     const auto& c = triangles_.corners[std::size_t(t)];
     return 3 * t + (c[0] == v ? 0 : c[1] == v ? 1 : 2);
   }
+  // Around the corner's vertex: the corner of the joined triangle across the edge leaving it
+  // (the next face around the vertex), or of the one across the edge into it; -1 at a boundary.
+  int successor(int corner) const {
+    const int t = across(corner);
+    return t < 0 ? -1 : cornerOf(t, vertexAt(corner));
+  }
+  int predecessor(int corner) const {
+    const int t = across(previousAt(corner));
+    return t < 0 ? -1 : cornerOf(t, vertexAt(corner));
+  }
 
+  // Vertex v's corners in all triangles, in triangle order.
+  const int* cornersBegin(int v) const {
+    return &vertexCorner_[std::size_t(first_[std::size_t(v)])];
+  }
+  const int* cornersEnd(int v) const { return &vertexCorner_[0] + first_[std::size_t(v) + 1]; }
+
+ private:
   // A triangle joins when none of its edges is run its way by a triangle before it.
   void joinEdgesInOrder() {
-    for (std::size_t t = 0; t < triangles_.corners.size(); ++t) {
-      const auto& c = triangles_.corners[t];
+    const auto& corners = triangles_.corners;
+    KeyIndex faceOf(3 * corners.size());
+    const auto exact = [](int) { return true; };
+    for (std::size_t t = 0; t < corners.size(); ++t) {
+      const auto& c = corners[t];
       bool free = true;
-      for (int i = 0; i < 3 && free; ++i)
-        free = !faceOf_.contains(key(c[std::size_t(i)], c[std::size_t((i + 1) % 3)]));
-      if (!free) {
-        joined_[t] = 0;
-        continue;
-      }
-      for (int i = 0; i < 3; ++i)
-        faceOf_.emplace(key(c[std::size_t(i)], c[std::size_t((i + 1) % 3)]), int(t));
+      for (std::size_t i = 0; i < 3 && free; ++i)
+        free = faceOf.find(key(c[i], c[(i + 1) % 3]), exact) < 0;
+      joined_[t] = free;
+      for (std::size_t i = 0; i < 3 && free; ++i)
+        faceOf.insert(key(c[i], c[(i + 1) % 3]), int(t), exact);
     }
+    across_.assign(3 * corners.size(), -1);
+    for (std::size_t t = 0; t < corners.size(); ++t)
+      for (std::size_t i = 0; i < 3 && joined_[t]; ++i)
+        across_[3 * t + i] = faceOf.find(key(corners[t][(i + 1) % 3], corners[t][i]), exact);
   }
 
   void listCornersOfVertices(std::size_t points) {
-    firstCorner_.assign(points + 1, 0);
+    first_.assign(points + 1, 0);
     for (const auto& c : triangles_.corners)
       for (int v : c)
-        ++firstCorner_[std::size_t(v) + 1];
+        ++first_[std::size_t(v) + 1];
     for (std::size_t v = 0; v < points; ++v)
-      firstCorner_[v + 1] += firstCorner_[v];
-    vertexCorner_.resize(3 * triangles_.corners.size());
-    std::vector<int> filled(firstCorner_.begin(), firstCorner_.end() - 1);
+      first_[v + 1] += first_[v];
+    vertexCorner_.resize(3 * triangles_.corners.size() + 1);
+    std::vector<int> filled(first_.begin(), first_.end() - 1);
     for (std::size_t t = 0; t < triangles_.corners.size(); ++t)
-      for (int i = 0; i < 3; ++i)
-        vertexCorner_[std::size_t(filled[std::size_t(triangles_.corners[t][std::size_t(i)])]++)] =
-            int(3 * t) + i;
+      for (std::size_t i = 0; i < 3; ++i)
+        vertexCorner_[std::size_t(filled[std::size_t(triangles_.corners[t][i])]++)] =
+            int(3 * t + i);
   }
 
   const Triangles& triangles_;
   std::vector<char> joined_;
-  std::unordered_map<std::uint64_t, int> faceOf_;  // (from, to) -> the triangle running it
-  std::vector<int> firstCorner_;                   // vertex v's corners: [first[v], first[v + 1])
-  std::vector<int> vertexCorner_;
+  std::vector<int> across_;        // per corner
+  std::vector<int> first_;         // vertex v's corners: vertexCorner_[first_[v], first_[v + 1])
+  std::vector<int> vertexCorner_;  // one past the end too, so that cornersEnd stays in range
 };
 
-// The fans of joined triangles around one vertex: open fans from the corner with no predecessor
-// to the one with no successor, closed fans as cycles.
-struct Fan {
-  std::vector<int> corners;  // in order around the vertex
-  bool closed = false;
-};
-
-// `seen` holds a zero for every corner of the mesh and is left so.
-std::vector<Fan> fansAround(const Fans& fans, int v, std::vector<char>& seen) {
-  const std::vector<int> corners = fans.cornersOf(v);
-  std::vector<Fan> result;
-  const auto walk = [&](int start, bool closed) {
-    Fan fan{{}, closed};
-    for (int c = start; c >= 0 && !seen[std::size_t(c)]; c = fans.successor(c)) {
-      seen[std::size_t(c)] = 1;
-      fan.corners.push_back(c);
-    }
-    result.push_back(std::move(fan));
+// The fans of joined triangles around a vertex: an open fan from its corner with no predecessor
+// to its corner with no successor, a closed fan as a cycle. Walks reuse their arrays.
+class FanWalker {
+ public:
+  struct Fan {
+    std::size_t begin, end;  // its corners, in order around the vertex: corners()[begin, end)
+    bool closed;
   };
-  for (int c : corners)
-    if (fans.predecessor(c) < 0) walk(c, false);
-  for (int c : corners)
-    if (!seen[std::size_t(c)]) walk(c, true);
-  for (int c : corners)
-    seen[std::size_t(c)] = 0;
-  return result;
-}
+
+  explicit FanWalker(const Joins& joins) : joins_(joins), seen_(3 * joins.triangles(), 0) {}
+
+  void walk(int v) {
+    corners_.clear();
+    fans_.clear();
+    const auto joinedCorner = [&](int c) { return joins_.joined(std::size_t(c / 3)); };
+    for (const int* c = joins_.cornersBegin(v); c != joins_.cornersEnd(v); ++c)
+      if (joinedCorner(*c) && joins_.predecessor(*c) < 0) follow(*c, false);
+    for (const int* c = joins_.cornersBegin(v); c != joins_.cornersEnd(v); ++c)
+      if (joinedCorner(*c) && !seen_[std::size_t(*c)]) follow(*c, true);
+    for (int c : corners_)
+      seen_[std::size_t(c)] = 0;
+  }
+
+  const std::vector<int>& corners() const { return corners_; }
+  const std::vector<Fan>& fans() const { return fans_; }
+
+ private:
+  void follow(int start, bool closed) {
+    const std::size_t begin = corners_.size();
+    for (int c = start; c >= 0 && !seen_[std::size_t(c)]; c = joins_.successor(c)) {
+      seen_[std::size_t(c)] = 1;
+      corners_.push_back(c);
+    }
+    fans_.push_back({begin, corners_.size(), closed});
+  }
+
+  const Joins& joins_;
+  std::vector<char> seen_;  // per corner; clear between walks
+  std::vector<int> corners_;
+  std::vector<Fan> fans_;
+};
 
 // OpenMesh can join a vertex's open fans, but not a closed fan with anything else.
-void splitClosedFansOff(Fans& fans, std::size_t points, std::vector<char>& seen) {
+void splitClosedFansOff(Joins& joins, std::size_t points) {
+  FanWalker walker(joins);
   for (int v = 0; v < int(points); ++v) {
-    std::vector<Fan> around = fansAround(fans, v, seen);
-    if (around.size() < 2 ||
-        std::none_of(around.begin(), around.end(), [](const Fan& f) { return f.closed; }))
+    walker.walk(v);
+    const auto& fans = walker.fans();
+    const auto& corners = walker.corners();
+    if (fans.size() < 2 || std::none_of(fans.begin(), fans.end(), [](auto& f) { return f.closed; }))
       continue;
-    const auto firstCorner = [](const Fan& f) {
-      return *std::min_element(f.corners.begin(), f.corners.end());
-    };
-    const auto kept = std::min_element(
-        around.begin(), around.end(),
-        [&](const auto& a, const auto& b) { return firstCorner(a) < firstCorner(b); });
-    for (auto fan = around.begin(); fan != around.end(); ++fan) {
+    // The fan of the vertex's first corner stays: its corners come in triangle order.
+    const int first = *std::min_element(corners.begin(), corners.end());
+    const auto kept = std::find_if(fans.begin(), fans.end(), [&](const auto& fan) {
+      return std::find(corners.begin() + std::ptrdiff_t(fan.begin),
+                       corners.begin() + std::ptrdiff_t(fan.end),
+                       first) != corners.begin() + std::ptrdiff_t(fan.end);
+    });
+    for (auto fan = fans.begin(); fan != fans.end(); ++fan) {
       if (fan == kept || (!kept->closed && !fan->closed)) continue;
-      for (int c : fan->corners)
-        fans.splitOff(std::size_t(c / 3));
+      for (std::size_t i = fan->begin; i < fan->end; ++i)
+        joins.splitOff(std::size_t(corners[i] / 3));
     }
   }
 }
@@ -216,18 +232,15 @@ struct Layout {
   std::vector<std::array<int, 3>> faces;
   std::vector<int> copyOf;      // vertex (file vertices + i) copies file vertex copyOf[i]
   std::vector<int> copyCorner;  // and is the corner 3k + j of face k
-  std::vector<char> split;      // per face
 };
 
-Layout layOut(const Triangles& triangles, const Fans& fans, std::size_t points,
+Layout layOut(const Triangles& triangles, const Joins& joins, std::size_t points,
               ImportCounts& counts) {
   Layout layout;
   layout.faces.reserve(triangles.corners.size());
-  layout.split.reserve(triangles.corners.size());
   for (std::size_t t = 0; t < triangles.corners.size(); ++t) {
     std::array<int, 3> face = triangles.corners[t];
-    const bool split = !fans.joined(t);
-    if (split) {
+    if (!joins.joined(t)) {
       if (counts.nonManifold++ == 0) counts.firstNonManifold = triangles.polygon[t];
       for (int j = 0; j < 3; ++j) {
         layout.copyOf.push_back(face[std::size_t(j)]);
@@ -236,7 +249,6 @@ Layout layOut(const Triangles& triangles, const Fans& fans, std::size_t points,
       }
     }
     layout.faces.push_back(face);
-    layout.split.push_back(split);
   }
   return layout;
 }
@@ -249,24 +261,27 @@ struct Halfedges {
   std::size_t edges() const { return to.size() / 2; }
 };
 
-// Edges in the order the faces first use them, halfedge 2e running the way its first face runs it.
-Halfedges numberEdges(const Layout& layout) {
+// Edges in the order the faces first use them, halfedge 2e running the way its first face runs
+// it: an edge a joined face shares with a joined face before it is that face's edge.
+Halfedges numberEdges(const Layout& layout, const Joins& joins) {
   Halfedges halfedges;
   halfedges.faceHalfedge.resize(3 * layout.faces.size());
-  std::unordered_map<std::uint64_t, int> edgeOf;  // (min, max) vertex -> edge
-  edgeOf.reserve(3 * layout.faces.size() / 2);
+  halfedges.to.reserve(3 * layout.faces.size());
+  halfedges.face.reserve(3 * layout.faces.size());
   for (std::size_t k = 0; k < layout.faces.size(); ++k) {
     const auto& f = layout.faces[k];
     for (std::size_t i = 0; i < 3; ++i) {
-      const int from = f[i], to = f[(i + 1) % 3];
-      const auto [it, added] =
-          edgeOf.try_emplace(key(std::min(from, to), std::max(from, to)), int(halfedges.edges()));
-      if (added) {
+      const int corner = int(3 * k + i), from = f[i], to = f[(i + 1) % 3];
+      const int other = joins.joined(k) ? joins.across(corner) : -1;
+      int h;
+      if (other >= 0 && std::size_t(other) < k) {
+        h = halfedges.faceHalfedge[std::size_t(joins.cornerOf(other, to))] ^ 1;
+      } else {
+        h = int(halfedges.to.size());
         halfedges.to.insert(halfedges.to.end(), {to, from});
         halfedges.face.insert(halfedges.face.end(), {-1, -1});
       }
-      const int h = 2 * it->second + (halfedges.to[std::size_t(2 * it->second)] != to);
-      halfedges.faceHalfedge[3 * k + i] = h;
+      halfedges.faceHalfedge[std::size_t(corner)] = h;
       halfedges.face[std::size_t(h)] = int(k);
     }
   }
@@ -276,41 +291,57 @@ Halfedges numberEdges(const Layout& layout) {
 // Per vertex, its halfedge and the boundary's next links through it. The boundary runs in along
 // each open fan's last edge and out along the next fan's first edge, so that circulating around
 // the vertex passes every fan, as add_face links several fans.
-void linkVertices(TriMesh& out, const Layout& layout, const Halfedges& halfedges, const Fans& fans,
-                  std::size_t points) {
-  std::vector<char> seen(3 * layout.faces.size(), 0);
-  std::vector<std::pair<int, int>> boundary;  // (in, out) of each open fan
-  const auto link = [&](int v, const std::vector<Fan>& around) {
-    boundary.clear();
+class VertexLinker {
+ public:
+  VertexLinker(TriMesh& out, const Halfedges& halfedges) : out_(out), halfedges_(halfedges) {}
+
+  void link(int v, const std::vector<int>& corners, const std::vector<FanWalker::Fan>& fans) {
+    boundary_.clear();
     int outgoing = -1;
-    for (const Fan& fan : around) {
+    for (const auto& fan : fans) {
       if (fan.closed) {
         // The last face around an inner vertex closed its fan; add_face leaves its halfedge there.
-        const int last = *std::max_element(fan.corners.begin(), fan.corners.end());
-        outgoing = halfedges.faceHalfedge[std::size_t(last)];
+        const int last = *std::max_element(corners.begin() + std::ptrdiff_t(fan.begin),
+                                           corners.begin() + std::ptrdiff_t(fan.end));
+        outgoing = halfedgeOut(last);
         continue;
       }
-      const int in = halfedges.faceHalfedge[std::size_t(fan.corners.back())] ^ 1;
-      const int first = fans.previousAt(fan.corners.front());
-      boundary.emplace_back(in, halfedges.faceHalfedge[std::size_t(first)] ^ 1);
+      const int in = halfedgeOut(corners[fan.end - 1]) ^ 1;
+      const int out = halfedgeOut(Joins::previousAt(corners[fan.begin])) ^ 1;
+      boundary_.emplace_back(in, out);
     }
-    for (std::size_t i = 0; i < boundary.size(); ++i)
-      out.set_next_halfedge_handle(HalfedgeHandle(boundary[i].first),
-                                   HalfedgeHandle(boundary[(i + 1) % boundary.size()].second));
-    if (!boundary.empty()) outgoing = boundary.front().second;
-    if (outgoing >= 0) out.set_halfedge_handle(TriMesh::VertexHandle(v), HalfedgeHandle(outgoing));
-  };
-  for (int v = 0; v < int(points); ++v)
-    link(v, fansAround(fans, v, seen));
+    for (std::size_t i = 0; i < boundary_.size(); ++i)
+      out_.set_next_halfedge_handle(HalfedgeHandle(boundary_[i].first),
+                                    HalfedgeHandle(boundary_[(i + 1) % boundary_.size()].second));
+    if (!boundary_.empty()) outgoing = boundary_.front().second;
+    if (outgoing >= 0) out_.set_halfedge_handle(TriMesh::VertexHandle(v), HalfedgeHandle(outgoing));
+  }
+
+ private:
+  int halfedgeOut(int corner) const { return halfedges_.faceHalfedge[std::size_t(corner)]; }
+
+  TriMesh& out_;
+  const Halfedges& halfedges_;
+  std::vector<std::pair<int, int>> boundary_;  // (in, out) of each open fan
+};
+
+void linkVertices(TriMesh& out, const Layout& layout, const Halfedges& halfedges,
+                  const Joins& joins, std::size_t points) {
+  VertexLinker linker(out, halfedges);
+  FanWalker walker(joins);
+  for (int v = 0; v < int(points); ++v) {
+    walker.walk(v);
+    linker.link(v, walker.corners(), walker.fans());
+  }
   // A copy is the corner of one split-off face: one open fan.
   for (std::size_t i = 0; i < layout.copyOf.size(); ++i)
-    link(int(points + i), {Fan{{layout.copyCorner[i]}, false}});
+    linker.link(int(points + i), {layout.copyCorner[i]}, {FanWalker::Fan{0, 1, false}});
 }
 
 // OpenMesh's importer marks what it splits off so; the readers' callers may look.
-void markSplitFaces(TriMesh& out, const Layout& layout) {
-  for (std::size_t k = 0; k < layout.faces.size(); ++k) {
-    if (!layout.split[k]) continue;
+void markSplitFaces(TriMesh& out, const Joins& joins) {
+  for (std::size_t k = 0; k < joins.triangles(); ++k) {
+    if (joins.joined(k)) continue;
     const auto face = TriMesh::FaceHandle(int(k));
     out.status(face).set_fixed_nonmanifold(true);
     for (auto h : out.fh_range(face)) {
@@ -326,13 +357,10 @@ ImportCounts linkSoup(const PolygonSoup& soup, TriMesh& out) {
   ImportCounts counts;
   const std::size_t points = soup.points.size();
   const Triangles triangles = triangulate(soup, counts);
-  Fans fans(triangles, points);
-  {
-    std::vector<char> seen(3 * triangles.corners.size(), 0);
-    splitClosedFansOff(fans, points, seen);
-  }
-  const Layout layout = layOut(triangles, fans, points, counts);
-  const Halfedges halfedges = numberEdges(layout);
+  Joins joins(triangles, points);
+  splitClosedFansOff(joins, points);
+  const Layout layout = layOut(triangles, joins, points, counts);
+  const Halfedges halfedges = numberEdges(layout, joins);
   out.resize(points + layout.copyOf.size(), halfedges.edges(), layout.faces.size());
   for (std::size_t v = 0; v < points; ++v)
     out.set_point(TriMesh::VertexHandle(int(v)), soup.points[v]);
@@ -349,8 +377,8 @@ ImportCounts linkSoup(const PolygonSoup& soup, TriMesh& out) {
     for (int i = 0; i < 3; ++i)
       out.set_next_halfedge_handle(HalfedgeHandle(h[i]), HalfedgeHandle(h[(i + 1) % 3]));
   }
-  linkVertices(out, layout, halfedges, fans, points);
-  markSplitFaces(out, layout);
+  linkVertices(out, layout, halfedges, joins, points);
+  markSplitFaces(out, joins);
   return counts;
 }
 

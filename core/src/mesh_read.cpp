@@ -123,6 +123,36 @@ std::optional<long long> parseInteger(std::string_view token) {
   return value;
 }
 
+KeyIndex::KeyIndex(std::size_t expected) {
+  std::size_t capacity = 16;
+  while (capacity < 2 * expected)
+    capacity *= 2;
+  keys_.assign(capacity, 0);
+  values_.assign(capacity, -1);
+}
+
+std::size_t KeyIndex::slot(std::uint64_t key) const {
+  // splitmix64's finalizer spreads nearby keys (neighbouring vertex indices) over the table.
+  key = (key ^ (key >> 30)) * 0xbf58476d1ce4e5b9ull;
+  key = (key ^ (key >> 27)) * 0x94d049bb133111ebull;
+  return std::size_t(key ^ (key >> 31)) & (keys_.size() - 1);
+}
+
+void KeyIndex::grow() {
+  std::vector<std::uint64_t> keys(2 * keys_.size(), 0);
+  std::vector<int> values(2 * keys_.size(), -1);
+  keys.swap(keys_);
+  values.swap(values_);
+  for (std::size_t j = 0; j < keys.size(); ++j) {
+    if (values[j] < 0) continue;
+    std::size_t i = slot(keys[j]);
+    while (values_[i] >= 0)
+      i = (i + 1) & (keys_.size() - 1);
+    keys_[i] = keys[j];
+    values_[i] = values[j];
+  }
+}
+
 std::optional<Vec3d> parsePoint(std::string_view rest) {
   Vec3d point(0, 0, 0);
   for (int i = 0; i < 3; ++i) {

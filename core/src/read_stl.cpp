@@ -4,7 +4,6 @@
 #include <array>
 #include <bit>
 #include <cstring>
-#include <unordered_map>
 
 #include "geobrush/text.hpp"
 #include "mesh_read.hpp"
@@ -18,32 +17,26 @@ constexpr std::size_t kTriangleBytes = 50;
 // Gives each distinct position one vertex index, in order of first use (-0 and 0 are one).
 class CornerMerger {
  public:
-  explicit CornerMerger(PolygonSoup& soup) : soup_(soup) {}
+  CornerMerger(PolygonSoup& soup, std::size_t expected) : soup_(soup), index_(expected) {}
 
   void add(std::array<float, 3> corner) {
     for (float& value : corner)
       if (value == 0) value = 0;  // -0 to +0
-    const auto [it, added] = index_.try_emplace(key(corner), int(soup_.points.size()));
-    if (added) soup_.points.emplace_back(corner[0], corner[1], corner[2]);
-    soup_.corners.push_back(it->second);
+    std::uint64_t key = 0;
+    for (float value : corner)
+      key = key * 0x9e3779b97f4a7c15ull + std::bit_cast<std::uint32_t>(value);
+    const auto same = [&](int v) {
+      const Vec3d& p = soup_.points[std::size_t(v)];
+      return float(p[0]) == corner[0] && float(p[1]) == corner[1] && float(p[2]) == corner[2];
+    };
+    const int v = index_.insert(key, int(soup_.points.size()), same);
+    if (v == int(soup_.points.size())) soup_.points.emplace_back(corner[0], corner[1], corner[2]);
+    soup_.corners.push_back(v);
   }
 
  private:
-  struct Hash {
-    std::size_t operator()(const std::array<std::uint32_t, 3>& bits) const {
-      std::uint64_t h = 1469598103934665603ull;
-      for (std::uint32_t b : bits)
-        h = (h ^ b) * 1099511628211ull;
-      return std::size_t(h);
-    }
-  };
-  static std::array<std::uint32_t, 3> key(const std::array<float, 3>& corner) {
-    return {std::bit_cast<std::uint32_t>(corner[0]), std::bit_cast<std::uint32_t>(corner[1]),
-            std::bit_cast<std::uint32_t>(corner[2])};
-  }
-
   PolygonSoup& soup_;
-  std::unordered_map<std::array<std::uint32_t, 3>, int, Hash> index_;
+  KeyIndex index_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -69,7 +62,7 @@ PolygonSoup readBinary(const Source& source) {
   PolygonSoup soup;
   soup.ends.reserve(triangles);
   soup.corners.reserve(3 * triangles);
-  CornerMerger merger(soup);
+  CornerMerger merger(soup, 3 * triangles);
   for (std::size_t t = 0; t < triangles; ++t) {
     const char* record = source.bytes.data() + kHeaderBytes + kTriangleBytes * t;
     std::array<std::array<float, 3>, 3> corners{};
@@ -92,7 +85,7 @@ PolygonSoup readBinary(const Source& source) {
 class AsciiStl {
  public:
   AsciiStl(const Source& source, PolygonSoup& soup)
-      : source_(source), lines_(source.bytes), soup_(soup), merger_(soup) {}
+      : source_(source), lines_(source.bytes), soup_(soup), merger_(soup, 0) {}
 
   void read() {
     bool inSolid = false;

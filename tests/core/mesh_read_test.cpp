@@ -221,6 +221,10 @@ TriMesh addedFaceByFace(const TriMesh& mesh) {
     for (auto v : mesh.fv_range(f))
       ++corners[std::size_t(v.idx())];
   for (auto v : mesh.vertices()) {
+    if (!mesh.halfedge_handle(v).is_valid()) {
+      if (corners[std::size_t(v.idx())] == 0) continue;
+      return ::testing::AssertionFailure() << "vertex " << v.idx() << " has no halfedge";
+    }
     int faces = 0;
     for (auto f : mesh.vf_range(v))
       faces += f.is_valid();
