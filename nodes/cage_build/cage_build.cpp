@@ -489,7 +489,9 @@ EnclosureTest::EnclosureTest(const TriMesh& closedMesh) : mesh_(closedMesh) {
     bounds_.extend(triangle.box);
   }
   tolerance_ = kEnclosureTolerance * bounds_.diagonal().norm();
-  if (!(tolerance_ > 0)) {  // no faces, or all of them in one point: encloses nothing
+  // No faces (an empty box's diagonal is infinite, not zero), or all of them in one point:
+  // encloses nothing.
+  if (triangles_.empty() || !(tolerance_ > 0)) {
     triangles_.clear();
     bounds_.setEmpty();
     return;
