@@ -64,11 +64,9 @@ struct NodeRegistry::Loaded {
 
 NodeRegistry::NodeRegistry() = default;
 // Plugin libraries stay loaded until exit: values and nodes they created may
-// outlive the registry, and unloading would leave them without code.
-NodeRegistry::~NodeRegistry() {
-  for (auto& loaded : libraries_)
-    loaded->library.release();
-}
+// outlive the registry, and unloading would leave them without code. Only
+// QLibrary::unload() unloads; its destructor leaves the library loaded.
+NodeRegistry::~NodeRegistry() = default;
 
 void NodeRegistry::add(NodeType type) {
   checkDeclaration(type);
