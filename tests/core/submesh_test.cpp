@@ -322,14 +322,9 @@ TEST(JoinFaces, ClosesTheBoundaryBetweenTheCopiedParts) {
   const test::Topology b = test::topology(capAndBand);
   EXPECT_EQ(b.components, 1u);
   EXPECT_EQ(b.faces, below.size() + band.size());
-  EXPECT_EQ(b.boundaryLoops, test::topology(extractSubmesh(sphere,
-                                                           [&] {
-                                                             auto both = below;
-                                                             both.insert(both.end(), band.begin(),
-                                                                         band.end());
-                                                             return both;
-                                                           }())
-                                                .surface)
-                                 .boundaryLoops);
+  std::vector<int> capAndBandFaces = below;
+  capAndBandFaces.insert(capAndBandFaces.end(), band.begin(), band.end());
+  EXPECT_EQ(b.boundaryLoops,
+            test::topology(extractSubmesh(sphere, capAndBandFaces).surface).boundaryLoops);
   EXPECT_EQ(b.nonManifoldVertices, 0u);
 }

@@ -61,8 +61,10 @@ std::string describe(std::span<const DeviceInfo> devices) {
 }
 
 bool containsIgnoringCase(std::string_view text, std::string_view part) {
-  auto lower = [](unsigned char c) { return std::tolower(c); };
-  return !std::ranges::search(text, part, {}, lower, lower).empty();
+  const auto equal = [](unsigned char a, unsigned char b) {
+    return std::tolower(a) == std::tolower(b);
+  };
+  return std::search(text.begin(), text.end(), part.begin(), part.end(), equal) != text.end();
 }
 
 std::optional<std::size_t> parseIndex(std::string_view text) {
