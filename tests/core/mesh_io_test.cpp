@@ -21,6 +21,7 @@ using OpenMesh::Vec3d;
 namespace {
 
 namespace fs = std::filesystem;
+using test::writeFile;
 
 // The file name as messages quote it.
 std::string quoted(const fs::path& path) {
@@ -33,12 +34,6 @@ std::string quoted(const fs::path& path) {
 ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "'" << text << "' lacks '" << part << "'";
-}
-
-fs::path writeFile(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out << bytes;
-  return path;
 }
 
 // The message of the MeshError that reading `path` throws, or "" if it reads.

@@ -22,12 +22,7 @@ using OpenMesh::Vec3d;
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path writeFile(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out << bytes;
-  return path;
-}
+using test::writeFile;
 
 std::string readError(const fs::path& path) {
   try {
@@ -36,18 +31,6 @@ std::string readError(const fs::path& path) {
     return e.what();
   }
   return "";
-}
-
-std::vector<std::array<int, 3>> faces(const TriMesh& mesh) {
-  std::vector<std::array<int, 3>> result;
-  for (auto face : mesh.faces()) {
-    std::array<int, 3> corners{};
-    int k = 0;
-    for (auto vertex : mesh.fv_range(face))
-      corners[k++] = vertex.idx();
-    result.push_back(corners);
-  }
-  return result;
 }
 
 Vec3d pointOf(const TriMesh& mesh, int index) {
@@ -88,7 +71,7 @@ TEST(PlyReader, ReadsAsciiWithOtherPropertiesAndElementsSkipped) {
                                                    "0 1\n");
   const auto result = readMesh(path);
   EXPECT_TRUE(result.warnings.empty());
-  EXPECT_EQ(faces(result.mesh->surface), kTetrahedronFaces);
+  EXPECT_EQ(test::faceIndices(result.mesh->surface), kTetrahedronFaces);
   // Doubles are kept as doubles.
   EXPECT_EQ(pointOf(result.mesh->surface, 3), Vec3d(0.1, 0, 1e-30));
 }
@@ -109,7 +92,7 @@ TEST(PlyReader, ReadsBinaryOfEitherByteOrder) {
                                 plyHeader(format, "float", "ushort int") + body);
     const auto result = readMesh(path);
     EXPECT_TRUE(result.warnings.empty());
-    EXPECT_EQ(faces(result.mesh->surface), kTetrahedronFaces) << format;
+    EXPECT_EQ(test::faceIndices(result.mesh->surface), kTetrahedronFaces) << format;
     EXPECT_EQ(pointOf(result.mesh->surface, 3), Vec3d(double(0.1f), 0, 1)) << format;
   }
 }
@@ -145,7 +128,7 @@ TEST(OffReader, ReadsVariantsCommentsAndCountsOnTheKeywordLine) {
                 "0.1 0 1 0 0 1 1 0 0 1\n3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
   const auto result = readMesh(path);
   EXPECT_TRUE(result.warnings.empty());
-  EXPECT_EQ(faces(result.mesh->surface), kTetrahedronFaces);
+  EXPECT_EQ(test::faceIndices(result.mesh->surface), kTetrahedronFaces);
   EXPECT_EQ(pointOf(result.mesh->surface, 3), Vec3d(double(0.1f), 0, 1));
 }
 
@@ -159,7 +142,7 @@ TEST(OffReader, ReadsBinary) {
     body += bytesOf<std::int32_t>({3, f[0], f[1], f[2], 0}, true);
   const auto path = writeFile(dir / "tet.off", "COFF BINARY\n" + body);
   const auto result = readMesh(path);
-  EXPECT_EQ(faces(result.mesh->surface), kTetrahedronFaces);
+  EXPECT_EQ(test::faceIndices(result.mesh->surface), kTetrahedronFaces);
   EXPECT_EQ(pointOf(result.mesh->surface, 3), Vec3d(double(0.1f), 0, 1));
   const auto cut = writeFile(dir / "cut.off", "OFF BINARY\n" + body.substr(0, 40));
   EXPECT_TRUE(test::contains(readError(cut), "declares 4 vertices and 4 faces, which do not fit"));
@@ -177,7 +160,8 @@ TEST(StlReader, ReadsSeveralAsciiSolidsMergingCornersInOrderOfFirstUse) {
                               "solid a\n" + facet + "endsolid a\nsolid b\n" + other + "endsolid");
   const auto result = readMesh(path);
   EXPECT_TRUE(result.warnings.empty());
-  EXPECT_EQ(faces(result.mesh->surface), (std::vector<std::array<int, 3>>{{0, 1, 2}, {1, 0, 3}}));
+  EXPECT_EQ(test::faceIndices(result.mesh->surface),
+            (std::vector<std::array<int, 3>>{{0, 1, 2}, {1, 0, 3}}));
 }
 
 TEST(StlReader, WarnsWhenAnAsciiFileEndsWithoutEndsolid) {

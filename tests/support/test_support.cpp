@@ -1,5 +1,7 @@
 #include "test_support.hpp"
 
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -72,6 +74,11 @@ std::string quoted(const std::filesystem::path& path) {
 ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "'" << text << "' lacks '" << part << "'";
+}
+
+std::filesystem::path writeFile(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
 }
 
 std::filesystem::path tempDir(const std::string& name) {

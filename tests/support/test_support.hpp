@@ -40,6 +40,8 @@ std::string quoted(const std::filesystem::path& path);
 
 // A fresh, empty folder under the system temp dir, removed at exit.
 std::filesystem::path tempDir(const std::string& name);
+// Writes `bytes` to `path` as they are; returns `path`.
+std::filesystem::path writeFile(const std::filesystem::path& path, const std::string& bytes);
 
 // The graph's node "metrics" and what it reads, run into a temp folder: the metrics' values
 // (empty, and a failed expectation, when the run fails).
