@@ -9,6 +9,7 @@
 #include "geobrush/image.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "geobrush/text.hpp"
+#include "geobrush/values.hpp"
 
 namespace geobrush::cli {
 
@@ -20,8 +21,6 @@ void printWarning(const std::string& message) {
   std::fprintf(stderr, "warning: %s\n", messageLine(message).c_str());
 }
 
-namespace {
-
 std::vector<std::string> loadPlugins(NodeRegistry& registry, bool quiet) {
   auto report = registry.loadPlugins(defaultPluginDirs());
   if (!quiet)
@@ -29,6 +28,8 @@ std::vector<std::string> loadPlugins(NodeRegistry& registry, bool quiet) {
       printWarning(error);
   return report.errors;
 }
+
+namespace {
 
 // A single status line on a terminal: "[2/5] gdem 40%".
 class TerminalProgress {
@@ -97,26 +98,58 @@ int runGraph(const RunOptions& options) {
     }
     eval.outputDir = options.outDir;
   }
+  return evaluateAndReport(graph, registry, eval, {options.graph, options.json, options.quiet},
+                           pluginErrors)
+                 .ok
+             ? kExitOk
+             : kExitEvaluation;
+}
+
+void collectMetrics(const Graph& graph, const NodeRegistry& registry, const Evaluator& evaluator,
+                    std::map<std::string, double>& values, std::vector<std::string>& notes) {
+  for (const auto& [name, node] : graph.nodes) {
+    const NodeType* type = registry.find(node.type);
+    if (!type) continue;
+    for (const auto& port : type->outputs) {
+      const auto metrics =
+          std::dynamic_pointer_cast<const Metrics>(evaluator.output(name, port.name));
+      if (!metrics) continue;
+      for (const auto& [key, value] : metrics->values)
+        values[name + "." + key] = value;
+      for (const auto& note : metrics->notes)
+        notes.push_back(name + ": " + note);
+    }
+  }
+}
+
+EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, EvalOptions eval,
+                             const ReportOptions& options,
+                             const std::vector<std::string>& pluginErrors, Evaluator* evaluator) {
   TerminalProgress progress(!options.quiet && ::isatty(STDERR_FILENO));
   eval.progress = [&](const std::string& node, double fraction) {
     progress.update(node, fraction);
   };
-
-  Evaluator evaluator(registry);
-  const EvalReport report = evaluator.evaluate(graph, eval);
+  Evaluator own(registry);
+  Evaluator& used = evaluator ? *evaluator : own;
+  const EvalReport report = used.evaluate(graph, eval);
   progress.clear();
+  std::map<std::string, double> metrics;
+  std::vector<std::string> notes;
+  if (report.ok) collectMetrics(graph, registry, used, metrics, notes);
 
   if (!options.quiet && !options.json) {
     for (const auto& run : report.runs)
       for (const auto& warning : run.warnings)
-        printWarning(escapeText(options.graph.native(), 4096) + ": node " + quoteText(run.node) +
+        printWarning(escapeText(options.name.native(), 4096) + ": node " + quoteText(run.node) +
                      ": " + warning);
     for (const auto& file : report.filesWritten)
       std::fprintf(stderr, "wrote %s\n", messageLine(file.native()).c_str());
+    for (const auto& [name, value] : options.printMetrics ? metrics : decltype(metrics){})
+      std::fprintf(stderr, "%s = %s\n", messageLine(name).c_str(), formatParam(value).c_str());
   }
   if (!report.ok) printError(report.error);
-  if (options.json) std::cout << runReportJson(options.graph, report, pluginErrors);
-  return report.ok ? kExitOk : kExitEvaluation;
+  if (options.json) std::cout << runReportJson(options.name, report, pluginErrors, metrics);
+  return report;
 }
 
 int validateGraph(const std::filesystem::path& path, bool quiet) {

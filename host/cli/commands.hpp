@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "geobrush/clone.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/mesh.hpp"
 #include "geobrush/registry.hpp"
@@ -54,7 +55,30 @@ struct ComparedGraph {
   std::shared_ptr<const Mesh> mesh;
 };
 
+// How an evaluation is reported: `name` is the graph file (or what stands for it) in messages.
+struct ReportOptions {
+  std::filesystem::path name;
+  bool json = false;
+  bool quiet = false;
+  bool printMetrics = false;  // each Metrics value as a line "node.name = value" on stderr
+};
+
+struct CloneOptions {
+  CloneSpec spec;
+  std::string method = "geobrush";
+  std::vector<std::string> sets;  // NODE.PARAM=VALUE, applied to the filled method
+  std::filesystem::path output;   // the result mesh; empty: SOURCE_on_TARGET.obj here
+  std::filesystem::path image;    // empty: no picture
+  std::filesystem::path saveGraph;
+  bool json = false;
+  bool quiet = false;
+};
+
 int runGraph(const RunOptions& options);
+// Fills a clone method with the spec (points snapped to their meshes), applies --set, evaluates
+// it and writes the result mesh (and picture, and the filled graph when asked).
+int cloneMeshes(const CloneOptions& options);
+int listMethods();
 // Evaluates both graphs (each writing its files under outDir/<graph name>), prints their metrics
 // and node times side by side and writes both measured meshes into one PNG. Nothing is written
 // but the graphs' own outputs when either fails.
@@ -68,9 +92,24 @@ int renderFiles(const RenderCommandOptions& options);
 void printError(const std::string& message);
 void printWarning(const std::string& message);
 
+// Loads the plugins of defaultPluginDirs(); returns the refusals, printed unless quiet.
+std::vector<std::string> loadPlugins(NodeRegistry& registry, bool quiet);
+// Evaluates with a progress line on a terminal, then prints warnings, the files written and the
+// error (or the JSON report), as `geobrush run` does. Uses `evaluator` when given.
+EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, EvalOptions eval,
+                             const ReportOptions& options,
+                             const std::vector<std::string>& pluginErrors,
+                             Evaluator* evaluator = nullptr);
+
+// Every Metrics output of the last evaluation, as "node.name" values and "node: note" notes.
+void collectMetrics(const Graph& graph, const NodeRegistry& registry, const Evaluator& evaluator,
+                    std::map<std::string, double>& values, std::vector<std::string>& notes);
+
 // JSON texts (report_json.cpp keeps nlohmann_json in one file).
+// With metrics, a "metrics" object of them.
 std::string runReportJson(const std::filesystem::path& graph, const EvalReport& report,
-                          const std::vector<std::string>& pluginErrors);
+                          const std::vector<std::string>& pluginErrors,
+                          const std::map<std::string, double>& metrics = {});
 std::string nodeTypesJson(const NodeRegistry& registry);
 std::string compareReportJson(const ComparedGraph& a, const ComparedGraph& b,
                               const std::filesystem::path& image, const std::string& error);

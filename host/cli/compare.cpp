@@ -75,19 +75,7 @@ bool evaluateSide(const NodeRegistry& registry, ComparedGraph& side, const Graph
   Evaluator evaluator(registry);
   side.report = evaluator.evaluate(graph, eval);
   if (!side.report.ok) return false;
-  for (const auto& [name, node] : graph.nodes) {
-    const NodeType* type = registry.find(node.type);
-    if (!type) continue;
-    for (const auto& port : type->outputs) {
-      const auto metrics =
-          std::dynamic_pointer_cast<const Metrics>(evaluator.output(name, port.name));
-      if (!metrics) continue;
-      for (const auto& [key, value] : metrics->values)
-        side.metrics[name + "." + key] = value;
-      for (const auto& note : metrics->notes)
-        side.notes.push_back(name + ": " + note);
-    }
-  }
+  collectMetrics(graph, registry, evaluator, side.metrics, side.notes);
   const Connection* measured = measuredMesh(graph);
   side.mesh = std::dynamic_pointer_cast<const Mesh>(
       evaluator.output(measured->from.node, measured->from.port));

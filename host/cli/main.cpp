@@ -46,6 +46,49 @@ CLI::Validator pngName() {
       "PNG");
 }
 
+// A point "X,Y,Z" as a vec3 param reads it; the error names the option.
+CLI::Validator point() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        ParamDecl decl;
+        decl.kind = ParamKind::Vec3;
+        decl.defaultValue = Vec3{};
+        try {
+          parseParamText(decl, text);
+          return {};
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+      },
+      "X,Y,Z");
+}
+
+Vec3 pointOf(const std::string& text) {
+  ParamDecl decl;
+  decl.kind = ParamKind::Vec3;
+  decl.defaultValue = Vec3{};
+  return std::get<Vec3>(parseParamText(decl, text));
+}
+
+// A number as a double param with these bounds reads it.
+CLI::Validator numberIn(std::optional<double> min, std::optional<double> max) {
+  ParamDecl decl;
+  decl.kind = ParamKind::Double;
+  decl.defaultValue = 0.0;
+  decl.min = min;
+  decl.max = max;
+  return CLI::Validator(
+      [decl](std::string& text) -> std::string {
+        try {
+          parseParamText(decl, text);
+          return {};
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+      },
+      "NUMBER");
+}
+
 // CLI11's errors as the program's other errors: one escaped, bounded "error:" line.
 std::string failureLine(const CLI::App*, const CLI::Error& e) {
   return "error: " + messageLine(e.what()) + "\n";
@@ -114,6 +157,41 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--backend", backend, "auto, vulkan or cpu")
       ->check(CLI::IsMember({"auto", "vulkan", "cpu"}));
 
+  cli::CloneOptions clone;
+  bool listMethods = false;
+  auto* cloneCmd = app.add_subcommand(
+      "clone", "Clone the surface around a point of one mesh onto a point of another.");
+  cloneCmd->add_flag("--list-methods", listMethods, "List the clone methods and exit");
+  cloneCmd->add_option("--source", clone.spec.source, "The mesh the detail comes from");
+  cloneCmd->add_option("--target", clone.spec.target, "The mesh it is pasted onto");
+  std::string sourcePoint, targetPoint;
+  cloneCmd
+      ->add_option("--source-point", sourcePoint,
+                   "X,Y,Z: the region's centre (snapped to the source surface)")
+      ->check(point());
+  cloneCmd
+      ->add_option("--target-point", targetPoint,
+                   "X,Y,Z: where the centre lands (snapped to the target surface)")
+      ->check(point());
+  cloneCmd
+      ->add_option("--radius", clone.spec.radius,
+                   "Geodesic radius of the region, in source mesh units")
+      ->check(numberIn(0.0, std::nullopt));
+  cloneCmd->add_option("--scale", clone.spec.scale, "Target size over source size (default 1)")
+      ->check(numberIn(0.0, std::nullopt));
+  cloneCmd->add_option("--angle", clone.spec.angleDeg, "Degrees the detail turns (default 0)")
+      ->check(numberIn(-360.0, 360.0));
+  cloneCmd->add_option("--method", clone.method, "The method's name (default geobrush)");
+  cloneCmd->add_option("--set", clone.sets,
+                       "Override a parameter of the filled method: NODE.PARAM=VALUE (repeatable)");
+  cloneCmd->add_option("-o,--output", clone.output,
+                       "The result mesh (default: SOURCE_on_TARGET.obj here)");
+  cloneCmd->add_option("--image", clone.image, "A picture of the result (PNG)")->check(pngName());
+  cloneCmd->add_option("--save-graph", clone.saveGraph,
+                       "Write the filled-in graph, which `geobrush run` and the studio open");
+  cloneCmd->add_flag("--json", clone.json, "Print a machine-readable report on stdout");
+  cloneCmd->add_flag("--quiet", clone.quiet, "Print nothing but errors");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -123,6 +201,18 @@ int main(int argc, char** argv) {
 
   try {
     if (*runCmd) return cli::runGraph(run);
+    if (*cloneCmd && listMethods) return cli::listMethods();
+    if (*cloneCmd) {
+      for (const char* option :
+           {"--source", "--source-point", "--radius", "--target", "--target-point"}) {
+        if (cloneCmd->count(option) > 0) continue;
+        cli::printError(std::string("clone: ") + option + " is required");
+        return cli::kExitUsage;
+      }
+      clone.spec.sourcePoint = pointOf(sourcePoint);
+      clone.spec.targetPoint = pointOf(targetPoint);
+      return cli::cloneMeshes(clone);
+    }
     if (*compareCmd) return cli::compareGraphs(compare);
     if (*validateCmd) return cli::validateGraph(validatePath, validateQuiet);
     if (*nodesCmd) return cli::listNodes(nodesJson);

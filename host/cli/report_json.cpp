@@ -33,7 +33,8 @@ json portsJson(const std::vector<PortDecl>& ports) {
 }  // namespace
 
 std::string runReportJson(const std::filesystem::path& graph, const EvalReport& report,
-                          const std::vector<std::string>& pluginErrors) {
+                          const std::vector<std::string>& pluginErrors,
+                          const std::map<std::string, double>& metrics) {
   json nodes = json::array();
   for (const auto& run : report.runs) {
     nodes.push_back({{"name", run.node},
@@ -55,6 +56,7 @@ std::string runReportJson(const std::filesystem::path& graph, const EvalReport& 
                {"cacheHits", report.cacheHits()},
                {"pluginErrors", pluginErrors}};
   if (!report.ok) root["error"] = report.error;
+  if (!metrics.empty()) root["metrics"] = metrics;
   return root.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
 }
 

@@ -1,0 +1,157 @@
+#include "geobrush/clone.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <set>
+
+#include "geobrush/registry.hpp"
+#include "geobrush/surface_point.hpp"
+#include "geobrush/text.hpp"
+
+namespace geobrush {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kRoleNodes[] = {"source_mesh", "source_canvas", "target_mesh",
+                                      "target_map",  "strokes",       "save_result"};
+
+std::vector<fs::path> splitPathList(const char* list) {
+  std::vector<fs::path> dirs;
+  const std::string text = list ? list : "";
+  for (std::size_t start = 0; start < text.size();) {
+    const std::size_t colon = std::min(text.find(':', start), text.size());
+    if (colon > start) dirs.emplace_back(text.substr(start, colon - start));
+    start = colon + 1;
+  }
+  return dirs;
+}
+
+std::string dirsText(const std::vector<fs::path>& dirs) {
+  std::string text;
+  for (const auto& dir : dirs)
+    text += (text.empty() ? "" : ", ") + quotePath(dir);
+  return text.empty() ? "no method folder" : text;
+}
+
+// Sets one param as a graph file would, checked against its declaration.
+void setParam(Graph& graph, const NodeRegistry& registry, const std::string& node,
+              const std::string& param, const ParamValue& value) {
+  GraphNode& entry = graph.nodes.at(node);
+  const NodeType* type = registry.find(entry.type);
+  const ParamDecl* decl = type ? type->findParam(param) : nullptr;
+  if (!decl)
+    throw GraphError(graph.file, node, "param " + quoteText(param),
+                     "the method's node has no such parameter");
+  try {
+    entry.params[param] = coerceParam(*decl, value);
+  } catch (const std::invalid_argument& e) {
+    throw GraphError(graph.file, node, "param " + quoteText(param), e.what());
+  }
+}
+
+void removeNode(Graph& graph, const std::string& node) {
+  graph.nodes.erase(node);
+  graph.ui.erase(node);
+  std::erase_if(graph.connections,
+                [&](const Connection& c) { return c.from.node == node || c.to.node == node; });
+}
+
+Vec3 toVec3(const Eigen::Vector3d& p) {
+  return {p.x(), p.y(), p.z()};
+}
+
+}  // namespace
+
+std::vector<fs::path> defaultMethodDirs() {
+  std::vector<fs::path> dirs = splitPathList(std::getenv("GEOBRUSH_METHOD_PATH"));
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec)
+    dirs.push_back(
+        (exe.parent_path() / ".." / "share" / "geobrush" / "methods").lexically_normal());
+  return dirs;
+}
+
+std::vector<CloneMethod> findMethods(const std::vector<fs::path>& dirs) {
+  std::vector<CloneMethod> methods;
+  std::set<std::string> names;
+  for (const auto& dir : dirs) {
+    std::error_code ec;
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(dir, ec))
+      if (entry.path().extension() == ".json") files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& file : files)
+      if (names.insert(file.stem().string()).second)
+        methods.push_back({file.stem().string(), file});
+  }
+  return methods;
+}
+
+Graph readMethod(const std::string& name, const std::vector<fs::path>& dirs,
+                 const NodeRegistry& registry) {
+  const auto methods = findMethods(dirs);
+  const auto method = std::find_if(methods.begin(), methods.end(),
+                                   [&](const CloneMethod& m) { return m.name == name; });
+  if (method == methods.end()) {
+    std::string known;
+    for (const auto& m : methods)
+      known += (known.empty() ? "" : ", ") + m.name;
+    throw GraphError({}, "", "",
+                     "no clone method " + quoteText(name) + " (methods: " +
+                         (known.empty() ? "none" : known) + "; searched " + dirsText(dirs) + ")");
+  }
+  Graph graph = readGraphFile(method->file);
+  prepareGraph(graph, registry);
+  for (const char* role : kRoleNodes)
+    if (!graph.nodes.contains(role))
+      throw GraphError(graph.file, role, "", "a clone method needs a node of this name");
+  return graph;
+}
+
+void fillCloneGraph(Graph& graph, const NodeRegistry& registry, const CloneSpec& spec,
+                    const CloneOutputs& outputs) {
+  const auto absolute = [](const fs::path& path) { return fs::absolute(path).lexically_normal(); };
+  setParam(graph, registry, "source_mesh", "path", absolute(spec.source).string());
+  setParam(graph, registry, "target_mesh", "path", absolute(spec.target).string());
+
+  if (!(spec.radius > 0))
+    throw GraphError(graph.file, "strokes", "param 'dabs'",
+                     "the region's radius must be positive, got " + formatParam(spec.radius));
+  const double canvasRadius = spec.radius * (1 + kCloneCanvasMargin);
+  const Vec3& p = spec.sourcePoint;
+  setParam(graph, registry, "source_canvas", "origin", p);
+  setParam(graph, registry, "source_canvas", "dabs",
+           std::vector<double>{p[0], p[1], p[2], canvasRadius});
+  // The shared domain's unit is the source's length: the region is a disc of the radius there.
+  setParam(graph, registry, "strokes", "dabs", std::vector<double>{0, 0, spec.radius, 1});
+
+  setParam(graph, registry, "target_map", "origin", spec.targetPoint);
+  setParam(graph, registry, "target_map", "scale", spec.scale);
+  setParam(graph, registry, "target_map", "angle", spec.angleDeg);
+
+  setParam(graph, registry, "save_result", "path", absolute(outputs.mesh).string());
+  if (!graph.nodes.contains("render_result")) return;
+  if (outputs.image.empty())
+    removeNode(graph, "render_result");
+  else
+    setParam(graph, registry, "render_result", "path", absolute(outputs.image).string());
+}
+
+SnappedSpec snapToSurfaces(const CloneSpec& spec, const TriMesh& source, const TriMesh& target) {
+  SnappedSpec snapped{spec};
+  const auto snap = [](const TriMesh& mesh, Vec3& point) {
+    const SurfacePoint nearest =
+        nearestSurfacePoint(mesh, Eigen::Vector3d(point[0], point[1], point[2]));
+    point = toVec3(nearest.point);
+    return nearest.distance;
+  };
+  snapped.sourceMoved = snap(source, snapped.spec.sourcePoint);
+  snapped.targetMoved = snap(target, snapped.spec.targetPoint);
+  return snapped;
+}
+
+}  // namespace geobrush

@@ -1,0 +1,178 @@
+// `geobrush clone`: a method template filled from plain arguments reproduces the shipped clone
+// graphs, makes valid pastes with its own defaults, saves a graph that runs to the same mesh, and
+// keeps the command line's contract on bad arguments.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "process.hpp"
+#include "test_support.hpp"
+
+using namespace geobrush;
+using test::runCli;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// "name = value" lines that the command prints for each metric.
+double metric(const std::string& err, const std::string& name) {
+  const auto at = err.find("\n" + name + " = ");
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "no metric " << name << " in:\n" << err;
+    return -1;
+  }
+  return std::stod(err.substr(at + name.size() + 4));
+}
+
+struct Clone {
+  std::string source, sourcePoint, radius, target, targetPoint, scale;
+};
+
+std::vector<std::string> cloneArgs(const Clone& clone, const fs::path& output) {
+  return {"clone",
+          "--source",
+          test::meshPath(clone.source).string(),
+          "--source-point",
+          clone.sourcePoint,
+          "--radius",
+          clone.radius,
+          "--target",
+          test::meshPath(clone.target).string(),
+          "--target-point",
+          clone.targetPoint,
+          "--scale",
+          clone.scale,
+          "-o",
+          output.string()};
+}
+
+const Clone kMountainOnSphere{
+    "mountain.obj", "0.068548,19.73209,0.029055", "6", "sphere.obj", "0,0,1", "0.05"};
+const Clone kEarOnCubeEdge{
+    "armadillo.obj", "0.102853,0.375548,0.167421", "0.07", "cube.obj", "1,0.2,1", "6"};
+
+// The shipped graph's result mesh, as `geobrush run` writes it.
+std::string shippedResult(const std::string& graph, const std::string& mesh) {
+  const auto out = test::tempDir("clone-shipped-" + graph);
+  const auto run = runCli(
+      {"run", (test::sourceDir() / "graphs" / graph).string(), "--out", out.string(), "--quiet"});
+  EXPECT_EQ(run.status, 0) << run.err;
+  return slurp(out / mesh);
+}
+
+TEST(Clone, ReproducesTheShippedCloneGraphsFromPlainArguments) {
+  // The shipped graphs chose their canvases by hand; --set gives the same one.
+  const auto out = test::tempDir("clone-reproduce");
+  auto mountain = cloneArgs(kMountainOnSphere, out / "mountain.obj");
+  mountain.insert(mountain.end(), {"--set", "source_canvas.dabs=0.068548,19.73209,0.029055,8"});
+  const auto a = runCli(mountain);
+  ASSERT_EQ(a.status, 0) << a.err;
+  EXPECT_EQ(slurp(out / "mountain.obj"),
+            shippedResult("clone_mountain_sphere.json", "mountain_on_sphere.obj"));
+
+  auto ear = cloneArgs(kEarOnCubeEdge, out / "ear.obj");
+  ear.insert(ear.end(), {"--set", "source_canvas.dabs=0.102853,0.375548,0.167421,0.1"});
+  const auto b = runCli(ear);
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_EQ(slurp(out / "ear.obj"),
+            shippedResult("clone_ear_cube_edge.json", "ear_on_cube_edge.obj"));
+}
+
+TEST(Clone, ItsOwnCanvasGivesAManifoldPasteWithoutNewSelfIntersections) {
+  const auto out = test::tempDir("clone-defaults");
+  for (const Clone& clone : {kMountainOnSphere, kEarOnCubeEdge}) {
+    const auto result = runCli(cloneArgs(clone, out / (clone.source + ".obj")));
+    ASSERT_EQ(result.status, 0) << result.err;
+    EXPECT_EQ(metric(result.err, "metrics.manifold"), 1) << clone.source;
+    EXPECT_EQ(metric(result.err, "metrics.components"), 1) << clone.source;
+    EXPECT_EQ(metric(result.err, "metrics.boundary_loops"), 0) << clone.source;
+    EXPECT_EQ(metric(result.err, "metrics.new_self_intersections"), 0) << clone.source;
+  }
+}
+
+TEST(Clone, SavesAGraphThatRunsToTheSameMeshAndSnapsItsPoints) {
+  const auto out = test::tempDir("clone-save");
+  Clone offSurface = kMountainOnSphere;
+  offSurface.targetPoint = "0,0,1.5";  // half a radius above the sphere
+  auto args = cloneArgs(offSurface, out / "clone.obj");
+  args.insert(args.end(), {"--save-graph", (out / "clone.json").string(), "--image",
+                           (out / "clone.png").string()});
+  const auto clone = runCli(args);
+  ASSERT_EQ(clone.status, 0) << clone.err;
+  EXPECT_TRUE(test::contains(clone.err, "note: the target point moved 0.5"));
+  EXPECT_TRUE(fs::exists(out / "clone.png"));
+
+  fs::create_directory(out / "again");
+  const auto run = runCli({"run", (out / "clone.json").string(), "--quiet", "--set",
+                           "save_result.path=" + (out / "again" / "clone.obj").string(), "--set",
+                           "render_result.path=" + (out / "again" / "clone.png").string()});
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(slurp(out / "again" / "clone.obj"), slurp(out / "clone.obj"));
+}
+
+TEST(Clone, ListsItsMethodsAndRunsTheVariationalPaste) {
+  const auto list = runCli({"clone", "--list-methods"});
+  EXPECT_EQ(list.status, 0);
+  EXPECT_TRUE(test::contains(list.out, "geobrush "));
+  EXPECT_TRUE(test::contains(list.out, "variational "));
+
+  const auto out = test::tempDir("clone-variational");
+  auto args = cloneArgs(kEarOnCubeEdge, out / "variational.obj");
+  args.insert(args.end(), {"--method", "variational"});
+  const auto result = runCli(args);
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_EQ(metric(result.err, "metrics.manifold"), 1);
+  EXPECT_EQ(metric(result.err, "metrics.new_self_intersections"), 0);
+}
+
+TEST(Clone, BadArgumentsAreOneErrorLineAndWriteNothing) {
+  const auto out = test::tempDir("clone-bad");
+  const auto with = [&](std::vector<std::string> args, const std::string& option,
+                        const std::string& value) {
+    const auto at = std::find(args.begin(), args.end(), option);
+    if (value.empty())
+      args.erase(at, at + 2);
+    else
+      *(at + 1) = value;
+    return args;
+  };
+  const auto base = cloneArgs(kMountainOnSphere, out / "never.obj");
+  struct Case {
+    std::vector<std::string> args;
+    int status;
+    std::string expected;
+  };
+  const std::vector<Case> cases = {
+      {with(base, "--source", ""), 2, "clone: --source is required"},
+      {with(base, "--source", (out / "missing.obj").string()), 2, "--source: '"},
+      {with(base, "--radius", "-1"), 2, "--radius"},
+      {with(base, "--source-point", "1,2"), 2, "--source-point: expected x,y,z, got '1,2'"},
+      {with(base, "--scale", "1e-9"), 2, "node 'target_map' param 'scale': 1e-09 is outside"},
+      {[&] {
+         auto args = base;
+         args.insert(args.end(), {"--method", "nothing"});
+         return args;
+       }(),
+       2, "no clone method 'nothing' (methods: geobrush, variational"},
+      // A target point far off: the region covers none of the target canvas; a node fails.
+      {with(base, "--radius", "1000"), 1, "node '"},
+  };
+  for (const Case& c : cases) {
+    const auto result = runCli(c.args);
+    EXPECT_EQ(result.status, c.status) << result.err;
+    EXPECT_EQ(result.errorLines(), 1) << result.err;
+    EXPECT_TRUE(test::contains(result.err, c.expected));
+    EXPECT_FALSE(fs::exists(out / "never.obj"));
+  }
+}
+
+}  // namespace
