@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <set>
 
@@ -113,7 +114,7 @@ Graph readMethod(const std::string& name, const std::vector<fs::path>& dirs,
 }
 
 void fillCloneGraph(Graph& graph, const NodeRegistry& registry, const CloneSpec& spec,
-                    const CloneOutputs& outputs) {
+                    const CloneOutputs& outputs, const std::optional<CloneView>& view) {
   const auto absolute = [](const fs::path& path) { return fs::absolute(path).lexically_normal(); };
   setParam(graph, registry, "source_mesh", "path", absolute(spec.source).string());
   setParam(graph, registry, "target_mesh", "path", absolute(spec.target).string());
@@ -135,10 +136,16 @@ void fillCloneGraph(Graph& graph, const NodeRegistry& registry, const CloneSpec&
 
   setParam(graph, registry, "save_result", "path", absolute(outputs.mesh).string());
   if (!graph.nodes.contains("render_result")) return;
-  if (outputs.image.empty())
+  if (outputs.image.empty()) {
     removeNode(graph, "render_result");
-  else
-    setParam(graph, registry, "render_result", "path", absolute(outputs.image).string());
+    return;
+  }
+  setParam(graph, registry, "render_result", "path", absolute(outputs.image).string());
+  if (!view) return;
+  setParam(graph, registry, "render_result", "focus", view->focus);
+  setParam(graph, registry, "render_result", "focus_radius", view->radius);
+  setParam(graph, registry, "render_result", "azimuth", view->azimuthDeg);
+  setParam(graph, registry, "render_result", "elevation", view->elevationDeg);
 }
 
 SnappedSpec snapToSurfaces(const CloneSpec& spec, const TriMesh& source, const TriMesh& target) {
@@ -150,8 +157,30 @@ SnappedSpec snapToSurfaces(const CloneSpec& spec, const TriMesh& source, const T
     return nearest.distance;
   };
   snapped.sourceMoved = snap(source, snapped.spec.sourcePoint);
-  snapped.targetMoved = snap(target, snapped.spec.targetPoint);
+  const SurfacePoint onTarget = nearestSurfacePoint(
+      target, Eigen::Vector3d(spec.targetPoint[0], spec.targetPoint[1], spec.targetPoint[2]));
+  snapped.spec.targetPoint = toVec3(onTarget.point);
+  snapped.targetMoved = onTarget.distance;
+  const auto normal = target.calc_face_normal(TriMesh::FaceHandle(onTarget.face));
+  if (normal.norm() > 0) snapped.targetNormal = {normal[0], normal[1], normal[2]};
   return snapped;
+}
+
+CloneView cloneView(const SnappedSpec& snapped) {
+  // The paste's extent on the target, and as much again of the target around it.
+  constexpr double kFramedRadii = 2.0;
+  // Off the normal, so that relief casts shading; the elevation stays short of the poles.
+  constexpr double kTurnDeg = 25, kLiftDeg = 20, kHighestDeg = 80;
+  const Vec3& n = snapped.targetNormal;
+  const double toDegrees = 180 / M_PI;
+  CloneView view;
+  view.focus = snapped.spec.targetPoint;
+  view.radius = kFramedRadii * snapped.spec.radius * snapped.spec.scale;
+  view.azimuthDeg = std::atan2(n[0], n[2]) * toDegrees + kTurnDeg;
+  if (view.azimuthDeg > 180) view.azimuthDeg -= 360;
+  view.elevationDeg = std::clamp(std::asin(std::clamp(n[1], -1.0, 1.0)) * toDegrees + kLiftDeg,
+                                 -kHighestDeg, kHighestDeg);
+  return view;
 }
 
 }  // namespace geobrush

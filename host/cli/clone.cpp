@@ -31,7 +31,7 @@ std::pair<MeshPtr, MeshPtr> loadMeshes(Evaluator& evaluator, const NodeRegistry&
 }
 
 // Snaps the points, saying how far a point had to move.
-CloneSpec snapped(const CloneSpec& spec, const Mesh& source, const Mesh& target, bool quiet) {
+SnappedSpec snapped(const CloneSpec& spec, const Mesh& source, const Mesh& target, bool quiet) {
   const SnappedSpec result = snapToSurfaces(spec, source.surface, target.surface);
   const auto note = [&](const char* which, double moved, const Vec3& point) {
     // Points typed with a few decimals land a trace off the surface; say so only when the move
@@ -42,7 +42,7 @@ CloneSpec snapped(const CloneSpec& spec, const Mesh& source, const Mesh& target,
   };
   note("source", result.sourceMoved, result.spec.sourcePoint);
   note("target", result.targetMoved, result.spec.targetPoint);
-  return result.spec;
+  return result;
 }
 
 // The meshes are arguments: a missing one is a usage error, as a missing graph file is.
@@ -81,8 +81,8 @@ int cloneMeshes(const CloneOptions& options) {
   const auto [source, target] = loadMeshes(evaluator, registry, graph, options);
   if (!source || !target) return kExitEvaluation;
   try {
-    fillCloneGraph(graph, registry, snapped(options.spec, *source, *target, options.quiet),
-                   outputs);
+    const SnappedSpec onSurfaces = snapped(options.spec, *source, *target, options.quiet);
+    fillCloneGraph(graph, registry, onSurfaces.spec, outputs, cloneView(onSurfaces));
     for (const auto& assignment : options.sets)
       setParamFromText(graph, registry, assignment);
     checkOutputPaths(graph, registry, fs::current_path());

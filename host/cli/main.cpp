@@ -153,6 +153,14 @@ int main(int argc, char** argv) {
       ->check(renderRange(ParamKind::Double, kRenderFovRange));
   renderCmd->add_option("--zoom", render.render.view.zoom, "Closer than the fitted view if > 1")
       ->check(renderRange(ParamKind::Double, kRenderZoomRange));
+  std::string focus;
+  double focusRadius = 0;
+  renderCmd->add_option("--focus", focus, "X,Y,Z: the centre of the region to frame")
+      ->check(point());
+  renderCmd
+      ->add_option("--focus-radius", focusRadius,
+                   "Frame the ball of this radius around --focus (0: everything)")
+      ->check(numberIn(0.0, kRenderFocusRadiusMax));
   renderCmd->add_flag("--wireframe", render.wireframe, "Draw triangle edges");
   renderCmd->add_option("--backend", backend, "auto, vulkan or cpu")
       ->check(CLI::IsMember({"auto", "vulkan", "cpu"}));
@@ -220,6 +228,13 @@ int main(int argc, char** argv) {
       render.render.backend = backend == "vulkan" ? RenderBackend::Vulkan
                               : backend == "cpu"  ? RenderBackend::Cpu
                                                   : RenderBackend::Auto;
+      if (focusRadius > 0) {
+        if (focus.empty()) {
+          cli::printError("render: --focus-radius needs --focus X,Y,Z");
+          return cli::kExitUsage;
+        }
+        render.render.frame = RenderFrame{pointOf(focus), focusRadius};
+      }
       return cli::renderFiles(render);
     }
   } catch (const std::exception& e) {

@@ -43,6 +43,8 @@ class RenderNode final : public Node {
     options.view.zoom = ctx.param<double>("zoom");
     options.background = toRgb(ctx.param<Vec3>("background"));
     options.backend = backendNamed(ctx.param<std::string>("backend"));
+    if (const double radius = ctx.param<double>("focus_radius"); radius > 0)
+      options.frame = RenderFrame{ctx.param<Vec3>("focus"), radius};
 
     RenderResult result = renderMeshes(items, options);
     auto image = std::make_shared<const Image>(std::move(result.image));
@@ -76,6 +78,11 @@ void registerNodes(PluginRegistrar& registrar) {
           .range(kRenderFovRange.min, kRenderFovRange.max)
           .paramDouble("zoom", 1, "Moves the camera closer than the fitted view when > 1.")
           .range(kRenderZoomRange.min, kRenderZoomRange.max)
+          .paramVec3("focus", {0, 0, 0}, "The centre of the region to frame (with focus_radius).")
+          .paramDouble("focus_radius", 0,
+                       "Frames the ball of this radius around focus instead of the whole scene "
+                       "(what lies outside is still drawn); 0 frames everything.")
+          .range(0, kRenderFocusRadiusMax)
           .paramBool("wireframe", false, "Draw the triangle edges over the shading.")
           .paramVec3("color", {0.78, 0.78, 0.80}, "Colour of a mesh without vertex colours.")
           .range(0, 1)

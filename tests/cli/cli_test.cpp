@@ -421,6 +421,25 @@ TEST(Cli, RefusesAGraphFileOver64MiBAndReadsOneFromAPipe) {
 
 // The render command checks its options as the render node checks its params (the ranges are
 // render.hpp's), each error naming the option; its image is a PNG, named so.
+TEST(Cli, RenderFramesAFocus) {
+  const auto dir = test::tempDir("cli-render-focus");
+  const auto sphere = test::meshPath("sphere.obj").string();
+  const auto framed =
+      runCli({"render", sphere, "-o", (dir / "a.png").string(), "--backend", "cpu", "--azimuth",
+              "0", "--elevation", "0", "--focus", "0,0,1", "--focus-radius", "0.1"});
+  ASSERT_EQ(framed.status, 0) << framed.err;
+  const Image image = readPng(dir / "a.png");
+  for (int y = 0; y < image.height; y += 7)
+    for (int x = 0; x < image.width; x += 7)
+      ASSERT_NE(image.pixel(x, y)[0], 255) << "background at " << x << ", " << y;
+
+  const auto alone =
+      runCli({"render", sphere, "-o", (dir / "b.png").string(), "--focus-radius", "1"});
+  EXPECT_EQ(alone.status, 2);
+  EXPECT_TRUE(test::contains(alone.err, "--focus-radius needs --focus"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.png"));
+}
+
 TEST(Cli, RenderOptionErrorsNameTheOption) {
   const auto dir = test::tempDir("cli-render-options");
   const std::string mesh = test::meshPath("sphere.obj").string();

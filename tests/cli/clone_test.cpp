@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "geobrush/image.hpp"
 #include "process.hpp"
 #include "test_support.hpp"
 
@@ -21,6 +22,17 @@ std::string slurp(const fs::path& path) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+// The share of pixels that are not the white background.
+double coverage(const Image& image) {
+  std::size_t covered = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const auto* p = image.pixel(x, y);
+      covered += !(p[0] == 255 && p[1] == 255 && p[2] == 255);
+    }
+  return double(covered) / (double(image.width) * image.height);
 }
 
 // "name = value" lines that the command prints for each metric.
@@ -109,7 +121,13 @@ TEST(Clone, SavesAGraphThatRunsToTheSameMeshAndSnapsItsPoints) {
   const auto clone = runCli(args);
   ASSERT_EQ(clone.status, 0) << clone.err;
   EXPECT_TRUE(test::contains(clone.err, "note: the target point moved 0.5"));
-  EXPECT_TRUE(fs::exists(out / "clone.png"));
+  // The picture frames the paste: the target's surface around it fills much more of the picture
+  // than the whole target does.
+  auto whole = cloneArgs(offSurface, out / "whole.obj");
+  whole.insert(whole.end(),
+               {"--set", "render_result.focus_radius=0", "--image", (out / "whole.png").string()});
+  ASSERT_EQ(runCli(whole).status, 0);
+  EXPECT_GT(coverage(readPng(out / "clone.png")), 1.5 * coverage(readPng(out / "whole.png")));
 
   fs::create_directory(out / "again");
   const auto run = runCli({"run", (out / "clone.json").string(), "--quiet", "--set",

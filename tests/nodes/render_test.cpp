@@ -97,6 +97,34 @@ TEST(RenderNode, SphereCoverageMatchesTheCameraFit) {
   EXPECT_NEAR(coverage(*result.image), expected, 0.02 * expected + 0.002);
 }
 
+TEST(RenderNode, FocusFramesTheBallAroundItsCentre) {
+  // Framed by the unit ball (not the bounding box's larger one), the unit sphere's outline
+  // touches the edges of a square picture: its disc covers pi / 4 of it.
+  const auto dir = test::tempDir("render-node-focus");
+  auto result = renderFile(dir, test::meshPath("sphere.obj").string(),
+                           {{"width", std::int64_t(400)},
+                            {"height", std::int64_t(400)},
+                            {"path", std::string()},
+                            {"backend", std::string("cpu")},
+                            {"focus", Vec3{0, 0, 0}},
+                            {"focus_radius", 1.0}});
+  ASSERT_TRUE(result.report.ok) << result.report.error;
+  EXPECT_NEAR(coverage(*result.image), M_PI / 4, 0.02);
+
+  // A small ball on the surface fills the picture with it.
+  auto close = renderFile(dir, test::meshPath("sphere.obj").string(),
+                          {{"width", std::int64_t(200)},
+                           {"height", std::int64_t(200)},
+                           {"path", std::string()},
+                           {"backend", std::string("cpu")},
+                           {"azimuth", 0.0},
+                           {"elevation", 0.0},
+                           {"focus", Vec3{0, 0, 1}},
+                           {"focus_radius", 0.1}});
+  ASSERT_TRUE(close.report.ok) << close.report.error;
+  EXPECT_EQ(coverage(*close.image), 1.0);
+}
+
 TEST(RenderNode, OverlayAndWireframeChangeThePicture) {
   const auto dir = test::tempDir("render-node-overlay");
   const ParamMap small{

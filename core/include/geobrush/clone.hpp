@@ -15,6 +15,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,18 +62,33 @@ std::vector<CloneMethod> findMethods(const std::vector<std::filesystem::path>& d
 Graph readMethod(const std::string& name, const std::vector<std::filesystem::path>& dirs,
                  const NodeRegistry& registry);
 
-// Sets the role nodes' params from the spec (paths made absolute, so the graph runs from
-// anywhere). Throws GraphError naming the node and param for a value out of its range (e.g. a
-// radius that is not positive).
-void fillCloneGraph(Graph& graph, const NodeRegistry& registry, const CloneSpec& spec,
-                    const CloneOutputs& outputs);
+// How the picture of a clone frames the paste: the ball around the target point that holds it
+// and some target around it, seen from outside the surface there, a little from the side and
+// above so that relief shows.
+struct CloneView {
+  Vec3 focus{};
+  double radius = 0;
+  double azimuthDeg = 0;
+  double elevationDeg = 0;
+};
 
-// The spec with each point moved to the nearest point of its mesh, and how far each moved.
+// Sets the role nodes' params from the spec (paths made absolute, so the graph runs from
+// anywhere), and the picture's view where one is given and the method renders. Throws GraphError
+// naming the node and param for a value out of its range (e.g. a radius that is not positive).
+void fillCloneGraph(Graph& graph, const NodeRegistry& registry, const CloneSpec& spec,
+                    const CloneOutputs& outputs, const std::optional<CloneView>& view = {});
+
+// The spec with each point moved to the nearest point of its mesh, how far each moved, and the
+// target's normal there (of the face the point lies on).
 struct SnappedSpec {
   CloneSpec spec;
   double sourceMoved = 0;
   double targetMoved = 0;
+  Vec3 targetNormal{0, 0, 1};
 };
 SnappedSpec snapToSurfaces(const CloneSpec& spec, const TriMesh& source, const TriMesh& target);
+
+// The view that frames the paste of a snapped spec.
+CloneView cloneView(const SnappedSpec& snapped);
 
 }  // namespace geobrush

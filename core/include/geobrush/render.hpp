@@ -51,6 +51,8 @@ inline constexpr RenderRange kRenderAzimuthRange{-360, 360};  // degrees
 inline constexpr RenderRange kRenderElevationRange{-89, 89};  // degrees; the poles have no "up"
 inline constexpr RenderRange kRenderFovRange{5, 120};         // degrees
 inline constexpr RenderRange kRenderZoomRange{0.05, 50};
+// The largest radius a render may frame (geobrush.render's focus_radius, --focus-radius).
+inline constexpr double kRenderFocusRadiusMax = 1e30;
 
 enum class RenderBackend { Auto, Vulkan, Cpu };
 
