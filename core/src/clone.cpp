@@ -1,7 +1,5 @@
 #include "geobrush/clone.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -68,11 +66,9 @@ Vec3 toVec3(const Eigen::Vector3d& p) {
 
 std::vector<fs::path> defaultMethodDirs() {
   std::vector<fs::path> dirs = splitPathList(std::getenv("GEOBRUSH_METHOD_PATH"));
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec)
+  if (const fs::path lib = coreLibraryDir(); !lib.empty())
     dirs.push_back(
-        (exe.parent_path() / ".." / "share" / "geobrush" / "methods").lexically_normal());
+        (lib / GEOBRUSH_DATADIR_FROM_LIBDIR / "geobrush" / "methods").lexically_normal());
   return dirs;
 }
 
@@ -181,6 +177,36 @@ CloneView cloneView(const SnappedSpec& snapped) {
   view.elevationDeg = std::clamp(std::asin(std::clamp(n[1], -1.0, 1.0)) * toDegrees + kLiftDeg,
                                  -kHighestDeg, kHighestDeg);
   return view;
+}
+
+namespace {
+
+void requireMeshFile(const char* option, const fs::path& path) {
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) return;
+  throw GraphError({}, "", "",
+                   std::string(option) + ": " + quotePath(path) +
+                       (fs::exists(path, ec) ? ": not a regular file" : ": no such file"));
+}
+
+}  // namespace
+
+Graph startCloneGraph(const CloneRequest& request, const NodeRegistry& registry) {
+  requireMeshFile("source", request.spec.source);
+  requireMeshFile("target", request.spec.target);
+  Graph graph = readMethod(request.method, request.methodDirs, registry);
+  fillCloneGraph(graph, registry, request.spec, request.outputs);
+  return graph;
+}
+
+SnappedSpec finishCloneGraph(Graph& graph, const CloneRequest& request,
+                             const NodeRegistry& registry, const Mesh& source, const Mesh& target) {
+  const SnappedSpec snapped = snapToSurfaces(request.spec, source.surface, target.surface);
+  fillCloneGraph(graph, registry, snapped.spec, request.outputs, cloneView(snapped));
+  for (const auto& assignment : request.sets)
+    setParamFromText(graph, registry, assignment);
+  checkOutputPaths(graph, registry, fs::current_path());
+  return snapped;
 }
 
 }  // namespace geobrush

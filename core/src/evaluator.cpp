@@ -200,8 +200,15 @@ struct Failure {
   std::string message;
 };
 
-std::string formatFailure(const Graph& graph, const std::string& node, const Failure& failure) {
-  return GraphError(graph.file, node, failure.where, failure.message).what();
+void fail(EvalReport& report, const GraphError& error) {
+  report.ok = false;
+  report.error = error.what();
+  report.errorNode = error.node();
+  report.errorWhere = error.where();
+}
+
+void fail(EvalReport& report, const Graph& graph, const std::string& node, const Failure& failure) {
+  fail(report, GraphError(graph.file, node, failure.where, failure.message));
 }
 
 // Runs a node's prepare() or compute(); what it throws becomes its failure.
@@ -361,6 +368,9 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     order = topologicalOrder(graph);
     keys = nodeKeys(graph, options);
     checkOutputPaths(graph, impl.registry, impl.outputDir(graph, options));
+  } catch (const GraphError& e) {
+    fail(report, e);
+    return report;
   } catch (const std::exception& e) {
     report.ok = false;
     report.error = e.what();
@@ -378,8 +388,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
       std::string name = stack.back();
       stack.pop_back();
       if (!graph.nodes.count(name)) {
-        report.ok = false;
-        report.error = GraphError(graph.file, name, "", "no node of that name to evaluate").what();
+        fail(report, GraphError(graph.file, name, "", "no node of that name to evaluate"));
         return report;
       }
       if (!needed.insert(name).second) continue;
@@ -488,8 +497,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
       run.warnings = hit->second.warnings;
       if (hit->second.failure) {
         run.failed = true;
-        report.ok = false;
-        report.error = formatFailure(graph, name, *hit->second.failure);
+        fail(report, graph, name, *hit->second.failure);
         report.runs.push_back(std::move(run));
         break;
       }
@@ -541,8 +549,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
 
     if (failure) {
       run.failed = true;
-      report.ok = false;
-      report.error = formatFailure(graph, name, *failure);
+      fail(report, graph, name, *failure);
       // Deterministic failures are remembered; a cancelled run is not a result.
       if (!report.cancelled && ctx.pending().empty())
         impl.cache[key] = {{}, failure, run.warnings, generation};
@@ -571,8 +578,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
       try {
         replaceWithTemporary(file.tmp, file.target);
       } catch (const std::runtime_error& e) {
-        report.ok = false;
-        report.error = GraphError(graph.file, file.node, "", e.what()).what();
+        fail(report, GraphError(graph.file, file.node, "", e.what()));
         break;
       }
       report.filesWritten.push_back(file.target);

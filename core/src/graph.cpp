@@ -12,6 +12,8 @@ namespace {
 
 std::string formatGraphError(const std::filesystem::path& file, const std::string& node,
                              const std::string& where, const std::string& cause) {
+  // No file and no node: the cause names what it is about itself.
+  if (file.empty() && node.empty() && where.empty()) return cause;
   std::string text = file.empty() ? std::string("<graph>") : escapeText(file.native(), 4096);
   if (!node.empty()) text += ": node " + quoteText(node);
   if (!where.empty()) text += (node.empty() ? ": " : " ") + where;
@@ -119,7 +121,11 @@ void checkConnections(const Graph& graph, const NodeRegistry& registry, bool req
 
 GraphError::GraphError(const std::filesystem::path& file, const std::string& node,
                        const std::string& where, const std::string& cause)
-    : std::runtime_error(formatGraphError(file, node, where, cause)), cause_(cause) {}
+    : std::runtime_error(formatGraphError(file, node, where, cause)),
+      file_(file),
+      node_(node),
+      where_(where),
+      cause_(cause) {}
 
 std::filesystem::path Graph::baseDir() const {
   if (file.empty()) return std::filesystem::current_path();

@@ -1,5 +1,7 @@
 #include "geobrush/registry.hpp"
 
+#include <dlfcn.h>
+
 #include <QLibrary>
 #include <algorithm>
 #include <cstdlib>
@@ -47,12 +49,6 @@ void checkDeclaration(const NodeType& type) {
       throw RegistryError(type.id + ": upgrade from version " + std::to_string(from) +
                           " is not below the type version " + std::to_string(type.version));
   }
-}
-
-std::filesystem::path runningExecutable() {
-  std::error_code ec;
-  auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::filesystem::path() : exe;
 }
 
 }  // namespace
@@ -181,9 +177,7 @@ std::optional<std::string> NodeRegistry::refusal(const std::string& fileName) co
 
 std::vector<std::filesystem::path> defaultPluginDirs() {
   std::vector<std::filesystem::path> dirs;
-  if (auto exe = runningExecutable(); !exe.empty()) {
-    dirs.push_back((exe.parent_path() / ".." / "lib" / "geobrush" / "plugins").lexically_normal());
-  }
+  if (auto lib = coreLibraryDir(); !lib.empty()) dirs.push_back(lib / "geobrush" / "plugins");
   if (const char* extra = std::getenv("GEOBRUSH_PLUGIN_PATH")) {
     std::string list = extra;
     std::size_t start = 0;
@@ -194,6 +188,15 @@ std::vector<std::filesystem::path> defaultPluginDirs() {
     }
   }
   return dirs;
+}
+
+std::filesystem::path coreLibraryDir() {
+  Dl_info info{};
+  if (!::dladdr(reinterpret_cast<const void*>(&coreLibraryDir), &info) || !info.dli_fname)
+    return {};
+  std::error_code ec;
+  const auto library = std::filesystem::canonical(info.dli_fname, ec);
+  return ec ? std::filesystem::path() : library.parent_path();
 }
 
 std::string expectedPluginFile(std::string_view typeId) {

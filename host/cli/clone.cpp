@@ -22,39 +22,26 @@ fs::path defaultOutput(const CloneSpec& spec) {
 std::pair<MeshPtr, MeshPtr> loadMeshes(Evaluator& evaluator, const NodeRegistry& registry,
                                        const Graph& graph, const CloneOptions& options) {
   EvalOptions loads;
-  loads.targets = {"source_mesh", "target_mesh"};
+  loads.targets.assign(std::begin(kCloneMeshNodes), std::end(kCloneMeshNodes));
   const EvalReport report = evaluateAndReport(
-      graph, registry, loads, {"clone " + options.method, false, true}, {}, &evaluator);
+      graph, registry, loads,
+      {"clone " + options.request.method, false, true, false, options.progress}, {}, &evaluator);
   if (!report.ok) return {};
   return {std::dynamic_pointer_cast<const Mesh>(evaluator.output("source_mesh", "mesh")),
           std::dynamic_pointer_cast<const Mesh>(evaluator.output("target_mesh", "mesh"))};
 }
 
-// Snaps the points, saying how far a point had to move.
-SnappedSpec snapped(const CloneSpec& spec, const Mesh& source, const Mesh& target, bool quiet) {
-  const SnappedSpec result = snapToSurfaces(spec, source.surface, target.surface);
+// Says how far a point had to move onto its surface.
+void noteSnaps(const SnappedSpec& snapped, double radius) {
   const auto note = [&](const char* which, double moved, const Vec3& point) {
     // Points typed with a few decimals land a trace off the surface; say so only when the move
     // is a visible part of the region.
-    if (quiet || moved <= 0.01 * spec.radius) return;
+    if (moved <= 0.01 * radius) return;
     std::fprintf(stderr, "note: the %s point moved %s onto the surface, to %s\n", which,
                  formatParam(moved).c_str(), formatParam(point).c_str());
   };
-  note("source", result.sourceMoved, result.spec.sourcePoint);
-  note("target", result.targetMoved, result.spec.targetPoint);
-  return result;
-}
-
-// The meshes are arguments: a missing one is a usage error, as a missing graph file is.
-std::optional<std::string> missingMesh(const CloneOptions& options) {
-  for (const auto& [option, path] :
-       {std::pair{"--source", options.spec.source}, std::pair{"--target", options.spec.target}}) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-      return std::string(option) + ": " + quotePath(path) +
-             (fs::exists(path, ec) ? ": not a regular file" : ": no such file");
-  }
-  return std::nullopt;
+  note("source", snapped.sourceMoved, snapped.spec.sourcePoint);
+  note("target", snapped.targetMoved, snapped.spec.targetPoint);
 }
 
 }  // namespace
@@ -62,16 +49,11 @@ std::optional<std::string> missingMesh(const CloneOptions& options) {
 int cloneMeshes(const CloneOptions& options) {
   NodeRegistry registry;
   const auto pluginErrors = loadPlugins(registry, options.quiet || options.json);
-  const CloneOutputs outputs{options.output.empty() ? defaultOutput(options.spec) : options.output,
-                             options.image};
-  if (const auto missing = missingMesh(options)) {
-    printError(*missing);
-    return kExitUsage;
-  }
+  CloneRequest request = options.request;
+  if (request.outputs.mesh.empty()) request.outputs.mesh = defaultOutput(request.spec);
   Graph graph;
   try {
-    graph = readMethod(options.method, defaultMethodDirs(), registry);
-    fillCloneGraph(graph, registry, options.spec, outputs);
+    graph = startCloneGraph(request, registry);
   } catch (const GraphError& e) {
     printError(e.what());
     return kExitUsage;
@@ -81,18 +63,16 @@ int cloneMeshes(const CloneOptions& options) {
   const auto [source, target] = loadMeshes(evaluator, registry, graph, options);
   if (!source || !target) return kExitEvaluation;
   try {
-    const SnappedSpec onSurfaces = snapped(options.spec, *source, *target, options.quiet);
-    fillCloneGraph(graph, registry, onSurfaces.spec, outputs, cloneView(onSurfaces));
-    for (const auto& assignment : options.sets)
-      setParamFromText(graph, registry, assignment);
-    checkOutputPaths(graph, registry, fs::current_path());
+    const SnappedSpec snapped = finishCloneGraph(graph, request, registry, *source, *target);
+    if (!options.quiet) noteSnaps(snapped, request.spec.radius);
   } catch (const GraphError& e) {
     printError(e.what());
     return kExitUsage;
   }
 
   const EvalReport report = evaluateAndReport(
-      graph, registry, {}, {"clone " + options.method, options.json, options.quiet, true},
+      graph, registry, {},
+      {"clone " + request.method, options.json, options.quiet, true, options.progress},
       pluginErrors, &evaluator);
   if (!report.ok) return kExitEvaluation;
   // Written last: a failed clone leaves nothing behind.

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 
@@ -31,22 +32,38 @@ std::vector<std::string> loadPlugins(NodeRegistry& registry, bool quiet) {
 
 namespace {
 
-// A single status line on a terminal: "[2/5] gdem 40%".
-class TerminalProgress {
+// Each computed node's progress on stderr: one status line rewritten in place on a terminal
+// ("[2] gdem 40%"), or, for logs, a line when a node starts, at each tenth done and when it ends,
+// with its time.
+class ProgressPrinter {
  public:
-  explicit TerminalProgress(bool enabled) : enabled_(enabled) {}
-  ~TerminalProgress() { clear(); }
+  enum class Mode { Off, Terminal, Lines };
+  explicit ProgressPrinter(Mode mode) : mode_(mode) {}
+  ~ProgressPrinter() { clear(); }
 
   void update(const std::string& node, double fraction) {
-    if (!enabled_) return;
-    if (node != node_) {
+    if (mode_ == Mode::Off) return;
+    const bool started = node != node_;
+    if (started) {
       node_ = node;
       ++index_;
+      tenths_ = -1;
+      start_ = std::chrono::steady_clock::now();
     }
-    std::fprintf(stderr, "\r\033[K[%d] %s %3d%%", index_, escapeText(node).c_str(),
-                 int(fraction * 100 + 0.5));
+    const int percent = int(fraction * 100 + 0.5);
+    if (mode_ == Mode::Terminal) {
+      if (!started && percent == percent_) return;
+      percent_ = percent;
+      std::fprintf(stderr, "\r\033[K[%d] %s %3d%%", index_, escapeText(node).c_str(), percent);
+      dirty_ = true;
+    } else if (const int tenths = int(fraction * 10); tenths > tenths_) {
+      tenths_ = tenths;
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+      std::fprintf(stderr, "progress: [%d] %s %d%% %.2f s\n", index_, escapeText(node).c_str(),
+                   percent, seconds);
+    }
     std::fflush(stderr);
-    dirty_ = true;
   }
   void clear() {
     if (!dirty_) return;
@@ -55,11 +72,20 @@ class TerminalProgress {
   }
 
  private:
-  bool enabled_;
+  Mode mode_;
   bool dirty_ = false;
   int index_ = 0;
+  int tenths_ = -1;
+  int percent_ = -1;
   std::string node_;
+  std::chrono::steady_clock::time_point start_;
 };
+
+ProgressPrinter::Mode progressMode(const ReportOptions& options) {
+  if (options.progressLines) return ProgressPrinter::Mode::Lines;
+  if (options.quiet || !::isatty(STDERR_FILENO)) return ProgressPrinter::Mode::Off;
+  return ProgressPrinter::Mode::Terminal;
+}
 
 }  // namespace
 
@@ -98,7 +124,8 @@ int runGraph(const RunOptions& options) {
     }
     eval.outputDir = options.outDir;
   }
-  return evaluateAndReport(graph, registry, eval, {options.graph, options.json, options.quiet},
+  return evaluateAndReport(graph, registry, eval,
+                           {options.graph, options.json, options.quiet, false, options.progress},
                            pluginErrors)
                  .ok
              ? kExitOk
@@ -125,7 +152,7 @@ void collectMetrics(const Graph& graph, const NodeRegistry& registry, const Eval
 EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, EvalOptions eval,
                              const ReportOptions& options,
                              const std::vector<std::string>& pluginErrors, Evaluator* evaluator) {
-  TerminalProgress progress(!options.quiet && ::isatty(STDERR_FILENO));
+  ProgressPrinter progress(progressMode(options));
   eval.progress = [&](const std::string& node, double fraction) {
     progress.update(node, fraction);
   };

@@ -26,6 +26,7 @@ struct RunOptions {
   std::filesystem::path outDir;
   bool json = false;
   bool quiet = false;
+  bool progress = false;  // progress as plain lines, even when stderr is no terminal
 };
 
 struct RenderCommandOptions {
@@ -43,6 +44,7 @@ struct CompareOptions {
   RenderOptions render;
   bool json = false;
   bool quiet = false;
+  bool progress = false;
 };
 
 // One side of a comparison: its evaluation, every Metrics output flattened to "node.name", and
@@ -61,17 +63,16 @@ struct ReportOptions {
   bool json = false;
   bool quiet = false;
   bool printMetrics = false;  // each Metrics value as a line "node.name = value" on stderr
+  // Progress as plain lines (for logs); otherwise a status line on a terminal, unless quiet.
+  bool progressLines = false;
 };
 
 struct CloneOptions {
-  CloneSpec spec;
-  std::string method = "geobrush";
-  std::vector<std::string> sets;  // NODE.PARAM=VALUE, applied to the filled method
-  std::filesystem::path output;   // the result mesh; empty: SOURCE_on_TARGET.obj here
-  std::filesystem::path image;    // empty: no picture
+  CloneRequest request;  // an empty output mesh: SOURCE_on_TARGET.obj here
   std::filesystem::path saveGraph;
   bool json = false;
   bool quiet = false;
+  bool progress = false;
 };
 
 int runGraph(const RunOptions& options);

@@ -103,6 +103,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "geobrush 0.1.0");
   app.failure_message(failureLine);
 
+  constexpr const char* kProgressHelp =
+      "Print each node's progress as plain lines on stderr (on a terminal: one status line)";
   cli::RunOptions run;
   auto* runCmd = app.add_subcommand("run", "Evaluate a graph file and write its outputs.");
   runCmd->add_option("graph", run.graph, "Graph file (.json)")->required();
@@ -110,6 +112,7 @@ int main(int argc, char** argv) {
   runCmd->add_option("--out", run.outDir, "Folder for output files (default: the graph's folder)");
   runCmd->add_flag("--json", run.json, "Print a machine-readable report on stdout");
   runCmd->add_flag("--quiet", run.quiet, "Print nothing but errors");
+  runCmd->add_flag("--progress", run.progress, kProgressHelp);
 
   cli::CompareOptions compare;
   auto* compareCmd = app.add_subcommand(
@@ -123,6 +126,7 @@ int main(int argc, char** argv) {
   compareCmd->add_option("--image", compare.image, "PNG of both meshes (default: OUT/compare.png)");
   compareCmd->add_flag("--json", compare.json, "Print a machine-readable report on stdout");
   compareCmd->add_flag("--quiet", compare.quiet, "Print nothing but errors");
+  compareCmd->add_flag("--progress", compare.progress, kProgressHelp);
 
   std::filesystem::path validatePath;
   bool validateQuiet = false;
@@ -170,8 +174,8 @@ int main(int argc, char** argv) {
   auto* cloneCmd = app.add_subcommand(
       "clone", "Clone the surface around a point of one mesh onto a point of another.");
   cloneCmd->add_flag("--list-methods", listMethods, "List the clone methods and exit");
-  cloneCmd->add_option("--source", clone.spec.source, "The mesh the detail comes from");
-  cloneCmd->add_option("--target", clone.spec.target, "The mesh it is pasted onto");
+  cloneCmd->add_option("--source", clone.request.spec.source, "The mesh the detail comes from");
+  cloneCmd->add_option("--target", clone.request.spec.target, "The mesh it is pasted onto");
   std::string sourcePoint, targetPoint;
   cloneCmd
       ->add_option("--source-point", sourcePoint,
@@ -182,23 +186,27 @@ int main(int argc, char** argv) {
                    "X,Y,Z: where the centre lands (snapped to the target surface)")
       ->check(point());
   cloneCmd
-      ->add_option("--radius", clone.spec.radius,
+      ->add_option("--radius", clone.request.spec.radius,
                    "Geodesic radius of the region, in source mesh units")
       ->check(numberIn(0.0, std::nullopt));
-  cloneCmd->add_option("--scale", clone.spec.scale, "Target size over source size (default 1)")
+  cloneCmd
+      ->add_option("--scale", clone.request.spec.scale, "Target size over source size (default 1)")
       ->check(numberIn(0.0, std::nullopt));
-  cloneCmd->add_option("--angle", clone.spec.angleDeg, "Degrees the detail turns (default 0)")
+  cloneCmd
+      ->add_option("--angle", clone.request.spec.angleDeg, "Degrees the detail turns (default 0)")
       ->check(numberIn(-360.0, 360.0));
-  cloneCmd->add_option("--method", clone.method, "The method's name (default geobrush)");
-  cloneCmd->add_option("--set", clone.sets,
+  cloneCmd->add_option("--method", clone.request.method, "The method's name (default geobrush)");
+  cloneCmd->add_option("--set", clone.request.sets,
                        "Override a parameter of the filled method: NODE.PARAM=VALUE (repeatable)");
-  cloneCmd->add_option("-o,--output", clone.output,
+  cloneCmd->add_option("-o,--output", clone.request.outputs.mesh,
                        "The result mesh (default: SOURCE_on_TARGET.obj here)");
-  cloneCmd->add_option("--image", clone.image, "A picture of the result (PNG)")->check(pngName());
+  cloneCmd->add_option("--image", clone.request.outputs.image, "A picture of the result (PNG)")
+      ->check(pngName());
   cloneCmd->add_option("--save-graph", clone.saveGraph,
                        "Write the filled-in graph, which `geobrush run` and the studio open");
   cloneCmd->add_flag("--json", clone.json, "Print a machine-readable report on stdout");
   cloneCmd->add_flag("--quiet", clone.quiet, "Print nothing but errors");
+  cloneCmd->add_flag("--progress", clone.progress, kProgressHelp);
 
   try {
     app.parse(argc, argv);
@@ -217,8 +225,8 @@ int main(int argc, char** argv) {
         cli::printError(std::string("clone: ") + option + " is required");
         return cli::kExitUsage;
       }
-      clone.spec.sourcePoint = pointOf(sourcePoint);
-      clone.spec.targetPoint = pointOf(targetPoint);
+      clone.request.spec.sourcePoint = pointOf(sourcePoint);
+      clone.request.spec.targetPoint = pointOf(targetPoint);
       return cli::cloneMeshes(clone);
     }
     if (*compareCmd) return cli::compareGraphs(compare);

@@ -396,47 +396,51 @@ GreenCoordinatesResult computeGreenCoordinates(const TriMesh& cage,
   result.phi.resize(n, Eigen::Index(prepared.vertices.size()));
   result.psi.resize(n, Eigen::Index(prepared.faces.size()));
   std::vector<char> inside(points.size(), 1);
-  parallelBlocks(points.size(), kBlock, options.threads, [&](std::size_t first, std::size_t last) {
-    ScalarPoint scalar(prepared);
-    std::vector<double> scratch(std::size_t(green_kernel::fourPointsScratchSize(kernelCage)) + 4);
-    double* aligned = scratch.data();
-    while (reinterpret_cast<std::uintptr_t>(aligned) % 32 != 0)
-      ++aligned;
-    for (std::size_t i = first; i < last; i += 4) {
-      const std::size_t count = std::min<std::size_t>(4, last - i);
-      if (vectorized) {
-        // A last group of fewer than four points repeats its last point in the spare lanes and
-        // writes their rows to scratch rows.
-        const double* lanes[4];
-        double* phiRows[4];
-        double* psiRows[4];
-        std::vector<double> spare;
-        if (count < 4)
-          spare.resize(std::size_t(result.phi.cols() + result.psi.cols()) * (4 - count));
-        for (std::size_t k = 0; k < 4; ++k) {
-          const std::size_t p = i + std::min(k, count - 1);
-          lanes[k] = points[p].data();
-          if (k < count) {
-            phiRows[k] = result.phi.row(Eigen::Index(p)).data();
-            psiRows[k] = result.psi.row(Eigen::Index(p)).data();
-          } else {
-            phiRows[k] =
-                spare.data() + (k - count) * std::size_t(result.phi.cols() + result.psi.cols());
-            psiRows[k] = phiRows[k] + result.phi.cols();
+  parallelBlocks(
+      points.size(), kBlock, options.threads,
+      [&](std::size_t first, std::size_t last) {
+        ScalarPoint scalar(prepared);
+        std::vector<double> scratch(std::size_t(green_kernel::fourPointsScratchSize(kernelCage)) +
+                                    4);
+        double* aligned = scratch.data();
+        while (reinterpret_cast<std::uintptr_t>(aligned) % 32 != 0)
+          ++aligned;
+        for (std::size_t i = first; i < last; i += 4) {
+          const std::size_t count = std::min<std::size_t>(4, last - i);
+          if (vectorized) {
+            // A last group of fewer than four points repeats its last point in the spare lanes and
+            // writes their rows to scratch rows.
+            const double* lanes[4];
+            double* phiRows[4];
+            double* psiRows[4];
+            std::vector<double> spare;
+            if (count < 4)
+              spare.resize(std::size_t(result.phi.cols() + result.psi.cols()) * (4 - count));
+            for (std::size_t k = 0; k < 4; ++k) {
+              const std::size_t p = i + std::min(k, count - 1);
+              lanes[k] = points[p].data();
+              if (k < count) {
+                phiRows[k] = result.phi.row(Eigen::Index(p)).data();
+                psiRows[k] = result.psi.row(Eigen::Index(p)).data();
+              } else {
+                phiRows[k] =
+                    spare.data() + (k - count) * std::size_t(result.phi.cols() + result.psi.cols());
+                psiRows[k] = phiRows[k] + result.phi.cols();
+              }
+            }
+            bool in[4];
+            if (green_kernel::fourPoints(kernelCage, lanes, phiRows, psiRows, in, aligned)) {
+              for (std::size_t k = 0; k < count; ++k)
+                inside[i + k] = in[k];
+              continue;
+            }
           }
+          for (std::size_t p = i; p < i + count; ++p)
+            inside[p] = scalar(points[p], result.phi.row(Eigen::Index(p)).data(),
+                               result.psi.row(Eigen::Index(p)).data());
         }
-        bool in[4];
-        if (green_kernel::fourPoints(kernelCage, lanes, phiRows, psiRows, in, aligned)) {
-          for (std::size_t k = 0; k < count; ++k)
-            inside[i + k] = in[k];
-          continue;
-        }
-      }
-      for (std::size_t p = i; p < i + count; ++p)
-        inside[p] = scalar(points[p], result.phi.row(Eigen::Index(p)).data(),
-                           result.psi.row(Eigen::Index(p)).data());
-    }
-  });
+      },
+      options.progress);
   for (std::size_t i = 0; i < points.size(); ++i)
     if (!inside[i]) result.outsidePoints.push_back(int(i));
   return result;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 
 #include <stdexcept>
 #include <vector>
@@ -27,6 +28,8 @@ struct GreenOptions {
   double epsilon = 1e-8;
   // Worker threads; 0 uses every hardware thread. The result is bit-identical for any count.
   int threads = 0;
+  // Called on the calling thread with the fraction of points done; may throw to stop.
+  std::function<void(double)> progress;
 };
 
 struct GreenCoordinatesResult {

@@ -48,6 +48,10 @@ class GcWarpNode final : public geobrush::Node {
       }
       geobrush::GreenOptions options;
       options.epsilon = epsilon;
+      options.progress = [&ctx](double fraction) {
+        ctx.throwIfCancelled();
+        ctx.progress(fraction);
+      };
       geobrush::GreenCoordinatesResult result;
       try {
         result = geobrush::computeGreenCoordinates(sourceCage->mesh, points, options);

@@ -343,15 +343,22 @@ double ringFitWeight(const Problem& problem, const std::vector<Vector3d>& g, dou
   return length > 0 ? relative * rootMeanSquareNorm(problem.delta) / length : 0;
 }
 
-class CancelCallback final : public ceres::IterationCallback {
+// Stops a solve when cancelled, and reports its iterations as progress within its stage.
+class SolverCallback final : public ceres::IterationCallback {
  public:
-  explicit CancelCallback(const std::function<bool()>& cancelled) : cancelled_(cancelled) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
-    return cancelled_ && cancelled_() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
+  SolverCallback(const VariationalPasteOptions& options, double stageStart)
+      : options_(options), stageStart_(stageStart) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& iteration) override {
+    if (options_.cancelled && options_.cancelled()) return ceres::SOLVER_ABORT;
+    if (options_.progress)
+      options_.progress(stageStart_ + 0.5 * std::min(1.0, double(iteration.iteration) /
+                                                              double(options_.maxIterations)));
+    return ceres::SOLVER_CONTINUE;
   }
 
  private:
-  const std::function<bool()>& cancelled_;
+  const VariationalPasteOptions& options_;
+  double stageStart_;
 };
 
 ceres::Solver::Summary solve(ceres::Problem& problem, const VariationalPasteOptions& options,
@@ -375,7 +382,7 @@ ceres::Solver::Summary solve(ceres::Problem& problem, const VariationalPasteOpti
   solverOptions.num_threads = std::max(1, options.threads);
   solverOptions.logging_type = ceres::SILENT;
   solverOptions.minimizer_progress_to_stdout = false;
-  CancelCallback callback(options.cancelled);
+  SolverCallback callback(options, linear ? 0.0 : 0.5);
   solverOptions.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
   ceres::Solve(solverOptions, &problem, &summary);

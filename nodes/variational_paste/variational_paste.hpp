@@ -104,6 +104,9 @@ struct VariationalPasteOptions {
   // Polled once per iteration; returning true stops the solve with a cancelled
   // VariationalPasteSolveError.
   std::function<bool()> cancelled;
+  // Called once per iteration with the share of the iteration budget spent: the linear solve
+  // takes [0, 0.5), the rotation-invariant one [0.5, 1).
+  std::function<void(double)> progress;
 };
 
 struct VariationalPasteReport {

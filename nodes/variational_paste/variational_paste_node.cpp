@@ -58,6 +58,7 @@ class VariationalPasteNode final : public geobrush::Node {
     options.maxIterations = ctx.param<int>("max_iterations");
     options.tolerance = ctx.param<double>("tolerance");
     options.cancelled = [&ctx] { return ctx.cancelled(); };
+    options.progress = [&ctx](double fraction) { ctx.progress(fraction); };
     geobrush::VariationalPasteResult result;
     try {
       if (!base_ || target != target_) {

@@ -266,6 +266,30 @@ TEST(Cli, RunsTheDefaultGraphAndReportsJson) {
   EXPECT_NE(result.out.find((out / "default.png").string()), std::string::npos);
 }
 
+// --progress: plain lines for logs, from each computed node's start to its end, with its time.
+TEST(Cli, ProgressPrintsPlainLinesPerNode) {
+  const auto out = test::tempDir("cli-progress");
+  auto result = runCli({"run", (test::sourceDir() / "graphs" / "default.json").string(), "--out",
+                        out.string(), "--progress"});
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_TRUE(printableBoundedLines(result.err));
+  std::istringstream lines(result.err);
+  int started = 0, ended = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("progress: [", 0) != 0) continue;
+    started += line.find(" 0% ") != std::string::npos;
+    ended += line.find(" 100% ") != std::string::npos;
+    EXPECT_NE(line.find(" s"), std::string::npos) << line;
+  }
+  EXPECT_GE(started, 3) << result.err;
+  EXPECT_EQ(started, ended) << result.err;
+  // Without it, and with stderr no terminal, there is none.
+  auto plain = runCli(
+      {"run", (test::sourceDir() / "graphs" / "default.json").string(), "--out", out.string()});
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_EQ(plain.err.find("progress:"), std::string::npos) << plain.err;
+}
+
 // Two graphs side by side: their metrics and node times in one table, one picture of both.
 TEST(Cli, CompareSetsTwoGraphsSideBySide) {
   const auto out = test::tempDir("cli-compare");

@@ -171,7 +171,7 @@ TEST(Clone, BadArgumentsAreOneErrorLineAndWriteNothing) {
   };
   const std::vector<Case> cases = {
       {with(base, "--source", ""), 2, "clone: --source is required"},
-      {with(base, "--source", (out / "missing.obj").string()), 2, "--source: '"},
+      {with(base, "--source", (out / "missing.obj").string()), 2, "error: source: '"},
       {with(base, "--radius", "-1"), 2, "--radius"},
       {with(base, "--source-point", "1,2"), 2, "--source-point: expected x,y,z, got '1,2'"},
       {with(base, "--scale", "1e-9"), 2, "node 'target_map' param 'scale': 1e-09 is outside"},

@@ -132,6 +132,29 @@ TEST(GreenCoordinates, SimilarityOfTheCageMovesThePointsAlike) {
   }
 }
 
+// Progress rises to 1 on the calling thread, and reporting it changes no bit of the result.
+TEST(GreenCoordinates, ReportsProgressWithoutChangingTheResult) {
+  std::mt19937 rng(5);
+  const auto all = cages();
+  const auto& c = all[1];
+  const auto points = randomPoints(rng, 3000, c.radius, c.ball);
+  std::vector<double> reports;
+  GreenOptions options;
+  options.progress = [&](double fraction) { reports.push_back(fraction); };
+  const auto reported = computeGreenCoordinates(c.mesh, points, options);
+  const auto quiet = computeGreenCoordinates(c.mesh, points);
+  ASSERT_FALSE(reports.empty());
+  EXPECT_TRUE(std::is_sorted(reports.begin(), reports.end()));
+  EXPECT_LE(reports.back(), 1.0);
+  EXPECT_TRUE(reported.phi == quiet.phi);
+  EXPECT_TRUE(reported.psi == quiet.psi);
+  // A progress callback that throws (a cancelled evaluation) stops the computation.
+  options.progress = [](double fraction) {
+    if (fraction > 0.1) throw std::runtime_error("cancelled");
+  };
+  EXPECT_THROW(computeGreenCoordinates(c.mesh, points, options), std::runtime_error);
+}
+
 TEST(GreenCoordinates, RefusesBadCages) {
   const TriMesh cube = test::boxCage({-1, -1, -1}, {1, 1, 1}, 2);
   const std::vector<Eigen::Vector3d> points = {Eigen::Vector3d::Zero()};

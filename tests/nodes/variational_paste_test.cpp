@@ -236,6 +236,23 @@ TEST(VariationalPaste, AFlatPasteStaysFlat) {
   EXPECT_GT(largest, 1e-4);
 }
 
+// Each solver iteration reports the share of the iteration budget spent, rising in [0, 1).
+TEST(VariationalPaste, ReportsProgressPerIteration) {
+  const Paste paste(test::heightFieldParameterization(29, bumps),
+                    test::heightFieldParameterization(21, bumps));
+  std::vector<double> reports;
+  VariationalPasteOptions options;
+  options.progress = [&](double fraction) { reports.push_back(fraction); };
+  const VariationalPasteResult result = paste.solve(paste.source->canvas->surface, options);
+  ASSERT_GE(reports.size(), std::size_t(result.report.linearIterations + 1));
+  EXPECT_TRUE(std::is_sorted(reports.begin(), reports.end()));
+  EXPECT_GE(reports.front(), 0.0);
+  EXPECT_LT(reports.back(), 1.0);
+  if (result.report.rotationIterations > 0) {
+    EXPECT_GE(reports.back(), 0.5);
+  }
+}
+
 // The draft is the target surface itself, sampled on the same grid: δ is exact, and the solve
 // gives back the target's positions.
 TEST(VariationalPaste, AnExactDraftReproducesTheTarget) {

@@ -47,7 +47,8 @@ struct CloneOutputs {
 inline constexpr double kCloneCanvasMargin = 1.0;
 
 // Folders searched for methods, in order: GEOBRUSH_METHOD_PATH (colon-separated), then
-// <prefix>/share/geobrush/methods beside the running program (the build tree mirrors it).
+// <prefix>/share/geobrush/methods of the installation holding the core library (the build tree
+// mirrors it).
 std::vector<std::filesystem::path> defaultMethodDirs();
 
 struct CloneMethod {
@@ -90,5 +91,30 @@ SnappedSpec snapToSurfaces(const CloneSpec& spec, const TriMesh& source, const T
 
 // The view that frames the paste of a snapped spec.
 CloneView cloneView(const SnappedSpec& snapped);
+
+// A clone as `geobrush clone` and the Python module's clone() take it.
+struct CloneRequest {
+  CloneSpec spec;
+  std::string method = "geobrush";
+  std::vector<std::string> sets;  // NODE.PARAM=VALUE, applied to the filled method
+  CloneOutputs outputs;
+  std::vector<std::filesystem::path> methodDirs = defaultMethodDirs();
+};
+
+// The two stages of turning a request into a graph, around the loading of its meshes: evaluate
+// the started graph's kCloneMeshNodes (through the evaluator that then runs the whole clone, so
+// that the meshes are read once), then finish it.
+inline constexpr const char* kCloneMeshNodes[] = {"source_mesh", "target_mesh"};
+
+// The request's method filled with its spec as given. Throws GraphError for a mesh that is not a
+// regular file (naming the option, "source" or "target"), an unknown method or a value out of
+// its range.
+Graph startCloneGraph(const CloneRequest& request, const NodeRegistry& registry);
+
+// Snaps the spec's points to the loaded meshes, fills the graph again with the snapped spec and
+// the view that frames the paste, applies the request's assignments and checks that no two
+// outputs name one file. Throws GraphError.
+SnappedSpec finishCloneGraph(Graph& graph, const CloneRequest& request,
+                             const NodeRegistry& registry, const Mesh& source, const Mesh& target);
 
 }  // namespace geobrush

@@ -47,6 +47,8 @@ struct EvalReport {
   bool ok = true;
   bool cancelled = false;
   std::string error;          // one line naming the file, node and port
+  std::string errorNode;      // the node that failed, where one did
+  std::string errorWhere;     // the port or param it names ("param 'path'"), or empty
   std::vector<NodeRun> runs;  // in evaluation order
   std::vector<std::filesystem::path> filesWritten;
 

@@ -59,9 +59,15 @@ class GraphError : public std::runtime_error {
  public:
   GraphError(const std::filesystem::path& file, const std::string& node, const std::string& where,
              const std::string& cause);
+  const std::filesystem::path& file() const { return file_; }
+  const std::string& node() const { return node_; }
+  const std::string& where() const { return where_; }  // "param 'x'", "input 'mesh'", or empty
   const std::string& cause() const { return cause_; }
 
  private:
+  std::filesystem::path file_;
+  std::string node_;
+  std::string where_;
   std::string cause_;
 };
 

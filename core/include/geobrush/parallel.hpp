@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstddef>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <system_error>
 #include <thread>
@@ -15,23 +16,32 @@ namespace geobrush {
 // Runs body(first, last) over fixed blocks of [0, count) on up to `threads` threads (0: one per
 // hardware thread). Callers compute each item from its own inputs alone, so the results are the
 // same for any number of threads.
+//
+// With `progress`, the calling thread (one of the workers) calls progress(fraction of the blocks
+// done) after each block it finishes; what progress throws (e.g. a cancellation) ends the loop
+// and is rethrown.
 template <typename Body>
-void parallelBlocks(std::size_t count, std::size_t blockSize, int threads, const Body& body) {
+void parallelBlocks(std::size_t count, std::size_t blockSize, int threads, const Body& body,
+                    const std::function<void(double)>& progress = {}) {
   const std::size_t blocks = (count + blockSize - 1) / blockSize;
   const std::size_t wanted =
       threads > 0 ? std::size_t(threads) : std::max(1u, std::thread::hardware_concurrency());
   const std::size_t workers = std::min(wanted, blocks);
-  if (workers <= 1) {
+  if (workers <= 1 && !progress) {
     body(std::size_t(0), count);
     return;
   }
   std::atomic<std::size_t> next{0};
+  std::atomic<std::size_t> done{0};
   std::exception_ptr failure;
   std::mutex failureMutex;
-  auto work = [&] {
+  auto work = [&](bool caller) {
     try {
-      for (std::size_t b = next++; b < blocks; b = next++)
+      for (std::size_t b = next++; b < blocks; b = next++) {
         body(b * blockSize, std::min(count, (b + 1) * blockSize));
+        const std::size_t finished = ++done;
+        if (caller && progress) progress(double(finished) / double(blocks));
+      }
     } catch (...) {
       const std::lock_guard lock(failureMutex);
       if (!failure) failure = std::current_exception();
@@ -41,11 +51,11 @@ void parallelBlocks(std::size_t count, std::size_t blockSize, int threads, const
   std::vector<std::thread> pool;
   try {
     for (std::size_t t = 1; t < workers; ++t)
-      pool.emplace_back(work);
+      pool.emplace_back(work, false);
   } catch (const std::system_error&) {
     // Fewer threads do the same blocks.
   }
-  work();
+  work(true);
   for (auto& t : pool)
     t.join();
   if (failure) std::rethrow_exception(failure);

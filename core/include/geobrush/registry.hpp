@@ -58,9 +58,13 @@ class NodeRegistry {
   std::map<std::string, std::string> refusals_;  // by file name
 };
 
-// The plugin directory of this build or installation (next to the running
-// executable: <exe dir>/../lib/geobrush/plugins), then each entry of
-// GEOBRUSH_PLUGIN_PATH (colon-separated).
+// The folder of the GeoBrush core library (<build>/lib, or <prefix>/<libdir> when installed):
+// plugins and shared data are found relative to it, whichever program loaded it (geobrush, the
+// studio, a Python interpreter). Empty if it cannot be told.
+std::filesystem::path coreLibraryDir();
+
+// The plugin directory of this build or installation (<core library dir>/geobrush/plugins),
+// then each entry of GEOBRUSH_PLUGIN_PATH (colon-separated).
 std::vector<std::filesystem::path> defaultPluginDirs();
 
 // The name of the library expected to provide a type: "geobrush.load_mesh"
