@@ -34,10 +34,8 @@ TEST(ParallelBlocks, ReportsRisingProgressOnTheCallingThreadEndingAtOne) {
     ASSERT_FALSE(reports.empty());
     EXPECT_TRUE(std::is_sorted(reports.begin(), reports.end()));
     EXPECT_GT(reports.front(), 0.0);
-    EXPECT_LE(reports.back(), 1.0);
-    if (threads == 1) {
-      EXPECT_EQ(reports.back(), 1.0);
-    }
+    EXPECT_EQ(reports.back(), 1.0);
+    EXPECT_EQ(std::count(reports.begin(), reports.end(), 1.0), 1);
   }
 }
 

@@ -18,8 +18,8 @@ namespace geobrush {
 // same for any number of threads.
 //
 // With `progress`, the calling thread (one of the workers) calls progress(fraction of the blocks
-// done) after each block it finishes; what progress throws (e.g. a cancellation) ends the loop
-// and is rethrown.
+// done) after each block it finishes, and progress(1) at the end; what progress throws (e.g. a
+// cancellation) ends the loop and is rethrown.
 template <typename Body>
 void parallelBlocks(std::size_t count, std::size_t blockSize, int threads, const Body& body,
                     const std::function<void(double)>& progress = {}) {
@@ -33,6 +33,7 @@ void parallelBlocks(std::size_t count, std::size_t blockSize, int threads, const
   }
   std::atomic<std::size_t> next{0};
   std::atomic<std::size_t> done{0};
+  double reported = 0;  // written by the calling thread only
   std::exception_ptr failure;
   std::mutex failureMutex;
   auto work = [&](bool caller) {
@@ -40,7 +41,7 @@ void parallelBlocks(std::size_t count, std::size_t blockSize, int threads, const
       for (std::size_t b = next++; b < blocks; b = next++) {
         body(b * blockSize, std::min(count, (b + 1) * blockSize));
         const std::size_t finished = ++done;
-        if (caller && progress) progress(double(finished) / double(blocks));
+        if (caller && progress) progress(reported = double(finished) / double(blocks));
       }
     } catch (...) {
       const std::lock_guard lock(failureMutex);
@@ -59,6 +60,8 @@ void parallelBlocks(std::size_t count, std::size_t blockSize, int threads, const
   for (auto& t : pool)
     t.join();
   if (failure) std::rethrow_exception(failure);
+  // The other threads may have finished the last blocks.
+  if (progress && reported < 1) progress(1.0);
 }
 
 }  // namespace geobrush
