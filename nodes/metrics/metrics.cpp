@@ -319,4 +319,30 @@ PasteMetrics measurePaste(const TriMesh& result, const PasteMap* map, const TriM
   return m;
 }
 
+std::optional<std::string> invalidPaste(const PasteMetrics& metrics) {
+  const auto value = [&](const char* name) {
+    const auto it = metrics.values.find(name);
+    return it == metrics.values.end() ? 0.0 : it->second;
+  };
+  const auto count = [](double n, const char* what) {
+    return std::to_string(std::llround(n)) + " " + what;
+  };
+  std::string problems;
+  const auto add = [&](const std::string& problem) {
+    problems += (problems.empty() ? "" : ", ") + problem;
+  };
+  if (value("non_manifold_vertices") > 0)
+    add(count(value("non_manifold_vertices"), "non-manifold vertices"));
+  else if (metrics.values.contains("manifold") && value("manifold") != 1)
+    add("a non-manifold or non-finite result");
+  if (metrics.values.contains("target_boundary_loops") &&
+      value("boundary_loops") > value("target_boundary_loops"))
+    add(count(value("boundary_loops") - value("target_boundary_loops"),
+              "more boundary loops than the target"));
+  if (value("new_self_intersections") > 0)
+    add(count(value("new_self_intersections"), "new self-intersections"));
+  if (problems.empty()) return std::nullopt;
+  return "the paste has " + problems;
+}
+
 }  // namespace geobrush

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,10 @@ struct PasteMetrics {
 // skipped with a note. Throws std::invalid_argument when the map does not match the meshes.
 PasteMetrics measurePaste(const TriMesh& result, const PasteMap* map, const TriMesh* target,
                           const TriMesh* source, const PasteMetricsOptions& options = {});
+
+// Why a measured paste is not a valid result, or nothing: a result that is not manifold, has
+// more boundary loops than the target (a seam left open) or new self-intersections.
+std::optional<std::string> invalidPaste(const PasteMetrics& metrics);
 
 // The angle in radians between the normals of the two faces of each interior edge listed.
 std::vector<double> normalJumps(const TriMesh& mesh, const std::vector<int>& edges);

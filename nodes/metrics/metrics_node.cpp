@@ -32,11 +32,15 @@ class MetricsNode final : public geobrush::Node {
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("map", e.what());
     }
+    const auto invalid = geobrush::invalidPaste(measured);
     auto metrics = std::make_shared<geobrush::Metrics>();
     metrics->values = std::move(measured.values);
     metrics->notes = std::move(measured.notes);
     for (const auto& note : metrics->notes)
       ctx.warn(note);
+    if (invalid && ctx.param<bool>("require_valid"))
+      throw NodeError::input(
+          "mesh", *invalid + ": nothing is written (require_valid=false writes it all the same)");
     ctx.out("metrics", std::move(metrics));
   }
 };
@@ -69,6 +73,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                       "Pasted vertices this many edges from the seam or closer are left out of "
                       "the detail measure.")
             .range(0, 100)
+            .paramBool("require_valid", false,
+                       "Fail, so that the evaluation writes nothing, when the paste is not "
+                       "manifold, leaves more boundary loops than the target or has new "
+                       "self-intersections.")
             .node<MetricsNode>()
             .build());
 }

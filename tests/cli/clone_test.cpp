@@ -194,3 +194,25 @@ TEST(Clone, BadArgumentsAreOneErrorLineAndWriteNothing) {
 }
 
 }  // namespace
+
+// A paste wider than the feature under it (an ear tip of the bunny) folds over itself: the clone
+// fails naming the metrics node and what is wrong, and writes nothing, unless asked to write it.
+TEST(Clone, AnInvalidPasteFailsAndWritesNothingUnlessAskedTo) {
+  const auto out = test::tempDir("clone-invalid");
+  const Clone onEarTip{"mountain.obj",    "0.068548,19.73209,0.029055",  "6",
+                       "bunny_small.obj", "-0.479417,9.43959,-0.676324", "0.1313"};
+  auto args = cloneArgs(onEarTip, out / "clone.obj");
+  args.insert(args.end(), {"--image", (out / "clone.png").string()});
+  const auto refused = runCli(args);
+  EXPECT_EQ(refused.status, 1) << refused.err;
+  EXPECT_TRUE(test::contains(refused.err, "node 'metrics' input 'mesh': the paste has "))
+      << refused.err;
+  EXPECT_TRUE(test::contains(refused.err, "new self-intersections")) << refused.err;
+  EXPECT_TRUE(fs::is_empty(out));
+
+  args.insert(args.end(), {"--set", "metrics.require_valid=false"});
+  const auto written = runCli(args);
+  ASSERT_EQ(written.status, 0) << written.err;
+  EXPECT_GT(metric(written.err, "metrics.new_self_intersections"), 0);
+  EXPECT_TRUE(fs::exists(out / "clone.obj"));
+}

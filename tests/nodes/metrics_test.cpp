@@ -188,3 +188,28 @@ TEST(MetricsNode, MeasuresAPasteFromItsInputs) {
   EXPECT_NEAR(metrics->values.at("detail_difference_percent"), 0, 1e-9);
   EXPECT_TRUE(metrics->notes.empty());
 }
+
+// require_valid: a clean paste passes; invalidPaste names each problem of a measured one (a real
+// paste that fails is in tests/cli/clone_test.cpp).
+TEST(MetricsNode, RequireValidPassesACleanPasteAndNamesEachProblem) {
+  const NodeType* type = test::registry().find("geobrush.metrics");
+  ASSERT_TRUE(type);
+  const BumpPaste paste;
+  test::DirectContext ctx(*type,
+                          {{"mesh", std::make_shared<const Mesh>(paste.stitched.mesh)},
+                           {"map", std::make_shared<const PasteMap>(paste.stitched.map)},
+                           {"target", std::make_shared<const Mesh>(paste.target->canvas->surface)}},
+                          {{"require_valid", true}});
+  EXPECT_NO_THROW(type->create()->compute(ctx));
+
+  PasteMetrics measured = measurePaste(paste.stitched.mesh, &paste.stitched.map,
+                                       &paste.target->canvas->surface, nullptr);
+  EXPECT_EQ(invalidPaste(measured), std::nullopt);
+  measured.values["new_self_intersections"] = 7;
+  EXPECT_EQ(invalidPaste(measured).value_or(""), "the paste has 7 new self-intersections");
+  measured.values["non_manifold_vertices"] = 2;
+  measured.values["boundary_loops"] = measured.values.at("target_boundary_loops") + 1;
+  EXPECT_EQ(invalidPaste(measured).value_or(""),
+            "the paste has 2 non-manifold vertices, 1 more boundary loops than the target, 7 new "
+            "self-intersections");
+}
