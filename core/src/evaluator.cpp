@@ -13,6 +13,7 @@
 #include "geobrush/node.hpp"
 #include "geobrush/registry.hpp"
 #include "geobrush/text.hpp"
+#include "geobrush/values.hpp"
 
 namespace geobrush {
 namespace {
@@ -600,6 +601,25 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     it = graph.nodes.count(it->first) ? std::next(it) : impl.instances.erase(it);
   impl.lastOutputs = std::move(results);
   return report;
+}
+
+CollectedMetrics collectMetrics(const Graph& graph, const NodeRegistry& registry,
+                                const Evaluator& evaluator) {
+  CollectedMetrics collected;
+  for (const auto& [name, node] : graph.nodes) {
+    const NodeType* type = registry.find(node.type);
+    if (!type) continue;
+    for (const auto& port : type->outputs) {
+      const auto metrics =
+          std::dynamic_pointer_cast<const Metrics>(evaluator.output(name, port.name));
+      if (!metrics) continue;
+      for (const auto& [key, value] : metrics->values)
+        collected.values[name + "." + key] = value;
+      for (const auto& note : metrics->notes)
+        collected.notes.push_back(name + ": " + note);
+    }
+  }
+  return collected;
 }
 
 }  // namespace geobrush

@@ -1,5 +1,7 @@
 #include "geobrush/mesh_io.hpp"
 
+#include "atomic_file.hpp"
+
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <algorithm>
@@ -260,6 +262,39 @@ MeshReadResult readMeshBytes(std::string_view bytes, MeshFormat format, const fs
   }
 }
 
+MeshReadResult meshFromArrays(std::span<const double> positions,
+                              std::span<const std::int64_t> triangles, const std::string& name,
+                              const MeshReadOptions& options) {
+  const auto fail = [&](const std::string& cause) { return fileError(name, cause); };
+  if (positions.size() % 3 != 0 || triangles.size() % 3 != 0)
+    throw fail("expected 3 coordinates per vertex and 3 vertex indices per triangle");
+  meshread::PolygonSoup soup;
+  soup.points.reserve(positions.size() / 3);
+  for (std::size_t v = 0; v < positions.size(); v += 3) {
+    const Vec3d p(positions[v], positions[v + 1], positions[v + 2]);
+    if (!isFinite(p))
+      throw fail("vertex " + std::to_string(v / 3) + " has a non-finite coordinate " +
+                 formatPoint(p));
+    soup.points.push_back(p);
+  }
+  const auto vertexCount = std::int64_t(soup.points.size());
+  for (std::size_t t = 0; t < triangles.size(); t += 3) {
+    const std::int64_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
+    for (const std::int64_t index : {a, b, c})
+      if (index < 0 || index >= vertexCount)
+        throw fail("triangle " + std::to_string(t / 3) + " names vertex " + std::to_string(index) +
+                   " of " + std::to_string(vertexCount));
+    if (a == b || b == c || c == a)
+      throw fail("triangle " + std::to_string(t / 3) + " repeats a vertex");
+    for (const std::int64_t index : {a, b, c})
+      soup.addCorner(index);
+    soup.endPolygon();
+  }
+  TriMesh surface;
+  const meshread::ImportCounts counts = meshread::linkSoup(soup, surface);
+  return checkImport(name, MeshFormat::Obj, std::move(surface), counts, options);
+}
+
 std::optional<std::string> unwritableReason(const TriMesh& mesh, MeshFormat format) {
   const double limit = format == MeshFormat::Obj ? std::numeric_limits<double>::max()
                                                  : std::numeric_limits<float>::max();
@@ -306,6 +341,20 @@ void writeMesh(const Mesh& mesh, const fs::path& path, std::optional<MeshFormat>
     throw fileError(path, written
                               ? "writing failed: " + cause
                               : "OpenMesh could not write it as " + std::string(toString(*format)));
+  }
+}
+
+void writeMeshFile(const Mesh& mesh, const fs::path& path) {
+  const auto format = meshFormatFromPath(path);
+  if (!format)
+    throw fileError(path, "unknown mesh format " + quoteText(path.extension().string()) +
+                              " (supported: .obj, .ply, .off, .stl)");
+  try {
+    writeFileAtomically(path, [&](const fs::path& tmp) { writeMesh(mesh, tmp, format); });
+  } catch (const MeshError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw MeshError(e.what());
   }
 }
 

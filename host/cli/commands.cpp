@@ -132,23 +132,6 @@ int runGraph(const RunOptions& options) {
              : kExitEvaluation;
 }
 
-void collectMetrics(const Graph& graph, const NodeRegistry& registry, const Evaluator& evaluator,
-                    std::map<std::string, double>& values, std::vector<std::string>& notes) {
-  for (const auto& [name, node] : graph.nodes) {
-    const NodeType* type = registry.find(node.type);
-    if (!type) continue;
-    for (const auto& port : type->outputs) {
-      const auto metrics =
-          std::dynamic_pointer_cast<const Metrics>(evaluator.output(name, port.name));
-      if (!metrics) continue;
-      for (const auto& [key, value] : metrics->values)
-        values[name + "." + key] = value;
-      for (const auto& note : metrics->notes)
-        notes.push_back(name + ": " + note);
-    }
-  }
-}
-
 EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, EvalOptions eval,
                              const ReportOptions& options,
                              const std::vector<std::string>& pluginErrors, Evaluator* evaluator) {
@@ -161,8 +144,7 @@ EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, E
   const EvalReport report = used.evaluate(graph, eval);
   progress.clear();
   std::map<std::string, double> metrics;
-  std::vector<std::string> notes;
-  if (report.ok) collectMetrics(graph, registry, used, metrics, notes);
+  if (report.ok) metrics = collectMetrics(graph, registry, used).values;
 
   if (!options.quiet && !options.json) {
     for (const auto& run : report.runs)

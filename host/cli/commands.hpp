@@ -102,10 +102,6 @@ EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, E
                              const std::vector<std::string>& pluginErrors,
                              Evaluator* evaluator = nullptr);
 
-// Every Metrics output of the last evaluation, as "node.name" values and "node: note" notes.
-void collectMetrics(const Graph& graph, const NodeRegistry& registry, const Evaluator& evaluator,
-                    std::map<std::string, double>& values, std::vector<std::string>& notes);
-
 // JSON texts (report_json.cpp keeps nlohmann_json in one file).
 // With metrics, a "metrics" object of them.
 std::string runReportJson(const std::filesystem::path& graph, const EvalReport& report,

@@ -75,7 +75,9 @@ bool evaluateSide(const NodeRegistry& registry, ComparedGraph& side, const Graph
   Evaluator evaluator(registry);
   side.report = evaluator.evaluate(graph, eval);
   if (!side.report.ok) return false;
-  collectMetrics(graph, registry, evaluator, side.metrics, side.notes);
+  CollectedMetrics collected = collectMetrics(graph, registry, evaluator);
+  side.metrics = std::move(collected.values);
+  side.notes = std::move(collected.notes);
   const Connection* measured = measuredMesh(graph);
   side.mesh = std::dynamic_pointer_cast<const Mesh>(
       evaluator.output(measured->from.node, measured->from.port));

@@ -85,4 +85,13 @@ class Evaluator {
   std::uint64_t computeCount_ = 0;
 };
 
+// Every Metrics output of the evaluator's last evaluation of `graph`: its values as
+// "node.name" (sorted), and its notes as "node: note".
+struct CollectedMetrics {
+  std::map<std::string, double> values;
+  std::vector<std::string> notes;
+};
+CollectedMetrics collectMetrics(const Graph& graph, const NodeRegistry& registry,
+                                const Evaluator& evaluator);
+
 }  // namespace geobrush

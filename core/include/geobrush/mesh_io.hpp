@@ -10,8 +10,10 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -63,6 +65,16 @@ MeshReadResult readMeshBytes(std::string_view bytes, MeshFormat format,
                              const std::filesystem::path& name,
                              const MeshReadOptions& options = {});
 
+// A mesh from arrays held in memory (e.g. NumPy's, from Python): `positions` holds x, y, z per
+// vertex and `triangles` three 0-based vertex indices per face; `name` names them in messages.
+// Throws MeshError, naming the vertex or triangle, for a length that is not a multiple of 3, a
+// non-finite coordinate, an index out of range or a triangle with a repeated vertex, and, as
+// readMesh does, for no triangles or (unless repaired) triangles that make an edge or vertex
+// non-manifold.
+MeshReadResult meshFromArrays(std::span<const double> positions,
+                              std::span<const std::int64_t> triangles, const std::string& name,
+                              const MeshReadOptions& options = {});
+
 // Why `format` cannot hold `mesh` so that it reads back: a non-finite coordinate, or one beyond
 // the 32-bit float range in PLY, OFF and STL (naming the first such vertex); or nothing.
 std::optional<std::string> unwritableReason(const TriMesh& mesh, MeshFormat format);
@@ -74,6 +86,11 @@ std::optional<std::string> unwritableReason(const TriMesh& mesh, MeshFormat form
 // file at `path`.
 void writeMesh(const Mesh& mesh, const std::filesystem::path& path,
                std::optional<MeshFormat> format = std::nullopt);
+
+// writeMesh in the format named by the extension, atomically: the file at `path` is replaced
+// only by the complete new one (a symbolic link there stays and its file is replaced). Throws
+// MeshError naming `path`; nothing is written then.
+void writeMeshFile(const Mesh& mesh, const std::filesystem::path& path);
 
 struct MeshStats {
   std::size_t vertices = 0;
