@@ -162,21 +162,29 @@ SnappedSpec snapToSurfaces(const CloneSpec& spec, const TriMesh& source, const T
   return snapped;
 }
 
-CloneView cloneView(const SnappedSpec& snapped) {
+CloneView viewFacing(const Vec3& focus, double pasteRadius, const Vec3& normal) {
   // The paste's extent on the target, and as much again of the target around it.
   constexpr double kFramedRadii = 2.0;
   // Off the normal, so that relief casts shading; the elevation stays short of the poles.
   constexpr double kTurnDeg = 25, kLiftDeg = 20, kHighestDeg = 80;
-  const Vec3& n = snapped.targetNormal;
+  const double length =
+      std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+  const Vec3 n =
+      length > 0 ? Vec3{normal[0] / length, normal[1] / length, normal[2] / length} : Vec3{0, 0, 1};
   const double toDegrees = 180 / M_PI;
   CloneView view;
-  view.focus = snapped.spec.targetPoint;
-  view.radius = kFramedRadii * snapped.spec.radius * snapped.spec.scale;
+  view.focus = focus;
+  view.radius = kFramedRadii * pasteRadius;
   view.azimuthDeg = std::atan2(n[0], n[2]) * toDegrees + kTurnDeg;
   if (view.azimuthDeg > 180) view.azimuthDeg -= 360;
   view.elevationDeg = std::clamp(std::asin(std::clamp(n[1], -1.0, 1.0)) * toDegrees + kLiftDeg,
                                  -kHighestDeg, kHighestDeg);
   return view;
+}
+
+CloneView cloneView(const SnappedSpec& snapped) {
+  return viewFacing(snapped.spec.targetPoint, snapped.spec.radius * snapped.spec.scale,
+                    snapped.targetNormal);
 }
 
 namespace {

@@ -1,8 +1,14 @@
 #include "geobrush/image.hpp"
 
 #include <QtCore/QString>
+#include <QtGui/QFont>
+#include <QtGui/QFontDatabase>
+#include <QtGui/QGuiApplication>
 #include <QtGui/QImage>
+#include <QtGui/QPainter>
+#include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 
 #include "atomic_file.hpp"
@@ -51,6 +57,49 @@ Image readPng(const std::filesystem::path& path) {
   for (int y = 0; y < image.height; ++y)
     std::memcpy(image.pixel(0, y), decoded.constScanLine(y), rowBytes);
   return image;
+}
+
+namespace {
+
+// Fonts need a QGuiApplication; a program without one (the command line, a Python interpreter)
+// gets an offscreen one, kept until the process exits.
+bool ensureGuiApplication() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (QCoreApplication::instance()) return;
+    if (!std::getenv("QT_QPA_PLATFORM")) ::setenv("QT_QPA_PLATFORM", "offscreen", 0);
+    static int argc = 1;
+    static char name[] = "geobrush";
+    static char* argv[] = {name, nullptr};
+    // Qt's start-up notes (e.g. no XDG_RUNTIME_DIR) are not the program's to print.
+    const QtMessageHandler previous =
+        qInstallMessageHandler([](QtMsgType, const QMessageLogContext&, const QString&) {});
+    new QGuiApplication(argc, argv);
+    qInstallMessageHandler(previous);
+  });
+  return qobject_cast<QGuiApplication*>(QCoreApplication::instance()) != nullptr;
+}
+
+}  // namespace
+
+bool drawLabel(Image& image, const std::string& text, int pixelSize) {
+  if (image.width <= 0 || image.height <= 0 || !ensureGuiApplication()) return false;
+  if (QFontDatabase::families().isEmpty()) return false;
+  QImage canvas(image.rgba.data(), image.width, image.height, 4 * image.width,
+                QImage::Format_RGBA8888);
+  QPainter painter(&canvas);
+  QFont font("DejaVu Sans");
+  font.setPixelSize(pixelSize);
+  painter.setFont(font);
+  const QString label = QString::fromStdString(text);
+  const int margin = pixelSize / 2;
+  QRect box = painter.fontMetrics().boundingRect(label);
+  box.moveTopLeft({margin, margin});
+  painter.fillRect(box.adjusted(-margin / 2, -margin / 2, margin / 2, margin / 2),
+                   QColor(255, 255, 255, 220));
+  painter.setPen(QColor(20, 20, 20));
+  painter.drawText(box, Qt::AlignLeft | Qt::AlignVCenter, label);
+  return true;
 }
 
 }  // namespace geobrush

@@ -132,17 +132,21 @@ int runGraph(const RunOptions& options) {
              : kExitEvaluation;
 }
 
-EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, EvalOptions eval,
-                             const ReportOptions& options,
-                             const std::vector<std::string>& pluginErrors, Evaluator* evaluator) {
+EvalReport evaluateWithProgress(Evaluator& evaluator, const Graph& graph, EvalOptions eval,
+                                const ReportOptions& options) {
   ProgressPrinter progress(progressMode(options));
   eval.progress = [&](const std::string& node, double fraction) {
     progress.update(node, fraction);
   };
+  return evaluator.evaluate(graph, eval);
+}
+
+EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, EvalOptions eval,
+                             const ReportOptions& options,
+                             const std::vector<std::string>& pluginErrors, Evaluator* evaluator) {
   Evaluator own(registry);
   Evaluator& used = evaluator ? *evaluator : own;
-  const EvalReport report = used.evaluate(graph, eval);
-  progress.clear();
+  const EvalReport report = evaluateWithProgress(used, graph, eval, options);
   std::map<std::string, double> metrics;
   if (report.ok) metrics = collectMetrics(graph, registry, used).values;
 

@@ -10,6 +10,7 @@
 #include "geobrush/clone.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/mesh.hpp"
+#include "geobrush/region.hpp"
 #include "geobrush/registry.hpp"
 #include "geobrush/render.hpp"
 
@@ -55,6 +56,7 @@ struct ComparedGraph {
   std::map<std::string, double> metrics;
   std::vector<std::string> notes;
   std::shared_ptr<const Mesh> mesh;
+  std::shared_ptr<const PasteMap> map;  // what the metrics node was given, if anything
 };
 
 // How an evaluation is reported: `name` is the graph file (or what stands for it) in messages.
@@ -95,6 +97,14 @@ void printWarning(const std::string& message);
 
 // Loads the plugins of defaultPluginDirs(); returns the refusals, printed unless quiet.
 std::vector<std::string> loadPlugins(NodeRegistry& registry, bool quiet);
+// Evaluates with the progress `options` asks for on stderr (a status line on a terminal unless
+// quiet, or plain lines), and prints nothing else.
+EvalReport evaluateWithProgress(Evaluator& evaluator, const Graph& graph, EvalOptions eval,
+                                const ReportOptions& options);
+// For each metric with a known direction (and node times): "a" or "b" for the side whose value
+// is better, "=" when both are equal; "" when either lacks it or its direction is unknown.
+std::string betterSide(const std::string& key, const std::map<std::string, double>& a,
+                       const std::map<std::string, double>& b);
 // Evaluates with a progress line on a terminal, then prints warnings, the files written and the
 // error (or the JSON report), as `geobrush run` does. Uses `evaluator` when given.
 EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, EvalOptions eval,

@@ -102,7 +102,12 @@ std::string compareReportJson(const ComparedGraph& a, const ComparedGraph& b,
     if (!g.report.ok) result["error"] = g.report.error;
     return result;
   };
-  json root = {{"a", side(a)}, {"b", side(b)}, {"ok", error.empty()}};
+  json better = json::object();
+  for (const auto* metrics : {&a.metrics, &b.metrics})
+    for (const auto& [key, value] : *metrics)
+      if (const std::string which = betterSide(key, a.metrics, b.metrics); !which.empty())
+        better[key] = which;
+  json root = {{"a", side(a)}, {"b", side(b)}, {"better", better}, {"ok", error.empty()}};
   if (!image.empty()) root["image"] = image.string();
   if (!error.empty()) root["error"] = error;
   return root.dump(2, ' ', false, json::error_handler_t::replace) + "\n";

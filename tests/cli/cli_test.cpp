@@ -290,28 +290,62 @@ TEST(Cli, ProgressPrintsPlainLinesPerNode) {
   EXPECT_EQ(plain.err.find("progress:"), std::string::npos) << plain.err;
 }
 
-// Two graphs side by side: their metrics and node times in one table, one picture of both.
+// The table's row for a key, or "".
+std::string rowOf(const std::string& table, const std::string& key) {
+  std::istringstream lines(table);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind(key + " ", 0) == 0) return line;
+  return "";
+}
+
+bool isBackground(const std::uint8_t* p) {
+  return p[0] == 255 && p[1] == 255 && p[2] == 255;
+}
+
+// Two graphs side by side: their metrics and node times in one table that says which side is
+// better in each measure with a direction, one picture of both, each framed on its paste and
+// labelled with its graph's name.
 TEST(Cli, CompareSetsTwoGraphsSideBySide) {
   const auto out = test::tempDir("cli-compare");
-  const auto graph = (test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json");
-  auto table = runCli({"compare", graph.string(), graph.string(), "--out", out.string()});
+  const auto c1 = (test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json");
+  const auto c0 = (test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane_c0.json");
+  auto table = runCli({"compare", c1.string(), c0.string(), "--out", out.string()});
   ASSERT_EQ(table.status, 0) << table.err;
-  EXPECT_NE(table.out.find("metrics.seam_normal_jump_p95_deg"), std::string::npos) << table.out;
   EXPECT_NE(table.out.find("time_ms.membrane"), std::string::npos) << table.out;
-  // The same graph twice: each side's files in a folder of its own, one picture of both.
-  EXPECT_TRUE(std::filesystem::exists(out / "compare_mountain_sphere_membrane_a" /
-                                      "compare_mountain_sphere_membrane.obj"));
-  EXPECT_TRUE(std::filesystem::exists(out / "compare_mountain_sphere_membrane_b" /
-                                      "compare_mountain_sphere_membrane.obj"));
-  const Image picture = readPng(out / "compare.png");
-  EXPECT_EQ(picture.width, 2 * RenderOptions().width);
+  // The C1 membrane's seam is smoother than the C0 one's; both are manifold; an edge count has
+  // no better side.
+  EXPECT_TRUE(rowOf(table.out, "metrics.seam_normal_jump_p95_deg").ends_with(" a")) << table.out;
+  EXPECT_TRUE(rowOf(table.out, "metrics.manifold").ends_with(" =")) << table.out;
+  const std::string edges = rowOf(table.out, "metrics.seam_edges");
+  ASSERT_FALSE(edges.empty());
+  EXPECT_FALSE(edges.ends_with(" a") || edges.ends_with(" b") || edges.ends_with(" =")) << edges;
 
-  auto json = runCli({"compare", graph.string(), graph.string(), "--out", out.string(), "--json",
+  const Image picture = readPng(out / "compare.png");
+  const int half = RenderOptions().width;
+  ASSERT_EQ(picture.width, 2 * half);
+  for (int side = 0; side < 2; ++side) {
+    // Framed on the paste: it lies at the centre of each half.
+    EXPECT_FALSE(isBackground(picture.pixel(side * half + half / 2, picture.height / 2)));
+    // A label of dark text in the top left corner, on the background there.
+    int dark = 0;
+    for (int y = 0; y < 30; ++y)
+      for (int x = side * half; x < side * half + 200; ++x)
+        dark += picture.pixel(x, y)[0] < 100;
+    EXPECT_GT(dark, 50) << "side " << side;
+  }
+
+  auto json = runCli({"compare", c1.string(), c1.string(), "--out", out.string(), "--json",
                       "--set", "membrane.derivative_constraints=false"});
   ASSERT_EQ(json.status, 0) << json.err;
   EXPECT_NE(json.out.find("\"ok\": true"), std::string::npos) << json.out;
   EXPECT_NE(json.out.find("\"metrics.seam_normal_jump_mean_deg\""), std::string::npos) << json.out;
   EXPECT_NE(json.out.find("\"membrane\":"), std::string::npos) << json.out;  // its seconds
+  EXPECT_NE(json.out.find("\"metrics.manifold\": \"=\""), std::string::npos) << json.out;
+  // The same graph twice: each side's files in a folder of its own.
+  EXPECT_TRUE(std::filesystem::exists(out / "compare_mountain_sphere_membrane_a" /
+                                      "compare_mountain_sphere_membrane.obj"));
+  EXPECT_TRUE(std::filesystem::exists(out / "compare_mountain_sphere_membrane_b" /
+                                      "compare_mountain_sphere_membrane.obj"));
 }
 
 TEST(Cli, CompareRefusesAGraphWithoutMetricsBeforeRunningEither) {

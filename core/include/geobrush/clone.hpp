@@ -89,6 +89,9 @@ struct SnappedSpec {
 };
 SnappedSpec snapToSurfaces(const CloneSpec& spec, const TriMesh& source, const TriMesh& target);
 
+// The view of a paste of radius `pasteRadius` around `focus` on a surface with this normal there:
+// the paste and as much again around it, seen from outside.
+CloneView viewFacing(const Vec3& focus, double pasteRadius, const Vec3& normal);
 // The view that frames the paste of a snapped spec.
 CloneView cloneView(const SnappedSpec& snapped);
 

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "geobrush/value.hpp"
@@ -37,5 +38,11 @@ using ImagePtr = std::shared_ptr<const Image>;
 void writePng(const Image& image, const std::filesystem::path& path);
 // Decodes a PNG (any format Qt reads) into RGBA8. Throws on failure.
 Image readPng(const std::filesystem::path& path);
+
+// Writes one line of dark text on a pale box at the image's top left corner, `pixelSize` pixels
+// high (a label naming what the picture shows). Draws with Qt's fonts (DejaVu Sans, or the
+// system's default): in a program without a QGuiApplication, an offscreen one is made for it.
+// Returns false, leaving the image as it was, when no font can be found.
+bool drawLabel(Image& image, const std::string& text, int pixelSize = 18);
 
 }  // namespace geobrush
