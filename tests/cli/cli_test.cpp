@@ -351,11 +351,11 @@ TEST(Cli, CompareSetsTwoGraphsSideBySide) {
 TEST(Cli, CompareRefusesAGraphWithoutMetricsBeforeRunningEither) {
   const auto out = test::tempDir("cli-compare-bad");
   const auto measured = test::sourceDir() / "graphs" / "compare_mountain_sphere_membrane.json";
-  const auto unmeasured = test::sourceDir() / "graphs" / "default.json";
+  const auto unmeasured = test::sourceDir() / "graphs" / "relief_cube.json";
   auto result = runCli({"compare", measured.string(), unmeasured.string(), "--out", out.string()});
   EXPECT_EQ(result.status, 2);
   EXPECT_EQ(result.errorLines(), 1) << result.err;
-  EXPECT_NE(result.err.find("default.json: no geobrush.metrics node"), std::string::npos)
+  EXPECT_NE(result.err.find("relief_cube.json: no geobrush.metrics node"), std::string::npos)
       << result.err;
   EXPECT_TRUE(isEmptyDir(out));
   EXPECT_EQ(runCli({"compare", measured.string(), "/no/such/graph.json"}).status, 2);
@@ -363,7 +363,7 @@ TEST(Cli, CompareRefusesAGraphWithoutMetricsBeforeRunningEither) {
 
 TEST(Cli, SetOverridesAParam) {
   const auto out = test::tempDir("cli-set");
-  const auto graph = (test::sourceDir() / "graphs" / "default.json").string();
+  const auto graph = (test::sourceDir() / "graphs" / "relief_cube.json").string();
   auto small =
       runCli({"run", graph, "--out", out.string(), "--quiet", "--set", "shape.resolution=1",
               "--set", "render.width=64", "--set", "render.height=48"});
@@ -400,7 +400,7 @@ TEST(Cli, RendersMeshFiles) {
 // Texts from the command line are escaped as those from files are.
 TEST(Cli, SetTextsAreEscapedAndBounded) {
   const auto out = test::tempDir("cli-set-escaped");
-  const auto graph = (test::sourceDir() / "graphs" / "default.json").string();
+  const auto graph = (test::sourceDir() / "graphs" / "relief_cube.json").string();
   auto bad = runCli({"run", graph, "--out", out.string(), "--set",
                      "shape.shape=\x1b]0;title\x07\n" + std::string(50000, 'y')});
   EXPECT_EQ(bad.status, 2);

@@ -133,7 +133,7 @@ TEST(StudioDocument, SavingWhatWasOpenedIsByteStable) {
 
 TEST(StudioDocument, ANodeWithoutItsPluginStaysMarkedAndSavesBackUnchanged) {
   const auto dir = test::tempDir("studio-missing");
-  Graph graph = readGraphFile(graphFile("default.json"));
+  Graph graph = readGraphFile(graphFile("relief_cube.json"));
   graph.nodes["from_elsewhere"] = GraphNode{"acme.smoothing", 3, {{"strength", 0.5}}};
   graph.ui["from_elsewhere"] = {10, 20};
   writeGraphFile(graph, dir / "missing.json");
@@ -154,23 +154,23 @@ TEST(StudioDocument, ABrokenFileIsRefusedAndTheOpenGraphKept) {
   std::ofstream(dir / "newer.json")
       << R"({"format": "geobrush-graph", "formatVersion": 99, "nodes": {}, "connections": []})";
   StudioDocument document(test::registry());
-  ASSERT_EQ(document.open(graphFile("default.json")), "");
+  ASSERT_EQ(document.open(graphFile("relief_cube.json")), "");
   const std::size_t nodes = document.graph().nodes.size();
   const std::string broken = document.open(dir / "broken.json");
   EXPECT_NE(broken.find("broken.json"), std::string::npos) << broken;
   EXPECT_NE(document.open(dir / "newer.json"), "");
   EXPECT_EQ(document.graph().nodes.size(), nodes);
-  EXPECT_EQ(document.path(), graphFile("default.json"));
+  EXPECT_EQ(document.path(), graphFile("relief_cube.json"));
 }
 
 TEST(StudioWindow, EvaluatesOnItsWorkerAndShowsEachNodesState) {
   StudioWindow window(test::registry());
   const auto dir = test::tempDir("studio-evaluate");
   window.setOutputDir(dir);
-  ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("default.json").string())));
+  ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("relief_cube.json").string())));
   window.show();
   ASSERT_TRUE(evaluateAndWait(window)) << window.lastReport().error;
-  EXPECT_TRUE(std::filesystem::exists(dir / "default.obj"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "relief_cube.obj"));
   const auto statuses = window.document().statuses(&window.lastReport());
   for (const auto& [name, status] : statuses)
     EXPECT_TRUE(status.state == NodeState::Ok || status.state == NodeState::Warning) << name;
@@ -183,7 +183,7 @@ TEST(StudioWindow, EvaluatesOnItsWorkerAndShowsEachNodesState) {
 
 TEST(StudioWindow, AFailingNodeIsReportedAndTheWindowStaysUsable) {
   const auto dir = test::tempDir("studio-failing");
-  Graph graph = readGraphFile(graphFile("default.json"));
+  Graph graph = readGraphFile(graphFile("relief_cube.json"));
   graph.nodes["load"] = GraphNode{"geobrush.load_mesh", 1, {{"path", std::string("nothing.obj")}}};
   graph.nodes["save_loaded"] =
       GraphNode{"geobrush.save_mesh", 1, {{"path", std::string("loaded.obj")}}};
@@ -196,7 +196,7 @@ TEST(StudioWindow, AFailingNodeIsReportedAndTheWindowStaysUsable) {
   const auto statuses = window.document().statuses(&window.lastReport());
   EXPECT_EQ(statuses.at("load").state, NodeState::Error);
   EXPECT_NE(window.lastReport().error.find("nothing.obj"), std::string::npos);
-  ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("default.json").string())));
+  ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("relief_cube.json").string())));
   EXPECT_TRUE(evaluateAndWait(window));
 }
 
@@ -204,13 +204,13 @@ TEST(StudioCommand, WritesAScreenshotOfTheEvaluatedGraph) {
   const auto dir = test::tempDir("studio-screenshot");
   const auto png = dir / "studio.png";
   const std::string command = (test::cliPath().parent_path() / "geobrush-studio").string() + " " +
-                              graphFile("default.json").string() + " --out " + dir.string() +
+                              graphFile("relief_cube.json").string() + " --out " + dir.string() +
                               " --screenshot " + png.string() + " 2> " + (dir / "err.txt").string();
   EXPECT_EQ(std::system(command.c_str()), 0) << bytes(dir / "err.txt");
   const QImage shot(QString::fromStdString(png.string()));
   EXPECT_GT(shot.width(), 600);
   EXPECT_GT(shot.height(), 400);
-  EXPECT_TRUE(std::filesystem::exists(dir / "default.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "relief_cube.png"));
   const std::string missing = (test::cliPath().parent_path() / "geobrush-studio").string() +
                               " /no/such/graph.json --screenshot " + png.string() + " 2> " +
                               (dir / "err2.txt").string();
@@ -220,7 +220,7 @@ TEST(StudioCommand, WritesAScreenshotOfTheEvaluatedGraph) {
 
 TEST(StudioDocument, EditsAreCheckedAndUndoable) {
   StudioDocument document(test::registry());
-  ASSERT_EQ(document.open(graphFile("default.json")), "");
+  ASSERT_EQ(document.open(graphFile("relief_cube.json")), "");
   const std::string original = serializeGraph(document.graph());
   std::string load, save, load2;
   ASSERT_EQ(document.addNode("geobrush.load_mesh", 0, 0, &load), "");
@@ -262,7 +262,7 @@ TEST(StudioDocument, EditsAreCheckedAndUndoable) {
 
 TEST(StudioDocument, AConnectionThatClosesACycleIsRefused) {
   StudioDocument document(test::registry());
-  ASSERT_EQ(document.open(graphFile("default.json")), "");
+  ASSERT_EQ(document.open(graphFile("relief_cube.json")), "");
   std::string a, b;
   ASSERT_EQ(document.addNode("geobrush.transform", 0, 0, &a), "");
   ASSERT_EQ(document.addNode("geobrush.transform", 0, 0, &b), "");
@@ -276,7 +276,7 @@ TEST(StudioDocument, AConnectionThatClosesACycleIsRefused) {
 // port connects them, undo takes it back, Delete removes the selected node.
 TEST(StudioWindow, MouseAndKeysEditTheGraph) {
   StudioWindow window(test::registry());
-  ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("default.json").string())));
+  ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("relief_cube.json").string())));
   window.show();
   window.activateWindow();
   ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
@@ -404,7 +404,7 @@ TEST(CloneView, FindsTheRolesOfEveryCloneGraph) {
     EXPECT_EQ(roles.targetMesh.node, "target_mesh");
     EXPECT_FALSE(roles.paste.empty());
   }
-  EXPECT_FALSE(geobrush::studio::findClone(readGraphFile(graphFile("default.json"))).found());
+  EXPECT_FALSE(geobrush::studio::findClone(readGraphFile(graphFile("relief_cube.json"))).found());
 }
 
 // The paper's session, scripted with mouse events on the viewports: place both canvases, paint a
