@@ -245,16 +245,23 @@ MeshReadResult readMesh(const fs::path& path, const MeshReadOptions& options) {
                               " (supported: .obj, .ply, .off, .stl)");
   }
   const std::string bytes = readBytes(path);
+  if (options.progress) options.progress(0.2);
   return readMeshBytes(bytes, *format, path, options);
 }
 
 MeshReadResult readMeshBytes(std::string_view bytes, MeshFormat format, const fs::path& name,
                              const MeshReadOptions& options) {
   try {
+    const auto report = [&](double fraction) {
+      if (options.progress) options.progress(fraction);
+    };
     const meshread::PolygonSoup soup = readSoup({name, bytes}, format);
+    report(0.7);
     TriMesh surface;
     const meshread::ImportCounts counts = meshread::linkSoup(soup, surface);
+    report(0.9);
     MeshReadResult result = checkImport(name, format, std::move(surface), counts, options);
+    report(1.0);
     result.warnings.insert(result.warnings.begin(), soup.warnings.begin(), soup.warnings.end());
     return result;
   } catch (const std::bad_alloc&) {

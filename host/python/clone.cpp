@@ -55,11 +55,11 @@ void applySets(Graph& graph, const py::object& sets) {
 }
 
 // The mesh the method saves.
-MeshPtr savedMesh(const Graph& graph, const Evaluator& evaluator) {
+MeshPtr savedMesh(const Graph& graph, PyEvaluator& evaluator) {
   const Connection* saved = graph.source("save_result", "mesh");
   if (!saved) return nullptr;
   return std::dynamic_pointer_cast<const Mesh>(
-      evaluator.output(saved->from.node, saved->from.port));
+      lockedOutput(evaluator, saved->from.node, saved->from.port));
 }
 
 struct CloneCall {
@@ -69,8 +69,7 @@ struct CloneCall {
 
 CloneResult cloneFromPython(const CloneCall& call) {
   PyEvaluator own;
-  Evaluator& evaluator =
-      call.evaluator.is_none() ? own.evaluator : call.evaluator.cast<PyEvaluator&>().evaluator;
+  PyEvaluator& evaluator = call.evaluator.is_none() ? own : call.evaluator.cast<PyEvaluator&>();
 
   CloneResult result;
   Graph& graph = result.graph.graph;
@@ -79,9 +78,9 @@ CloneResult cloneFromPython(const CloneCall& call) {
   loads.targets.assign(std::begin(kCloneMeshNodes), std::end(kCloneMeshNodes));
   evaluateChecked(evaluator, graph, loads, call.progress, true);
   const auto source =
-      std::dynamic_pointer_cast<const Mesh>(evaluator.output("source_mesh", "mesh"));
+      std::dynamic_pointer_cast<const Mesh>(lockedOutput(evaluator, "source_mesh", "mesh"));
   const auto target =
-      std::dynamic_pointer_cast<const Mesh>(evaluator.output("target_mesh", "mesh"));
+      std::dynamic_pointer_cast<const Mesh>(lockedOutput(evaluator, "target_mesh", "mesh"));
   if (!source || !target) raise("EvaluationError", "the clone method loads no meshes");
   const SnappedSpec snapped = finishCloneGraph(graph, call.request, registry(), *source, *target);
   applySets(graph, call.sets);

@@ -99,19 +99,34 @@ void bindEvaluator(py::module_& module) {
            "then.")
       .def(
           "output",
-          [](const PyEvaluator& self, const std::string& node, const std::string& port) {
-            return valueToPython(self.evaluator.output(node, port));
+          [](PyEvaluator& self, const std::string& node, const std::string& port) {
+            return valueToPython(lockedOutput(self, node, port));
           },
           py::arg("node"), py::arg("port"),
           "An output of the last evaluation: a Mesh, a dict of metrics, a float, a tuple, an "
           "(h, w, 4) uint8 image array, a Value, or None.")
       .def_property_readonly(
-          "compute_count", [](const PyEvaluator& self) { return self.evaluator.computeCount(); },
+          "compute_count",
+          [](PyEvaluator& self) {
+            py::gil_scoped_release unlocked;
+            const std::lock_guard lock(self.mutex);
+            return self.evaluator.computeCount();
+          },
           "Node computations (cache misses) so far.")
-      .def("clear_cache", [](PyEvaluator& self) { self.evaluator.clearCache(); });
+      .def("clear_cache", [](PyEvaluator& self) {
+        py::gil_scoped_release unlocked;
+        const std::lock_guard lock(self.mutex);
+        self.evaluator.clearCache();
+      });
 }
 
 }  // namespace
+
+ValuePtr lockedOutput(PyEvaluator& self, const std::string& node, const std::string& port) {
+  py::gil_scoped_release unlocked;
+  const std::lock_guard lock(self.mutex);
+  return self.evaluator.output(node, port);
+}
 
 py::object valueToPython(const ValuePtr& value) {
   if (!value) return py::none();
@@ -134,10 +149,10 @@ PyReport evaluateGraph(PyEvaluator& self, const PyGraph& graph, const py::object
   // A graph being built may leave required inputs open; evaluating one is a graph error.
   Graph checked = graph.graph;
   prepareGraph(checked, registry());
-  return evaluateChecked(self.evaluator, checked, options, progress, check);
+  return evaluateChecked(self, checked, options, progress, check);
 }
 
-PyReport evaluateChecked(Evaluator& evaluator, const Graph& graph, EvalOptions options,
+PyReport evaluateChecked(PyEvaluator& evaluator, const Graph& graph, EvalOptions options,
                          const py::object& progress, bool check) {
   if (!options.outputDir.empty()) {
     std::error_code ec;
@@ -165,13 +180,14 @@ PyReport evaluateChecked(Evaluator& evaluator, const Graph& graph, EvalOptions o
   PyReport result;
   {
     py::gil_scoped_release unlocked;
-    result.report = evaluator.evaluate(graph, options);
+    const std::lock_guard lock(evaluator.mutex);
+    result.report = evaluator.evaluator.evaluate(graph, options);
+    if (result.report.ok) result.metrics = collectMetrics(graph, registry(), evaluator.evaluator);
   }
   if (callbackError) {
     callbackError->restore();
     throw py::error_already_set();
   }
-  if (result.report.ok) result.metrics = collectMetrics(graph, registry(), evaluator);
   if (!result.report.ok && check)
     raise("EvaluationError", result.report.error, graph.file.string(), result.report.errorNode,
           result.report.errorWhere, py::cast(result));

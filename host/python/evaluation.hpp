@@ -3,13 +3,18 @@
 
 #include <pybind11/pybind11.h>
 
+#include <mutex>
+
 #include "bindings.hpp"
 #include "geobrush/evaluator.hpp"
 
 namespace geobrush::python {
 
+// An evaluator shared by Python threads: one evaluation (or output read) at a time. Whoever waits
+// for the lock has released the GIL, so that the evaluation holding it can report progress.
 struct PyEvaluator {
   Evaluator evaluator{registry()};
+  std::mutex mutex;
 };
 
 struct PyReport {
@@ -22,7 +27,10 @@ PyReport evaluateGraph(PyEvaluator& self, const PyGraph& graph, const py::object
 
 // Evaluates with the GIL released, calling `progress` (None or a callable(node, fraction)) and
 // stopping on Ctrl-C; raises EvaluationError for a failed evaluation when `check`.
-PyReport evaluateChecked(Evaluator& evaluator, const Graph& graph, EvalOptions options,
+PyReport evaluateChecked(PyEvaluator& evaluator, const Graph& graph, EvalOptions options,
                          const py::object& progress, bool check);
+
+// An output of the evaluator's last evaluation, or null; waits for one under way.
+ValuePtr lockedOutput(PyEvaluator& evaluator, const std::string& node, const std::string& port);
 
 }  // namespace geobrush::python

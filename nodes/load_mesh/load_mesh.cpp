@@ -8,6 +8,7 @@ LoadMeshResult loadMesh(const std::filesystem::path& path, const LoadMeshOptions
   if (path.empty()) throw MeshError("no file given");
   MeshReadOptions read;
   read.repairNonManifold = options.repair;
+  read.progress = options.progress;
   MeshReadResult loaded = readMesh(path, read);
   return {std::move(loaded.mesh), std::move(loaded.warnings)};
 }

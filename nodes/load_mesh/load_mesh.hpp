@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,8 @@ struct LoadMeshOptions {
   // Split faces that make an edge or vertex non-manifold off onto their own copies of their
   // vertices, with a warning, instead of failing.
   bool repair = false;
+  // The reading's progress (MeshReadOptions::progress).
+  std::function<void(double)> progress;
 };
 
 struct LoadMeshResult {

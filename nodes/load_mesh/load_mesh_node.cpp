@@ -15,6 +15,10 @@ class LoadMeshNode final : public geobrush::Node {
   void compute(Context& ctx) override {
     geobrush::LoadMeshOptions options;
     options.repair = ctx.param<bool>("repair");
+    options.progress = [&ctx](double fraction) {
+      ctx.throwIfCancelled();
+      ctx.progress(fraction);
+    };
     geobrush::LoadMeshResult loaded;
     try {
       loaded = geobrush::loadMesh(ctx.path("path"), options);

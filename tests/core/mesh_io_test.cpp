@@ -247,7 +247,7 @@ TEST(MeshIo, RefusesNonManifoldEdgesUnlessRepaired) {
                 "first is face 2 of the file, 0-based); set repair to split them off onto their "
                 "own vertices");
 
-  const auto result = readMesh(path, {.repairNonManifold = true});
+  const auto result = readMesh(path, {.repairNonManifold = true, .progress = {}});
   ASSERT_EQ(result.warnings.size(), 1u);
   EXPECT_EQ(result.warnings[0],
             quoted(path) +
@@ -356,7 +356,7 @@ TEST(MeshIo, KeepsOpenMeshQuietAndItsStreamsAsTheyWere) {
   ASSERT_TRUE(omerr().is_enabled());
   ::testing::internal::CaptureStderr();
   ::testing::internal::CaptureStdout();
-  const auto result = readMesh(path, {.repairNonManifold = true});
+  const auto result = readMesh(path, {.repairNonManifold = true, .progress = {}});
   readMesh(ply);
   const std::string out = ::testing::internal::GetCapturedStdout();
   const std::string err = ::testing::internal::GetCapturedStderr();

@@ -329,7 +329,7 @@ TEST(MeshLink, ASecondClosedFanAtAVertexIsSplitOff) {
                              "4 faces would make an edge or vertex non-manifold "
                              "or flip the orientation (the first is face 4 of "
                              "the file, 0-based)"));
-  const auto repaired = readMesh(path, {.repairNonManifold = true});
+  const auto repaired = readMesh(path, {.repairNonManifold = true, .progress = {}});
   const TriMesh& mesh = repaired.mesh->surface;
   EXPECT_EQ(mesh.n_vertices(), 9u + 12u);
   EXPECT_EQ(mesh.n_faces(), 8u);

@@ -41,6 +41,19 @@ TEST(LoadMesh, ReadsAShippedMesh) {
   EXPECT_TRUE(result.warnings.empty());
 }
 
+// Each stage of the reading reports its end, rising to 1; what the callback throws stops it.
+TEST(LoadMesh, ReportsProgressPerStage) {
+  LoadMeshOptions options;
+  std::vector<double> reports;
+  options.progress = [&](double fraction) { reports.push_back(fraction); };
+  ASSERT_TRUE(loadMesh(test::meshPath("bunny_small.obj"), options).mesh);
+  EXPECT_EQ(reports, (std::vector<double>{0.2, 0.7, 0.9, 1.0}));
+  options.progress = [](double fraction) {
+    if (fraction > 0.5) throw std::runtime_error("cancelled");
+  };
+  EXPECT_THROW(loadMesh(test::meshPath("bunny_small.obj"), options), std::runtime_error);
+}
+
 TEST(LoadMesh, NeedsAPath) {
   EXPECT_EQ(loadError(""), "no file given");
 }
@@ -48,7 +61,7 @@ TEST(LoadMesh, NeedsAPath) {
 TEST(LoadMesh, RepairSplitsNonManifoldFacesInsteadOfFailing) {
   const auto path = writeFile(test::tempDir("load-mesh-repair") / "fin.obj", kFin);
   EXPECT_TRUE(test::contains(loadError(path), "set repair to split them off"));
-  const LoadMeshResult repaired = loadMesh(path, {.repair = true});
+  const LoadMeshResult repaired = loadMesh(path, {.repair = true, .progress = {}});
   EXPECT_EQ(repaired.mesh->surface.n_faces(), 3u);
   EXPECT_EQ(repaired.mesh->surface.n_vertices(), 8u);
   ASSERT_EQ(repaired.warnings.size(), 1u);

@@ -41,6 +41,14 @@ struct BumpPaste {
   }
 };
 
+// The metrics node's inputs for a paste: its result, map, target and source.
+std::map<std::string, ValuePtr, std::less<>> pasteInputs(const BumpPaste& paste) {
+  return {{"mesh", std::make_shared<const Mesh>(paste.stitched.mesh)},
+          {"map", std::make_shared<const PasteMap>(paste.stitched.map)},
+          {"target", std::make_shared<const Mesh>(paste.target->canvas->surface)},
+          {"source", paste.source}};
+}
+
 }  // namespace
 
 TEST(TriangleIntersection, AnalyticCases) {
@@ -177,11 +185,7 @@ TEST(MetricsNode, MeasuresAPasteFromItsInputs) {
   const NodeType* type = test::registry().find("geobrush.metrics");
   ASSERT_TRUE(type);
   const BumpPaste paste;
-  test::DirectContext ctx(*type,
-                          {{"mesh", std::make_shared<const Mesh>(paste.stitched.mesh)},
-                           {"map", std::make_shared<const PasteMap>(paste.stitched.map)},
-                           {"target", std::make_shared<const Mesh>(paste.target->canvas->surface)},
-                           {"source", paste.source}});
+  test::DirectContext ctx(*type, pasteInputs(paste));
   type->create()->compute(ctx);
   const auto metrics = std::dynamic_pointer_cast<const Metrics>(ctx.outputs.at("metrics"));
   ASSERT_TRUE(metrics);
@@ -195,11 +199,7 @@ TEST(MetricsNode, RequireValidPassesACleanPasteAndNamesEachProblem) {
   const NodeType* type = test::registry().find("geobrush.metrics");
   ASSERT_TRUE(type);
   const BumpPaste paste;
-  test::DirectContext ctx(*type,
-                          {{"mesh", std::make_shared<const Mesh>(paste.stitched.mesh)},
-                           {"map", std::make_shared<const PasteMap>(paste.stitched.map)},
-                           {"target", std::make_shared<const Mesh>(paste.target->canvas->surface)}},
-                          {{"require_valid", true}});
+  test::DirectContext ctx(*type, pasteInputs(paste), {{"require_valid", true}});
   EXPECT_NO_THROW(type->create()->compute(ctx));
 
   PasteMetrics measured = measurePaste(paste.stitched.mesh, &paste.stitched.map,

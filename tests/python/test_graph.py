@@ -173,3 +173,27 @@ def test_node_types_list_the_plugins():
     assert size["kind"] == "double" and size["default"] == 1.0
     assert geobrush.plugin_errors() == []
     assert set(geobrush.methods()) >= {"geobrush", "variational"}
+
+
+def test_one_evaluator_serves_several_threads(tmp_path):
+    import threading
+    evaluator = geobrush.Evaluator()
+    reports, errors = [], []
+
+    def run(index):
+        try:
+            graph = sphere_graph(f"sphere{index}.obj")
+            graph.set("move", "translate", (index, 0, 0))
+            reports.append(evaluator.evaluate(graph, out_dir=tmp_path, progress=lambda n, f: None))
+        except Exception as error:  # reported below
+            errors.append(error)
+
+    threads = [threading.Thread(target=run, args=(i,)) for i in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert errors == [] and len(reports) == 4
+    for index in range(4):
+        centre = geobrush.read_mesh(tmp_path / f"sphere{index}.obj").vertices.mean(axis=0)
+        np.testing.assert_allclose(centre, (index, 0, 0), atol=1e-12)

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -42,6 +43,9 @@ struct MeshReadOptions {
   // their own copies of their vertices (with a warning) instead of failing. Their faces, edges
   // and vertices keep OpenMesh's fixed_nonmanifold status bit.
   bool repairNonManifold = false;
+  // Called with the share of the work done as each stage ends: the file read, its polygons
+  // parsed, the mesh linked and checked. It may throw to stop reading (a cancelled evaluation).
+  std::function<void(double)> progress;
 };
 
 struct MeshReadResult {
