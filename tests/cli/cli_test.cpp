@@ -334,8 +334,8 @@ TEST(Cli, CompareSetsTwoGraphsSideBySide) {
     EXPECT_GT(dark, 50) << "side " << side;
   }
 
-  auto json = runCli({"compare", c1.string(), c1.string(), "--out", out.string(), "--json",
-                      "--set", "membrane.derivative_constraints=false"});
+  auto json = runCli({"compare", c1.string(), c1.string(), "--out", out.string(), "--json", "--set",
+                      "membrane.derivative_constraints=false"});
   ASSERT_EQ(json.status, 0) << json.err;
   EXPECT_NE(json.out.find("\"ok\": true"), std::string::npos) << json.out;
   EXPECT_NE(json.out.find("\"metrics.seam_normal_jump_mean_deg\""), std::string::npos) << json.out;
