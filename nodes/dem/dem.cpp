@@ -296,22 +296,15 @@ TargetDemResult targetExponentialMap(const MeshPtr& target,
   return targetExponentialMap(PreparedTarget(target), sourceUv, options);
 }
 
-TargetDemResult targetExponentialMap(const PreparedTarget& prepared,
-                                     const std::vector<Eigen::Vector2d>& sourceUv,
-                                     const TargetDemOptions& options) {
-  checkInput(sourceUv, options);
+namespace {
+
+// The target canvas holding the domain disk of radius `required` around the origin.
+TargetDemResult coveringCanvas(const PreparedTarget& prepared, const TargetDemOptions& options,
+                               double required) {
   const MeshPtr& target = prepared.mesh();
   const TriMesh& mesh = target->surface;
   const double diagonal = prepared.diagonal();
   const double lambda = options.scale;
-
-  double sourceRadius = 0;
-  for (const auto& u : sourceUv)
-    sourceRadius = std::max(sourceRadius, u.norm());
-  if (!(sourceRadius > 0)) {
-    throw TargetDemError("source", "the source map is a single point: its canvas has no extent");
-  }
-  const double required = (1 + options.margin) * sourceRadius;
 
   const SurfacePoint snapped = prepared.nearest(options.origin);
   const double tolerance = options.originTolerance * diagonal;
@@ -427,6 +420,29 @@ TargetDemResult targetExponentialMap(const PreparedTarget& prepared,
   result.canvas = std::move(canvas);
   result.requiredRadius = required;
   return result;
+}
+
+}  // namespace
+
+TargetDemResult targetExponentialMap(const PreparedTarget& prepared,
+                                     const std::vector<Eigen::Vector2d>& sourceUv,
+                                     const TargetDemOptions& options) {
+  checkInput(sourceUv, options);
+  double sourceRadius = 0;
+  for (const auto& u : sourceUv)
+    sourceRadius = std::max(sourceRadius, u.norm());
+  if (!(sourceRadius > 0)) {
+    throw TargetDemError("source", "the source map is a single point: its canvas has no extent");
+  }
+  const double required = (1 + options.margin) * sourceRadius;
+  if (options.preferredRadius > required) {
+    try {
+      return coveringCanvas(prepared, options, options.preferredRadius);
+    } catch (const TargetDemError&) {
+      // Too much of the target for the preferred disk: the required one alone.
+    }
+  }
+  return coveringCanvas(prepared, options, required);
 }
 
 }  // namespace geobrush

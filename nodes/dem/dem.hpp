@@ -26,6 +26,11 @@ struct TargetDemOptions {
   // Extra coverage beyond the disk around the domain origin that holds E_s(P_s), as a fraction of
   // its radius (the source cage reaches about two grid cells beyond the canvas).
   double margin = 0.25;
+  // A larger domain disk to cover where the target allows it, e.g. the one holding the source
+  // cage's columns (the cage's grid spans the bounding square of the canvas' disk): when covering
+  // it would wrap the canvas around the target or take in one of its holes, the canvas covers the
+  // disk of the margin alone. 0: none.
+  double preferredRadius = 0;
   // How far the origin may lie from the surface, relative to the mesh's bounding-box diagonal.
   double originTolerance = 1e-2;
   // Keep holes of the target mesh (boundary loops it encloses) inside the canvas instead of
@@ -73,7 +78,9 @@ struct TargetDemResult {
   std::vector<Eigen::Vector2d> uv;      // per canvas vertex, in the shared domain: E_t / lambda
   std::vector<Eigen::Vector3d> normal;  // per canvas vertex: the target's surface normals
   Frame origin;                         // at the snapped origin, uv (0, 0)
-  double requiredRadius = 0;  // (1 + margin) * the largest |uv| of the source, in the domain
+  // (1 + margin) * the largest |uv| of the source, in the domain, or the preferred radius when
+  // the canvas covers it.
+  double requiredRadius = 0;
 };
 
 // Grows P_t and E_t together: target vertices are fixed one by one in order of Dijkstra distance

@@ -29,6 +29,9 @@ class DemNode final : public geobrush::Node {
     options.scale = ctx.param<double>("scale");
     options.margin = ctx.param<double>("margin");
     options.keepHoles = ctx.param<bool>("keep_holes");
+    if (ctx.hasInput("source_cage"))
+      for (const auto& column : ctx.in<geobrush::Cage>("source_cage")->domain)
+        options.preferredRadius = std::max(options.preferredRadius, column.norm());
     try {
       if (!target_ || target_->mesh() != mesh) {
         target_.reset();
@@ -67,6 +70,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .input<Mesh>("mesh", "The target surface.")
             .input<Parameterization>("source",
                                      "E_s of the source canvas: the domain region to cover.")
+            .optionalInput<geobrush::Cage>(
+                "source_cage",
+                "The source cage: the canvas also covers its columns where the target allows "
+                "(not wrapping around it or taking in a hole), so that the target cage fits each.")
             .output<Parameterization>("parameterization",
                                       "The target canvas with uv in the shared domain, surface "
                                       "normals, the origin frame, rotation and scale.")

@@ -120,6 +120,31 @@ TEST(Dem, PlaneMapIsTheRotatedScaledIdentity) {
   }
 }
 
+// A preferred disk (the source cage's) is covered where the target allows it; where covering it
+// would wrap the canvas around the target, the canvas covers the required disk alone.
+TEST(Dem, CoversThePreferredDiskWhereTheTargetAllows) {
+  TargetDemOptions o;
+  o.origin = {0.1, 0.2, 0};
+  o.preferredRadius = 2.5;  // beyond 1.25 sqrt(2), the required radius of sourceUv()
+  const TargetDemResult wide = targetExponentialMap(plane(96, 6), sourceUv(), o);
+  EXPECT_DOUBLE_EQ(wide.requiredRadius, 2.5);
+  expectBoundaryBeyondRequired(wide);
+  expectCovers(asParameterization(wide), sourceUv(), 2.5 / std::sqrt(2.0));
+
+  // On the unit sphere at scale 0.35, a disk of radius 6 would be 2.1 geodesic radii: more than
+  // half of the sphere.
+  const MeshPtr sphere = readMesh(test::meshPath("sphere.obj")).mesh;
+  o.origin = Eigen::Vector3d(0.3, 0.8, 0.5).normalized();
+  o.scale = 0.35;
+  o.preferredRadius = 6;
+  const TargetDemResult fallback = targetExponentialMap(sphere, sourceUv(), o);
+  EXPECT_DOUBLE_EQ(fallback.requiredRadius, 1.25 * std::sqrt(2.0));
+  o.preferredRadius = 0;
+  const TargetDemResult required = targetExponentialMap(sphere, sourceUv(), o);
+  EXPECT_EQ(fallback.canvas.sourceVertex, required.canvas.sourceVertex);
+  EXPECT_EQ(fallback.uv, required.uv);
+}
+
 TEST(Dem, CanvasIsAFullCanvasOfTheTarget) {
   const MeshPtr mesh = plane(40, 3);
   TargetDemOptions o;
