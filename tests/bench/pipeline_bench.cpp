@@ -389,8 +389,15 @@ void BM_LiveBrushGraph(benchmark::State& state) {
 // grown around the canvas at the first move, rebuilt when the canvas leaves it). 120 moves of
 // 0.004 rad (0.48 rad, about 1.4 times the target canvas' radius). Counters: each node's mean
 // time per move, from the evaluator's report, and the median, 90th percentile and largest move.
+//
+// Argument 1: the target canvas also covers the source cage's columns (target_map.source_cage
+// connected, as in the clone methods); 0: only the source map's disk and margin.
 void BM_TargetMoveGraph(benchmark::State& state) {
   Graph graph = cloneGraph("target-move-graph");
+  if (state.range(0) == 1) {
+    graph.connections.push_back({{"source_cage", "cage"}, {"target_map", "source_cage"}});
+    prepareGraph(graph, test::registry());
+  }
   Evaluator evaluator(test::registry());
   EvalOptions options;
   options.targets = {"stitch"};
@@ -434,7 +441,12 @@ void BM_TargetMoveGraph(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_LiveBrushGraph)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(30);
-BENCHMARK(BM_TargetMoveGraph)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(120);
+BENCHMARK(BM_TargetMoveGraph)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(120);
 BENCHMARK(BM_LiveBrush)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(30);
 BENCHMARK(BM_TargetMove)
     ->Unit(benchmark::kMillisecond)
