@@ -64,6 +64,10 @@ Vec3 toVec3(const Eigen::Vector3d& p) {
 
 }  // namespace
 
+fs::path defaultCloneOutput(const CloneSpec& spec) {
+  return spec.source.stem().string() + "_on_" + spec.target.stem().string() + ".obj";
+}
+
 std::vector<fs::path> defaultMethodDirs() {
   std::vector<fs::path> dirs = splitPathList(std::getenv("GEOBRUSH_METHOD_PATH"));
   if (const fs::path lib = coreLibraryDir(); !lib.empty())

@@ -12,11 +12,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// SOURCE_on_TARGET.obj in the working folder.
-fs::path defaultOutput(const CloneSpec& spec) {
-  return spec.source.stem().string() + "_on_" + spec.target.stem().string() + ".obj";
-}
-
 // The meshes the method loads, through the evaluator that then runs the clone (so they are read
 // once): snapping needs them before the other params can be set.
 std::pair<MeshPtr, MeshPtr> loadMeshes(Evaluator& evaluator, const NodeRegistry& registry,
@@ -50,7 +45,7 @@ int cloneMeshes(const CloneOptions& options) {
   NodeRegistry registry;
   const auto pluginErrors = loadPlugins(registry, options.quiet || options.json);
   CloneRequest request = options.request;
-  if (request.outputs.mesh.empty()) request.outputs.mesh = defaultOutput(request.spec);
+  if (request.outputs.mesh.empty()) request.outputs.mesh = defaultCloneOutput(request.spec);
   Graph graph;
   try {
     graph = startCloneGraph(request, registry);

@@ -11,16 +11,8 @@ using namespace geobrush;
 
 namespace {
 
-// Checks an option's text as the geobrush.render param of the same meaning reads it (the same
-// parser and the range both take from render.hpp), so that the command and the node agree.
-CLI::Validator renderRange(ParamKind kind, RenderRange range) {
-  ParamDecl decl;
-  decl.kind = kind;
-  decl.defaultValue = kind == ParamKind::Int ? ParamValue(std::int64_t(0)) : ParamValue(0.0);
-  decl.min = range.min;
-  decl.max = range.max;
-  const std::string description =
-      "[" + formatParam(range.min) + ", " + formatParam(range.max) + "]";
+// Accepts what a param of `decl` reads from its text form; the error is the param's.
+CLI::Validator paramValidator(ParamDecl decl, const std::string& description) {
   return CLI::Validator(
       [decl](std::string& text) -> std::string {
         try {
@@ -31,6 +23,22 @@ CLI::Validator renderRange(ParamKind kind, RenderRange range) {
         }
       },
       description);
+}
+
+ParamDecl numberDecl(ParamKind kind, std::optional<double> min, std::optional<double> max) {
+  ParamDecl decl;
+  decl.kind = kind;
+  decl.defaultValue = kind == ParamKind::Int ? ParamValue(std::int64_t(0)) : ParamValue(0.0);
+  decl.min = min;
+  decl.max = max;
+  return decl;
+}
+
+// Checks an option's text as the geobrush.render param of the same meaning reads it (the same
+// parser and the range both take from render.hpp), so that the command and the node agree.
+CLI::Validator renderRange(ParamKind kind, RenderRange range) {
+  return paramValidator(numberDecl(kind, range.min, range.max),
+                        "[" + formatParam(range.min) + ", " + formatParam(range.max) + "]");
 }
 
 // The image is always PNG: another extension would name a file in a format it is not.
@@ -46,47 +54,25 @@ CLI::Validator pngName() {
       "PNG");
 }
 
-// A point "X,Y,Z" as a vec3 param reads it; the error names the option.
-CLI::Validator point() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        ParamDecl decl;
-        decl.kind = ParamKind::Vec3;
-        decl.defaultValue = Vec3{};
-        try {
-          parseParamText(decl, text);
-          return {};
-        } catch (const std::invalid_argument& e) {
-          return e.what();
-        }
-      },
-      "X,Y,Z");
-}
-
-Vec3 pointOf(const std::string& text) {
+ParamDecl pointDecl() {
   ParamDecl decl;
   decl.kind = ParamKind::Vec3;
   decl.defaultValue = Vec3{};
-  return std::get<Vec3>(parseParamText(decl, text));
+  return decl;
+}
+
+// A point "X,Y,Z" as a vec3 param reads it; the error names the option.
+CLI::Validator point() {
+  return paramValidator(pointDecl(), "X,Y,Z");
+}
+
+Vec3 pointOf(const std::string& text) {
+  return std::get<Vec3>(parseParamText(pointDecl(), text));
 }
 
 // A number as a double param with these bounds reads it.
 CLI::Validator numberIn(std::optional<double> min, std::optional<double> max) {
-  ParamDecl decl;
-  decl.kind = ParamKind::Double;
-  decl.defaultValue = 0.0;
-  decl.min = min;
-  decl.max = max;
-  return CLI::Validator(
-      [decl](std::string& text) -> std::string {
-        try {
-          parseParamText(decl, text);
-          return {};
-        } catch (const std::invalid_argument& e) {
-          return e.what();
-        }
-      },
-      "NUMBER");
+  return paramValidator(numberDecl(ParamKind::Double, min, max), "NUMBER");
 }
 
 // CLI11's errors as the program's other errors: one escaped, bounded "error:" line.

@@ -42,6 +42,10 @@ struct PyGraph {
 // throws GraphError naming the node and param.
 ParamValue paramFromPython(const py::handle& value, const ParamDecl& decl, const Graph& graph,
                            const std::string& node);
+// Sets NODE.PARAM of a graph from a Python value, checked against its declaration; throws
+// GraphError naming the node and param.
+void setParamFromPython(Graph& graph, const std::string& node, const std::string& param,
+                        const py::handle& value);
 py::object paramToPython(const ParamValue& value);
 
 // A value from a node's output as Python sees it: Mesh, dict of metrics, float, tuple, an

@@ -42,15 +42,9 @@ void applySets(Graph& graph, const py::object& sets) {
   for (const auto& [key, value] : sets.cast<py::dict>()) {
     const std::string text = py::str(key);
     const auto dot = text.rfind('.');
-    const std::string node = dot == std::string::npos ? text : text.substr(0, dot);
-    const std::string param = dot == std::string::npos ? "" : text.substr(dot + 1);
-    const auto it = graph.nodes.find(node);
-    const NodeType* type = it == graph.nodes.end() ? nullptr : registry().find(it->second.type);
-    const ParamDecl* decl = type ? type->findParam(param) : nullptr;
-    if (!decl)
-      throw GraphError(graph.file, node, "param " + quoteText(param),
-                       "the method has no such node or parameter");
-    it->second.params[param] = paramFromPython(value, *decl, graph, node);
+    if (dot == std::string::npos)
+      throw GraphError(graph.file, text, "", "expected NODE.PARAM, got " + quoteText(text));
+    setParamFromPython(graph, text.substr(0, dot), text.substr(dot + 1), value);
   }
 }
 
@@ -133,9 +127,7 @@ void bindClone(py::module_& module) {
                 angle};
         call.request.method = method;
         call.request.outputs.mesh =
-            output.is_none()
-                ? fs::path(source.stem().string() + "_on_" + target.stem().string() + ".obj")
-                : output.cast<fs::path>();
+            output.is_none() ? defaultCloneOutput(spec) : output.cast<fs::path>();
         if (!image.is_none()) call.request.outputs.image = image.cast<fs::path>();
         return cloneFromPython(call);
       },

@@ -104,8 +104,7 @@ py::object getParam(const PyGraph& self, const std::string& node, const std::str
 
 void setParam(PyGraph& self, const std::string& node, const std::string& param,
               const py::handle& value) {
-  const ParamDecl& decl = declOf(self.graph, node, param);
-  self.graph.nodes.at(node).params[param] = paramFromPython(value, decl, self.graph, node);
+  setParamFromPython(self.graph, node, param, value);
 }
 
 py::dict paramsOf(const PyGraph& self, const std::string& node) {
@@ -234,6 +233,12 @@ ParamValue paramFromPython(const py::handle& value, const ParamDecl& decl, const
   } catch (const std::invalid_argument& e) {
     throw GraphError(graph.file, node, "param " + quoteText(decl.name), e.what());
   }
+}
+
+void setParamFromPython(Graph& graph, const std::string& node, const std::string& param,
+                        const py::handle& value) {
+  const ParamDecl& decl = declOf(graph, node, param);
+  graph.nodes.at(node).params[param] = paramFromPython(value, decl, graph, node);
 }
 
 py::object paramToPython(const ParamValue& value) {

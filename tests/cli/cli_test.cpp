@@ -298,10 +298,6 @@ std::string rowOf(const std::string& table, const std::string& key) {
   return "";
 }
 
-bool isBackground(const std::uint8_t* p) {
-  return p[0] == 255 && p[1] == 255 && p[2] == 255;
-}
-
 // Two graphs side by side: their metrics and node times in one table that says which side is
 // better in each measure with a direction, one picture of both, each framed on its paste and
 // labelled with its graph's name.
@@ -325,7 +321,7 @@ TEST(Cli, CompareSetsTwoGraphsSideBySide) {
   ASSERT_EQ(picture.width, 2 * half);
   for (int side = 0; side < 2; ++side) {
     // Framed on the paste: it lies at the centre of each half.
-    EXPECT_FALSE(isBackground(picture.pixel(side * half + half / 2, picture.height / 2)));
+    EXPECT_FALSE(test::isBackground(picture.pixel(side * half + half / 2, picture.height / 2)));
     // A label of dark text in the top left corner, on the background there.
     int dark = 0;
     for (int y = 0; y < 30; ++y)

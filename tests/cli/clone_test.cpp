@@ -24,17 +24,6 @@ std::string slurp(const fs::path& path) {
   return text.str();
 }
 
-// The share of pixels that are not the white background.
-double coverage(const Image& image) {
-  std::size_t covered = 0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      const auto* p = image.pixel(x, y);
-      covered += !(p[0] == 255 && p[1] == 255 && p[2] == 255);
-    }
-  return double(covered) / (double(image.width) * image.height);
-}
-
 // "name = value" lines that the command prints for each metric.
 double metric(const std::string& err, const std::string& name) {
   const auto at = err.find("\n" + name + " = ");
@@ -147,7 +136,8 @@ TEST(Clone, SavesAGraphThatRunsToTheSameMeshAndSnapsItsPoints) {
   whole.insert(whole.end(),
                {"--set", "render_result.focus_radius=0", "--image", (out / "whole.png").string()});
   ASSERT_EQ(runCli(whole).status, 0);
-  EXPECT_GT(coverage(readPng(out / "clone.png")), 1.5 * coverage(readPng(out / "whole.png")));
+  EXPECT_GT(test::coverage(readPng(out / "clone.png")),
+            1.5 * test::coverage(readPng(out / "whole.png")));
 
   fs::create_directory(out / "again");
   const auto run = runCli({"run", (out / "clone.json").string(), "--quiet", "--set",

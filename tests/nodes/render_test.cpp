@@ -37,16 +37,6 @@ Rendered renderFile(const std::filesystem::path& dir, const std::string& mesh, P
   return result;
 }
 
-double coverage(const Image& image) {
-  std::size_t covered = 0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      const auto* p = image.pixel(x, y);
-      covered += !(p[0] == 255 && p[1] == 255 && p[2] == 255);
-    }
-  return double(covered) / (double(image.width) * image.height);
-}
-
 }  // namespace
 
 TEST(RenderNode, WritesThePngItOutputs) {
@@ -64,8 +54,8 @@ TEST(RenderNode, WritesThePngItOutputs) {
   const Image fromFile = readPng(dir / "bunny.png");
   EXPECT_EQ(fromFile.rgba, result.image->rgba);
   // The bunny fills a good part of the fitted view, but not all of it.
-  EXPECT_GT(coverage(*result.image), 0.10);
-  EXPECT_LT(coverage(*result.image), 0.90);
+  EXPECT_GT(test::coverage(*result.image), 0.10);
+  EXPECT_LT(test::coverage(*result.image), 0.90);
 }
 
 TEST(RenderNode, EmptyPathWritesNoFile) {
@@ -94,7 +84,7 @@ TEST(RenderNode, SphereCoverageMatchesTheCameraFit) {
   // Angular radius of the unit sphere from that distance, projected.
   const double discRadius = std::tan(std::asin(1.0 / distance)) / std::tan(halfFov);  // in NDC
   const double expected = M_PI * discRadius * discRadius / 4.0;
-  EXPECT_NEAR(coverage(*result.image), expected, 0.02 * expected + 0.002);
+  EXPECT_NEAR(test::coverage(*result.image), expected, 0.02 * expected + 0.002);
 }
 
 TEST(RenderNode, FocusFramesTheBallAroundItsCentre) {
@@ -109,7 +99,7 @@ TEST(RenderNode, FocusFramesTheBallAroundItsCentre) {
                             {"focus", Vec3{0, 0, 0}},
                             {"focus_radius", 1.0}});
   ASSERT_TRUE(result.report.ok) << result.report.error;
-  EXPECT_NEAR(coverage(*result.image), M_PI / 4, 0.02);
+  EXPECT_NEAR(test::coverage(*result.image), M_PI / 4, 0.02);
 
   // A small ball on the surface fills the picture with it.
   auto close = renderFile(dir, test::meshPath("sphere.obj").string(),
@@ -122,7 +112,7 @@ TEST(RenderNode, FocusFramesTheBallAroundItsCentre) {
                            {"focus", Vec3{0, 0, 1}},
                            {"focus_radius", 0.1}});
   ASSERT_TRUE(close.report.ok) << close.report.error;
-  EXPECT_EQ(coverage(*close.image), 1.0);
+  EXPECT_EQ(test::coverage(*close.image), 1.0);
 }
 
 TEST(RenderNode, OverlayAndWireframeChangeThePicture) {

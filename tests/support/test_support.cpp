@@ -122,4 +122,16 @@ std::map<std::string, double> graphMetrics(const std::filesystem::path& file,
   return graphMetrics(std::move(graph));
 }
 
+bool isBackground(const std::uint8_t* rgba) {
+  return rgba[0] == 255 && rgba[1] == 255 && rgba[2] == 255;
+}
+
+double coverage(const Image& image) {
+  std::size_t covered = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      covered += !isBackground(image.pixel(x, y));
+  return double(covered) / (double(image.width) * image.height);
+}
+
 }  // namespace geobrush::test

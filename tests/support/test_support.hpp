@@ -1,6 +1,7 @@
 // Paths and fixtures shared by the test suites.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -9,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "geobrush/graph.hpp"
+#include "geobrush/image.hpp"
 #include "geobrush/registry.hpp"
 
 namespace geobrush::test {
@@ -50,5 +52,10 @@ std::map<std::string, double> graphMetrics(Graph graph);
 // `geobrush run --set` does).
 std::map<std::string, double> graphMetrics(const std::filesystem::path& file,
                                            const std::vector<std::string>& assignments = {});
+
+// Whether an RGBA pixel is the renders' white background.
+bool isBackground(const std::uint8_t* rgba);
+// The share of an image's pixels that are not the white background.
+double coverage(const Image& image);
 
 }  // namespace geobrush::test

@@ -39,6 +39,9 @@ struct CloneOutputs {
   std::filesystem::path image;  // empty: no picture
 };
 
+// Where a clone writes its mesh when no path is given: SOURCE_on_TARGET.obj in the working folder.
+std::filesystem::path defaultCloneOutput(const CloneSpec& spec);
+
 // The source canvas reaches this fraction of the radius beyond the region: room for the
 // membrane's two fixed rings of grid nodes, the cage around the canvas and the region's correction
 // (paper section 4.5), which may take in a little more than the painted disc. A feature that the
