@@ -6,10 +6,9 @@
 #include <stdexcept>
 
 #include <Eigen/Geometry>
-#include <unsupported/Eigen/BVH>
 
+#include "geobrush/intersection.hpp"
 #include "geobrush/mesh_io.hpp"
-#include "triangle_intersection.hpp"
 
 namespace geobrush {
 namespace {
@@ -19,16 +18,8 @@ Eigen::Vector3d position(const TriMesh& mesh, TriMesh::VertexHandle v) {
   return {p[0], p[1], p[2]};
 }
 
-Triangle3 triangle(const TriMesh& mesh, int f) {
-  Triangle3 t;
-  int k = 0;
-  for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-    t[std::size_t(k++)] = position(mesh, v);
-  return t;
-}
-
 Eigen::Vector3d faceNormal(const TriMesh& mesh, TriMesh::FaceHandle f) {
-  const Triangle3 t = triangle(mesh, f.idx());
+  const Triangle3 t = faceTriangle(mesh, f.idx());
   return (t[1] - t[0]).cross(t[2] - t[0]).normalized();
 }
 
@@ -134,60 +125,6 @@ std::vector<double> normalJumps(const TriMesh& mesh, const std::vector<int>& edg
     jumps.push_back(std::acos(c));
   }
   return jumps;
-}
-
-std::size_t selfIntersections(const TriMesh& mesh, const std::vector<int>& faces,
-                              double tolerance) {
-  using Box = Eigen::AlignedBox3d;
-  std::vector<int> ids(mesh.n_faces());
-  std::iota(ids.begin(), ids.end(), 0);
-  std::vector<Box> boxes;
-  boxes.reserve(ids.size());
-  for (int f : ids) {
-    Box box;
-    for (const auto& p : triangle(mesh, f))
-      box.extend(p);
-    boxes.push_back(box);
-  }
-  const Eigen::KdBVH<double, 3, int> tree(ids.begin(), ids.end(), boxes.begin(), boxes.end());
-  std::vector<char> listed(mesh.n_faces(), 0);
-  for (int f : faces)
-    listed[std::size_t(f)] = 1;
-
-  // Eigen's BVH visitor: descends into volumes that meet the query box, tests the faces there.
-  struct Intersector {
-    const TriMesh& mesh;
-    const std::vector<Box>& boxes;
-    const std::vector<char>& listed;
-    double tolerance;
-    int query = 0;
-    Triangle3 queryTriangle{};
-    std::array<int, 3> queryCorners{};
-    std::size_t count = 0;
-    bool intersectVolume(const Box& volume) const {
-      return volume.intersects(boxes[std::size_t(query)]);
-    }
-    bool intersectObject(int other) {
-      // Each pair once: from its smaller listed face.
-      if (other == query || (listed[std::size_t(other)] && other < query)) return false;
-      if (!boxes[std::size_t(other)].intersects(boxes[std::size_t(query)])) return false;
-      for (auto v : mesh.fv_range(TriMesh::FaceHandle(other)))
-        if (std::find(queryCorners.begin(), queryCorners.end(), v.idx()) != queryCorners.end())
-          return false;
-      count += trianglesIntersect(queryTriangle, triangle(mesh, other), tolerance);
-      return false;
-    }
-  };
-  Intersector intersector{mesh, boxes, listed, tolerance, 0, {}, {}, 0};
-  for (int f : faces) {
-    intersector.query = f;
-    intersector.queryTriangle = triangle(mesh, f);
-    int k = 0;
-    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-      intersector.queryCorners[std::size_t(k++)] = v.idx();
-    Eigen::BVIntersect(tree, intersector);
-  }
-  return intersector.count;
 }
 
 PasteMetrics measurePaste(const TriMesh& result, const PasteMap* map, const TriMesh* target,

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geobrush/canvas.hpp"
+#include "geobrush/intersection.hpp"
 #include "geobrush/region.hpp"
 
 namespace geobrush {
@@ -40,8 +41,5 @@ std::optional<std::string> invalidPaste(const PasteMetrics& metrics);
 
 // The angle in radians between the normals of the two faces of each interior edge listed.
 std::vector<double> normalJumps(const TriMesh& mesh, const std::vector<int>& edges);
-
-// Face pairs of `mesh` that intersect, with at least one face in `faces` and no shared vertex.
-std::size_t selfIntersections(const TriMesh& mesh, const std::vector<int>& faces, double tolerance);
 
 }  // namespace geobrush

@@ -13,7 +13,7 @@
 #include "roi.hpp"
 #include "stitch.hpp"
 #include "test_support.hpp"
-#include "triangle_intersection.hpp"
+#include "geobrush/intersection.hpp"
 
 using namespace geobrush;
 

@@ -5,8 +5,12 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
+#include <vector>
 
 #include <Eigen/Core>
+
+#include "geobrush/mesh.hpp"
 
 namespace geobrush {
 
@@ -15,5 +19,11 @@ using Triangle3 = std::array<Eigen::Vector3d, 3>;
 // True when the closed triangles share a point or come closer than `tolerance` (a length, for
 // rounding) along every axis; touching counts. Degenerate triangles never intersect.
 bool trianglesIntersect(const Triangle3& a, const Triangle3& b, double tolerance);
+
+// The corners of face f.
+Triangle3 faceTriangle(const TriMesh& mesh, int f);
+
+// Face pairs of `mesh` that intersect, with at least one face in `faces` and no shared vertex.
+std::size_t selfIntersections(const TriMesh& mesh, const std::vector<int>& faces, double tolerance);
 
 }  // namespace geobrush

@@ -1,0 +1,397 @@
+// Automatic hole filling: loops, charts, and each fill joined to the mesh.
+#include "fill_holes.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include <Eigen/Geometry>
+
+#include "geobrush/intersection.hpp"
+#include "hole_membrane.hpp"
+
+namespace geobrush {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+Vector3d point(const TriMesh& mesh, int v) {
+  const auto& p = mesh.point(TriMesh::VertexHandle(v));
+  return {p[0], p[1], p[2]};
+}
+
+std::string loopName(int id, const BoundaryLoop& loop) {
+  return "loop " + std::to_string(id) + " (" + std::to_string(loop.vertices.size()) +
+         " border edges, from vertex " + std::to_string(loop.vertices.front()) + ")";
+}
+
+// Border heights up to this fraction of the loop's length count as a plane: what rounding to the
+// six or seven digits mesh files often keep leaves of one.
+constexpr double kPlanarBorder = 1e-5;
+
+// A unit vector normal to `normal`, the same for the same normal.
+Vector3d perpendicular(const Vector3d& normal) {
+  int smallest = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(normal[k]) < std::abs(normal[smallest])) smallest = k;
+  return normal.cross(Vector3d::Unit(smallest)).normalized();
+}
+
+HoleChart chartAlong(const Vector3d& normal, const Vector3d& origin,
+                     const std::vector<Vector3d>& points) {
+  HoleChart chart;
+  chart.origin = origin;
+  chart.normal = normal;
+  chart.axisU = perpendicular(normal);
+  chart.axisV = normal.cross(chart.axisU);
+  for (const auto& p : points)
+    chart.border.push_back(chart.toChart(p));
+  return chart;
+}
+
+double signedArea(const std::vector<Vector2d>& polygon) {
+  double twice = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vector2d &a = polygon[i], &b = polygon[(i + 1) % polygon.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * twice;
+}
+
+// The known ring outside a hole: every existing face at a border vertex, and their vertices.
+struct HoleRing {
+  std::vector<std::array<int, 3>> faces;  // mesh vertex ids
+  std::vector<int> outerVertices;         // ring vertices not on the loop, increasing
+};
+
+HoleRing ringAround(const TriMesh& mesh, const BoundaryLoop& loop) {
+  const std::set<int> border(loop.vertices.begin(), loop.vertices.end());
+  std::set<int> faces, outer;
+  for (int v : loop.vertices)
+    for (auto f : mesh.vf_range(TriMesh::VertexHandle(v)))
+      faces.insert(f.idx());
+  HoleRing ring;
+  for (int f : faces) {
+    std::array<int, 3> tri{};
+    int k = 0;
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f))) {
+      tri[std::size_t(k++)] = v.idx();
+      if (!border.count(v.idx())) outer.insert(v.idx());
+    }
+    ring.faces.push_back(tri);
+  }
+  ring.outerVertices.assign(outer.begin(), outer.end());
+  return ring;
+}
+
+// Splits, at its midpoint, each chord of the patch between two border points that the mesh
+// already joins by an edge: adding it again would make a non-manifold edge.
+void splitExistingChords(PlanarPatch& patch, const TriMesh& mesh, const BoundaryLoop& loop,
+                         std::vector<double>& size) {
+  const int n = int(loop.vertices.size());
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = patch.triangles[t][k], b = patch.triangles[t][(k + 1) % 3];
+      if (a >= n || b >= n || (a + 1) % n == b || (b + 1) % n == a) continue;
+      const auto edge = mesh.find_halfedge(TriMesh::VertexHandle(loop.vertices[a]),
+                                           TriMesh::VertexHandle(loop.vertices[b]));
+      if (!edge.is_valid()) continue;
+      const int c = patch.triangles[t][(k + 2) % 3];
+      const int mid = int(patch.points.size());
+      patch.points.push_back(0.5 * (patch.points[a] + patch.points[b]));
+      size.push_back(0.5 * (size[a] + size[b]));
+      patch.triangles[t] = {a, mid, c};
+      patch.triangles.push_back({mid, b, c});
+      for (auto& other : patch.triangles) {  // the triangle across the chord, if any
+        for (int j = 0; j < 3; ++j) {
+          if (other[j] != b || other[(j + 1) % 3] != a) continue;
+          const int d = other[(j + 2) % 3];
+          other = {b, mid, d};
+          patch.triangles.push_back({mid, a, d});
+          break;
+        }
+      }
+      --t;  // look at the shortened triangle again
+      break;
+    }
+  }
+}
+
+struct HoleFill {
+  std::vector<Vector3d> newPoints;
+  std::vector<std::array<int, 3>> faces;  // mesh vertex ids, new points from mesh.n_vertices()
+};
+
+HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
+                 const FillHolesOptions& options, int firstNewVertex) {
+  const HoleChart chart = chartHole(mesh, loop);
+  const int n = int(loop.vertices.size());
+  std::vector<double> size(std::size_t(n), 0.0);
+  for (int i = 0; i < n; ++i) {
+    const double edge =
+        (chart.border[std::size_t((i + 1) % n)] - chart.border[std::size_t(i)]).norm();
+    size[std::size_t(i)] += 0.5 * edge;
+    size[std::size_t((i + 1) % n)] += 0.5 * edge;
+  }
+  PlanarPatch patch;
+  try {
+    patch = triangulatePolygon(chart.border, size, options.density);
+  } catch (const std::runtime_error& e) {
+    throw FillHolesError(loopId, loopName(loopId, loop) + ": " + e.what());
+  }
+  splitExistingChords(patch, mesh, loop, size);
+
+  // The membrane's points: new ones, then the border, then the ring outside.
+  const int added = int(patch.points.size()) - n;
+  const HoleRing ring = ringAround(mesh, loop);
+  std::vector<int> known(loop.vertices);
+  known.insert(known.end(), ring.outerVertices.begin(), ring.outerVertices.end());
+  std::unordered_map<int, int> local;  // mesh vertex -> membrane point
+  for (std::size_t k = 0; k < known.size(); ++k)
+    local[known[k]] = added + int(k);
+  MembraneProblem problem;
+  problem.pointCount = added + int(known.size());
+  problem.unknownCount = added;
+  problem.completeCount = added + n;
+  problem.continuity = options.continuity;
+  auto membranePoint = [&](int p) { return p < n ? added + p : p - n; };
+  for (const auto& tri : patch.triangles) {
+    problem.triangles.push_back(
+        {membranePoint(tri[0]), membranePoint(tri[1]), membranePoint(tri[2])});
+    std::array<Vector3d, 3> corners;
+    for (int k = 0; k < 3; ++k)
+      corners[k] << patch.points[std::size_t(tri[k])], 0.0;
+    problem.corners.push_back(corners);
+  }
+  // The ring weighs with its own shape: projected, it may fold where the surface turns.
+  for (const auto& face : ring.faces) {
+    problem.triangles.push_back({local.at(face[0]), local.at(face[1]), local.at(face[2])});
+    problem.corners.push_back({point(mesh, face[0]), point(mesh, face[1]), point(mesh, face[2])});
+  }
+  // A border in a plane (a cut through a CAD part) is capped flat whatever the ring's slopes.
+  double borderHeight = 0.0;
+  for (int v : loop.vertices)
+    borderHeight = std::max(borderHeight, std::abs(chart.height(point(mesh, v))));
+  if (chart.planar && borderHeight <= kPlanarBorder * loop.length) problem.continuity = 0;
+  // Over a plane the heights, over the disc the positions.
+  problem.values = Eigen::MatrixXd::Zero(problem.pointCount, chart.planar ? 1 : 3);
+  for (std::size_t k = 0; k < known.size(); ++k) {
+    const Vector3d p = point(mesh, known[k]);
+    if (chart.planar)
+      problem.values(added + int(k), 0) = chart.height(p);
+    else
+      problem.values.row(added + int(k)) = p.transpose();
+  }
+  std::vector<Vector3d> lifted(static_cast<std::size_t>(added));
+  try {
+    const Eigen::MatrixXd solved = solveMembrane(problem);
+    for (int i = 0; i < added; ++i)
+      lifted[std::size_t(i)] = chart.planar
+                                   ? chart.toSpace(patch.points[std::size_t(n + i)], solved(i, 0))
+                                   : Vector3d(solved.row(i).transpose());
+  } catch (const std::runtime_error& e) {
+    throw FillHolesError(loopId, loopName(loopId, loop) + ": " + e.what());
+  }
+
+  HoleFill fill;
+  fill.newPoints = std::move(lifted);
+  auto meshVertex = [&](int p) {
+    return p < n ? loop.vertices[std::size_t(p)] : firstNewVertex + p - n;
+  };
+  for (const auto& tri : patch.triangles)
+    fill.faces.push_back({meshVertex(tri[0]), meshVertex(tri[1]), meshVertex(tri[2])});
+  return fill;
+}
+
+std::vector<bool> chosenLoops(const std::vector<BoundaryLoop>& loops,
+                              const FillHolesOptions& options, std::vector<HoleReport>& reports) {
+  std::vector<bool> chosen(loops.size(), options.selection != HoleSelection::Listed);
+  if (options.selection == HoleSelection::Listed) {
+    for (int id : options.loops) {
+      if (id < 0 || id >= int(loops.size()))
+        throw std::invalid_argument("there is no loop " + std::to_string(id) + " (the mesh has " +
+                                    std::to_string(loops.size()) + " boundary loops)");
+      chosen[std::size_t(id)] = true;
+    }
+  }
+  for (std::size_t i = 0; i < loops.size(); ++i)
+    if (!chosen[i]) reports[i].leftOpen = "not chosen";
+  if (options.selection == HoleSelection::AllButLargest && !loops.empty()) {
+    std::size_t largest = 0;
+    for (std::size_t i = 1; i < loops.size(); ++i)
+      if (loops[i].length > loops[largest].length) largest = i;
+    chosen[largest] = false;
+    reports[largest].leftOpen = "the largest loop";
+  }
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    if (!chosen[i] || options.maxBorderEdges <= 0 ||
+        int(loops[i].vertices.size()) <= options.maxBorderEdges)
+      continue;
+    chosen[i] = false;
+    reports[i].leftOpen = "more than " + std::to_string(options.maxBorderEdges) + " border edges";
+  }
+  return chosen;
+}
+
+double meanEdgeLength(const std::vector<Vector3d>& points,
+                      const std::vector<std::array<int, 3>>& faces, const TriMesh& mesh,
+                      int firstNewVertex) {
+  std::set<std::pair<int, int>> edges;
+  for (const auto& f : faces)
+    for (int k = 0; k < 3; ++k)
+      edges.insert(std::minmax(f[k], f[(k + 1) % 3]));
+  auto at = [&](int v) {
+    return v < firstNewVertex ? point(mesh, v) : points[std::size_t(v - firstNewVertex)];
+  };
+  double sum = 0.0;
+  int count = 0;
+  for (const auto& [a, b] : edges) {
+    if (a < firstNewVertex && b < firstNewVertex &&
+        mesh.find_halfedge(TriMesh::VertexHandle(a), TriMesh::VertexHandle(b)).is_valid())
+      continue;  // a border edge
+    sum += (at(a) - at(b)).norm();
+    ++count;
+  }
+  return count ? sum / count : 0.0;
+}
+
+// A fill must not cut through the mesh (or another fill).
+void checkNoIntersections(const TriMesh& mesh, const std::vector<BoundaryLoop>& loops,
+                          const std::vector<std::vector<int>>& newFaces) {
+  std::vector<int> all;
+  for (const auto& faces : newFaces)
+    all.insert(all.end(), faces.begin(), faces.end());
+  if (all.empty()) return;
+  Vector3d lo = point(mesh, 0), hi = lo;
+  for (auto v : mesh.vertices()) {
+    lo = lo.cwiseMin(point(mesh, v.idx()));
+    hi = hi.cwiseMax(point(mesh, v.idx()));
+  }
+  const double tolerance = 1e-9 * (hi - lo).norm();
+  if (selfIntersections(mesh, all, tolerance) == 0) return;
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    const std::size_t count = selfIntersections(mesh, newFaces[i], tolerance);
+    if (count > 0)
+      throw FillHolesError(int(i), loopName(int(i), loops[i]) +
+                                       ": its fill would cut through the "
+                                       "surface (" +
+                                       std::to_string(count) + " face pairs)");
+  }
+}
+
+}  // namespace
+
+Vector2d HoleChart::toChart(const Vector3d& p) const {
+  return {axisU.dot(p - origin), axisV.dot(p - origin)};
+}
+
+Vector3d HoleChart::toSpace(const Vector2d& uv, double h) const {
+  return origin + uv.x() * axisU + uv.y() * axisV + h * normal;
+}
+
+std::vector<BoundaryLoop> boundaryLoops(const TriMesh& mesh) {
+  std::vector<bool> seen(mesh.n_halfedges(), false);
+  std::vector<BoundaryLoop> loops;
+  for (auto start : mesh.halfedges()) {
+    if (!mesh.is_boundary(start) || seen[std::size_t(start.idx())]) continue;
+    BoundaryLoop loop;
+    auto h = start;
+    do {
+      seen[std::size_t(h.idx())] = true;
+      loop.vertices.push_back(mesh.from_vertex_handle(h).idx());
+      loop.length += mesh.calc_edge_length(h);
+      h = mesh.next_halfedge_handle(h);
+    } while (h != start && loop.vertices.size() <= mesh.n_halfedges());
+    std::rotate(loop.vertices.begin(), std::min_element(loop.vertices.begin(), loop.vertices.end()),
+                loop.vertices.end());
+    loops.push_back(std::move(loop));
+  }
+  std::sort(loops.begin(), loops.end(), [](const BoundaryLoop& a, const BoundaryLoop& b) {
+    return a.vertices.front() < b.vertices.front();
+  });
+  return loops;
+}
+
+HoleChart chartHole(const TriMesh& mesh, const BoundaryLoop& loop) {
+  std::vector<Vector3d> points;
+  Vector3d origin = Vector3d::Zero(), areaNormal = Vector3d::Zero();
+  for (int v : loop.vertices)
+    points.push_back(point(mesh, v));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    origin += points[i];
+    areaNormal += points[i].cross(points[(i + 1) % points.size()]);
+  }
+  origin /= double(points.size());
+  Vector3d faceNormal = Vector3d::Zero();
+  for (int v : loop.vertices)
+    for (auto f : mesh.vf_range(TriMesh::VertexHandle(v))) {
+      const auto n = mesh.calc_face_normal(f);
+      faceNormal += Vector3d(n[0], n[1], n[2]);
+    }
+  for (const Vector3d& normal : {areaNormal, faceNormal}) {
+    if (!(normal.norm() > 0.0)) continue;
+    HoleChart chart = chartAlong(normal.normalized(), origin, points);
+    if (signedArea(chart.border) > 0.0 && isSimplePolygon(chart.border)) return chart;
+  }
+  HoleChart disc = chartAlong(areaNormal.norm() > 0.0 ? areaNormal.normalized() : Vector3d::UnitZ(),
+                              origin, points);
+  disc.planar = false;
+  const double radius = loop.length / (2.0 * M_PI);
+  double arc = 0.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double angle = 2.0 * M_PI * arc / loop.length;
+    disc.border[i] = radius * Vector2d(std::cos(angle), std::sin(angle));
+    arc += (points[(i + 1) % points.size()] - points[i]).norm();
+  }
+  return disc;
+}
+
+FillHolesResult fillHoles(const TriMesh& mesh, const FillHolesOptions& options) {
+  if (options.continuity != 0 && options.continuity != 1)
+    throw std::invalid_argument("continuity is 0 or 1");
+  if (!(options.density > 0.0)) throw std::invalid_argument("density must be positive");
+  const std::vector<BoundaryLoop> loops = boundaryLoops(mesh);
+  FillHolesResult result;
+  result.mesh = mesh;
+  result.holes.resize(loops.size());
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    auto& report = result.holes[i];
+    report.loop = int(i);
+    report.borderEdges = int(loops[i].vertices.size());
+    report.borderMeanEdge = loops[i].length / double(loops[i].vertices.size());
+  }
+  const std::vector<bool> chosen = chosenLoops(loops, options, result.holes);
+  std::vector<std::vector<int>> newFaces(loops.size());
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    if (!chosen[i]) continue;
+    const auto start = std::chrono::steady_clock::now();
+    const int first = int(result.mesh.n_vertices());
+    const HoleFill fill = fillOne(mesh, loops[i], int(i), options, first);
+    for (std::size_t f = 0; f < fill.faces.size(); ++f)
+      newFaces[i].push_back(int(result.mesh.n_faces() + f));
+    for (const auto& p : fill.newPoints)
+      result.mesh.add_vertex(TriMesh::Point(p.x(), p.y(), p.z()));
+    for (const auto& f : fill.faces) {
+      const auto face = result.mesh.add_face(
+          TriMesh::VertexHandle(f[0]), TriMesh::VertexHandle(f[1]), TriMesh::VertexHandle(f[2]));
+      if (!face.is_valid())
+        throw FillHolesError(
+            int(i), loopName(int(i), loops[i]) + ": its fill would make the mesh non-manifold");
+    }
+    auto& report = result.holes[i];
+    report.filled = true;
+    report.newVertices = int(fill.newPoints.size());
+    report.newFaces = int(fill.faces.size());
+    report.newMeanEdge = meanEdgeLength(fill.newPoints, fill.faces, mesh, first);
+    report.timeMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
+  checkNoIntersections(result.mesh, loops, newFaces);
+  return result;
+}
+
+}  // namespace geobrush

@@ -1,0 +1,364 @@
+#include "fill_holes.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <functional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cgal_reference.hpp"
+#include "direct_context.hpp"
+#include "geobrush/mesh_io.hpp"
+#include "geobrush/values.hpp"
+#include "hole_membrane.hpp"
+#include "mesh_checks.hpp"
+#include "test_support.hpp"
+
+namespace geobrush {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+Vector3d at(const TriMesh& mesh, int v) {
+  const auto& p = mesh.point(TriMesh::VertexHandle(v));
+  return {p[0], p[1], p[2]};
+}
+
+// Deletes the faces `remove` picks (by their centroid) and the vertices left without a face.
+TriMesh withoutFaces(TriMesh mesh, const std::function<bool(const Vector3d&)>& remove) {
+  for (auto f : mesh.faces()) {
+    Vector3d centroid = Vector3d::Zero();
+    for (auto v : mesh.fv_range(f))
+      centroid += at(mesh, v.idx()) / 3.0;
+    if (remove(centroid)) mesh.delete_face(f, true);
+  }
+  mesh.garbage_collection();
+  return mesh;
+}
+
+// The square [0, 1]^2 at z = 0 cut into n x n squares of two triangles each, facing +z.
+TriMesh planeGrid(int n) {
+  TriMesh mesh;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      mesh.add_vertex(TriMesh::Point(double(i) / n, double(j) / n, 0));
+  auto id = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      mesh.add_face(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      mesh.add_face(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  return mesh;
+}
+
+std::vector<Vector3d> newPoints(const TriMesh& filled, const TriMesh& holed) {
+  std::vector<Vector3d> points;
+  for (int v = int(holed.n_vertices()); v < int(filled.n_vertices()); ++v)
+    points.push_back(at(filled, v));
+  return points;
+}
+
+// The input's vertices and faces, unchanged and in their order, begin the output.
+void expectInputKept(const TriMesh& input, const TriMesh& output) {
+  ASSERT_GE(output.n_vertices(), input.n_vertices());
+  ASSERT_GE(output.n_faces(), input.n_faces());
+  for (auto v : input.vertices())
+    ASSERT_EQ(input.point(v), output.point(v)) << v.idx();
+  for (auto f : input.faces()) {
+    std::vector<int> a, b;
+    for (auto v : input.fv_range(f))
+      a.push_back(v.idx());
+    for (auto v : output.fv_range(TriMesh::FaceHandle(f.idx())))
+      b.push_back(v.idx());
+    ASSERT_EQ(a, b) << f.idx();
+  }
+}
+
+FillHolesOptions listed(std::vector<int> loops, int continuity = 1) {
+  FillHolesOptions options;
+  options.selection = HoleSelection::Listed;
+  options.loops = std::move(loops);
+  options.continuity = continuity;
+  return options;
+}
+
+TEST(FillHoles, FindsEachLoopStartingAtItsSmallestVertex) {
+  const TriMesh holed = withoutFaces(planeGrid(20), [](const Vector3d& c) {
+    return (c - Vector3d(0.3, 0.3, 0)).norm() < 0.1 || (c - Vector3d(0.7, 0.7, 0)).norm() < 0.12;
+  });
+  const auto loops = boundaryLoops(holed);
+  ASSERT_EQ(loops.size(), 3u);
+  EXPECT_EQ(loops[0].vertices.front(), 0);  // the square's own border
+  EXPECT_NEAR(loops[0].length, 4.0, 1e-12);
+  for (const auto& loop : loops) {
+    EXPECT_EQ(*std::min_element(loop.vertices.begin(), loop.vertices.end()), loop.vertices.front());
+    for (std::size_t i = 0; i < loop.vertices.size(); ++i) {
+      const auto h =
+          holed.find_halfedge(TriMesh::VertexHandle(loop.vertices[i]),
+                              TriMesh::VertexHandle(loop.vertices[(i + 1) % loop.vertices.size()]));
+      ASSERT_TRUE(h.is_valid());
+      EXPECT_TRUE(holed.is_boundary(h));
+    }
+  }
+  EXPECT_LT(loops[1].vertices.front(), loops[2].vertices.front());
+}
+
+TEST(FillHoles, APlanarHoleFillsFlatWithEdgesLikeItsBorder) {
+  const TriMesh holed = withoutFaces(
+      planeGrid(30), [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.25; });
+  const auto result = fillHoles(holed, listed({1}));
+  expectInputKept(holed, result.mesh);
+  const auto topo = test::topology(result.mesh);
+  EXPECT_EQ(topo.boundaryLoops, 1u);
+  EXPECT_EQ(topo.nonManifoldVertices, 0u);
+  EXPECT_EQ(topo.components, 1u);
+  for (const auto& p : newPoints(result.mesh, holed))
+    EXPECT_NEAR(p.z(), 0.0, 1e-12);
+  for (int f = int(holed.n_faces()); f < int(result.mesh.n_faces()); ++f) {
+    const auto n = result.mesh.calc_face_normal(TriMesh::FaceHandle(f));
+    EXPECT_GT(n[2], 0.999) << f;  // facing as the mesh around it
+  }
+  const auto& hole = result.holes[1];
+  EXPECT_TRUE(hole.filled);
+  EXPECT_GT(hole.newVertices, 0);
+  EXPECT_GE(hole.newMeanEdge, 0.7 * hole.borderMeanEdge);
+  EXPECT_LE(hole.newMeanEdge, 1.5 * hole.borderMeanEdge);
+  EXPECT_GT(test::minAngleDegrees(result.mesh), 20.0);
+  EXPECT_FALSE(result.holes[0].filled);
+  EXPECT_EQ(result.holes[0].leftOpen, "not chosen");
+}
+
+TEST(FillHoles, ALongSlotFillsFlat) {
+  const TriMesh holed = withoutFaces(planeGrid(40), [](const Vector3d& c) {
+    return std::abs(c.x() - 0.5) < 0.4 && std::abs(c.y() - 0.5) < 0.03;
+  });
+  const auto result = fillHoles(holed, listed({1}));
+  EXPECT_EQ(test::topology(result.mesh).boundaryLoops, 1u);
+  for (const auto& p : newPoints(result.mesh, holed))
+    EXPECT_NEAR(p.z(), 0.0, 1e-12);
+  for (int f = int(holed.n_faces()); f < int(result.mesh.n_faces()); ++f)
+    EXPECT_GT(result.mesh.calc_face_normal(TriMesh::FaceHandle(f))[2], 0.999) << f;
+  EXPECT_EQ(test::cgalSelfIntersections(result.mesh), 0u);
+}
+
+// Heights of a sphere over the plane tangent at its pole: biharmonic fills take its curvature
+// from the border's slopes; harmonic ones flatten it.
+TEST(FillHoles, ASphereCapComesBackOnTheSphereAndC1BeatsC0) {
+  const TriMesh sphere = test::icosphere(5);
+  const TriMesh holed = withoutFaces(sphere, [](const Vector3d& c) { return c.z() > 0.9; });
+  double error[2] = {0, 0};
+  for (int continuity : {0, 1}) {
+    const auto result = fillHoles(holed, listed({0}, continuity));
+    expectInputKept(holed, result.mesh);
+    EXPECT_EQ(test::topology(result.mesh).boundaryLoops, 0u);
+    for (const auto& p : newPoints(result.mesh, holed))
+      error[continuity] = std::max(error[continuity], std::abs(p.norm() - 1.0));
+  }
+  // The cap rises 0.1 above its border: the C0 fill stays near the border's plane.
+  EXPECT_GT(error[0], 0.05);
+  EXPECT_LT(error[1], 0.004);
+}
+
+TEST(FillHoles, MembraneReproducesAPlaneFromItsRing) {
+  // A triangulated hexagon ring around three unknowns, all heights on the plane h = 2u - v + 1.
+  const TriMesh grid = planeGrid(6);
+  const TriMesh holed = withoutFaces(
+      grid, [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.2; });
+  TriMesh tilted = holed;
+  for (auto v : tilted.vertices()) {
+    auto p = tilted.point(v);
+    p[2] = 2 * p[0] - p[1] + 1;
+    tilted.set_point(v, p);
+  }
+  const auto result = fillHoles(tilted, listed({1}));
+  for (const auto& p : newPoints(result.mesh, tilted))
+    EXPECT_NEAR(p.z(), 2 * p.x() - p.y() + 1, 1e-10);
+}
+
+// A strip wound one and a half times around an axis: its one border loop overlaps itself
+// seen from any side, so it is no disc in a plane, and the disc spanning it cuts the strip.
+TEST(FillHoles, ALoopThatOverlapsItselfFailsNamingIt) {
+  TriMesh strip;
+  const int n = 90;
+  for (int i = 0; i <= n; ++i) {
+    const double angle = 3.0 * M_PI * i / n;
+    for (double w : {0.0, 0.3})
+      strip.add_vertex(TriMesh::Point(std::cos(angle), std::sin(angle), 0.1 * angle + w));
+  }
+  for (int i = 0; i < n; ++i) {
+    const TriMesh::VertexHandle a(2 * i), b(2 * i + 1), c(2 * i + 2), d(2 * i + 3);
+    strip.add_face(a, c, d);
+    strip.add_face(a, d, b);
+  }
+  try {
+    fillHoles(strip, {});
+    FAIL() << "the strip's border was filled";
+  } catch (const FillHolesError& e) {
+    EXPECT_EQ(e.loop(), 0);
+    EXPECT_TRUE(test::contains(e.what(), "loop 0 (182 border edges, from vertex 0)"));
+    EXPECT_TRUE(test::contains(e.what(), "its fill would cut through the surface"));
+  }
+}
+
+TEST(FillHoles, TheChoiceLeavesTheLargestTheUnlistedOrTheLongLoopsOpen) {
+  const TriMesh holed = withoutFaces(planeGrid(20), [](const Vector3d& c) {
+    return (c - Vector3d(0.3, 0.3, 0)).norm() < 0.1 || (c - Vector3d(0.7, 0.7, 0)).norm() < 0.2;
+  });
+  FillHolesOptions butLargest;
+  butLargest.selection = HoleSelection::AllButLargest;
+  auto result = fillHoles(holed, butLargest);
+  EXPECT_EQ(result.holes[0].leftOpen, "the largest loop");
+  EXPECT_TRUE(result.holes[1].filled && result.holes[2].filled);
+  EXPECT_EQ(test::topology(result.mesh).boundaryLoops, 1u);
+
+  butLargest.maxBorderEdges = result.holes[1].borderEdges;
+  result = fillHoles(holed, butLargest);
+  EXPECT_TRUE(result.holes[1].filled);
+  EXPECT_FALSE(result.holes[2].filled);
+  EXPECT_TRUE(test::contains(result.holes[2].leftOpen, "border edges"));
+
+  EXPECT_THROW(fillHoles(holed, listed({3})), std::invalid_argument);
+  FillHolesOptions bad;
+  bad.continuity = 2;
+  EXPECT_THROW(fillHoles(holed, bad), std::invalid_argument);
+}
+
+TEST(FillHoles, TheSameMeshFillsBitForBitTheSame) {
+  const auto holed = readMesh(test::meshPath("bunny_scan.obj")).mesh->surface;
+  const auto a = fillHoles(holed, {}), b = fillHoles(holed, {});
+  ASSERT_EQ(a.mesh.n_vertices(), b.mesh.n_vertices());
+  for (auto v : a.mesh.vertices())
+    ASSERT_EQ(a.mesh.point(v), b.mesh.point(v));
+}
+
+double diagonal(const TriMesh& mesh) {
+  Vector3d lo = at(mesh, 0), hi = lo;
+  for (auto v : mesh.vertices()) {
+    lo = lo.cwiseMin(at(mesh, v.idx()));
+    hi = hi.cwiseMax(at(mesh, v.idx()));
+  }
+  return (hi - lo).norm();
+}
+
+void expectCleanClosedFill(const TriMesh& holed, const FillHolesResult& result) {
+  expectInputKept(holed, result.mesh);
+  const auto topo = test::topology(result.mesh);
+  EXPECT_EQ(topo.boundaryLoops, 0u);
+  EXPECT_EQ(topo.nonManifoldVertices, 0u);
+  EXPECT_EQ(test::cgalSelfIntersections(result.mesh), 0u);
+  for (const auto& hole : result.holes) {
+    EXPECT_TRUE(hole.filled) << hole.loop;
+    EXPECT_GE(hole.newMeanEdge, 0.7 * hole.borderMeanEdge) << hole.loop;
+    EXPECT_LE(hole.newMeanEdge, 1.5 * hole.borderMeanEdge) << hole.loop;
+  }
+}
+
+TEST(FillHoles, TheScannedBunnysFiveHolesCloseCleanly) {
+  const auto holed = readMesh(test::meshPath("bunny_scan.obj")).mesh->surface;
+  const auto result = fillHoles(holed, {});
+  ASSERT_EQ(result.holes.size(), 5u);
+  expectCleanClosedFill(holed, result);
+}
+
+// Loop 0 runs in a zigzag along a chamfer: no plane shows it as a simple polygon, and the disc
+// spanning it would cut the chamfer, so it fails by name; the other three fill.
+TEST(FillHoles, TheHolesOfACadPartCloseAndItsPlanarHoleFillsPlanar) {
+  const auto holed = readMesh(test::meshPath("mech_holes_shark.obj")).mesh->surface;
+  try {
+    fillHoles(holed, {});
+    ADD_FAILURE() << "the zigzag loop was filled";
+  } catch (const FillHolesError& e) {
+    EXPECT_EQ(e.loop(), 0);
+    EXPECT_TRUE(test::contains(e.what(), "loop 0 (96 border edges, from vertex 0)"));
+  }
+  const auto result = fillHoles(holed, listed({1, 2, 3}));
+  ASSERT_EQ(result.holes.size(), 4u);
+  expectInputKept(holed, result.mesh);
+  EXPECT_EQ(test::topology(result.mesh).boundaryLoops, 1u);
+  EXPECT_EQ(test::cgalSelfIntersections(result.mesh), 0u);
+  // A loop whose border lies in a plane fills in that plane (its chart's plane, height 0).
+  const auto loops = boundaryLoops(holed);
+  const double diag = diagonal(holed);
+  int planarLoops = 0;
+  std::size_t next = holed.n_vertices();
+  for (std::size_t i = 1; i < loops.size(); ++i) {
+    const HoleChart chart = chartHole(holed, loops[i]);
+    double border = 0.0;
+    for (int v : loops[i].vertices)
+      border = std::max(border, std::abs(chart.height(at(holed, v))));
+    const bool planar = chart.planar && border <= 1e-6 * diag;
+    planarLoops += planar;
+    for (int k = 0; k < result.holes[i].newVertices; ++k, ++next) {
+      if (planar) {
+        EXPECT_LE(std::abs(chart.height(at(result.mesh, int(next)))), 1e-6 * diag);
+      }
+    }
+  }
+  EXPECT_EQ(planarLoops, 1);
+}
+
+// The cut holes with their removed patches: a clean closed fill, and its distance to the true
+// surface next to CGAL's fill of the same hole (the benchmark's table compares them).
+class CutHole : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(CutHole, FillsCleanlyNearTheTrueSurface) {
+  const std::string name = GetParam();
+  const auto holed = readMesh(test::meshDir() / "cases" / (name + "_hole.obj")).mesh->surface;
+  const auto truth =
+      readMesh(test::meshDir() / "cases" / (name + "_removed_patch.obj")).mesh->surface;
+  const auto ours = fillHoles(holed, {});
+  expectCleanClosedFill(holed, ours);
+  const auto cgal = test::cgalFillHoles(holed, 1);
+  const double diag = diagonal(holed);
+  const auto oursDistance = test::cgalDistances(newPoints(ours.mesh, holed), truth);
+  const auto cgalDistance = test::cgalDistances(newPoints(cgal.mesh, holed), truth);
+  RecordProperty("mean_over_diag", std::to_string(oursDistance.mean / diag));
+  RecordProperty("cgal_mean_over_diag", std::to_string(cgalDistance.mean / diag));
+  // The hole's radius is 4-8% of the diagonal: a fill that missed its curvature would be off by
+  // a good part of that.
+  EXPECT_LT(oursDistance.max, 0.01 * diag);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, CutHole,
+                         ::testing::Values("bunny_small_back", "nefertiti_forehead",
+                                           "nefertiti_back"));
+
+TEST(FillHolesNode, ReportsEachLoopAndNamesABadChoice) {
+  const NodeType* type = test::registry().find("geobrush.fill_holes");
+  ASSERT_NE(type, nullptr);
+  const TriMesh holed = withoutFaces(
+      planeGrid(20), [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.2; });
+  auto input = std::make_shared<const Mesh>(holed);
+  test::DirectContext ctx(*type, {{"mesh", input}}, {{"holes", std::string("all-but-largest")}});
+  type->create()->compute(ctx);
+  const auto out = std::dynamic_pointer_cast<const Mesh>(ctx.outputs["mesh"]);
+  const auto report = std::dynamic_pointer_cast<const Metrics>(ctx.outputs["report"]);
+  ASSERT_TRUE(out && report);
+  EXPECT_EQ(test::topology(out->surface).boundaryLoops, 1u);
+  EXPECT_EQ(report->values.at("loops"), 2.0);
+  EXPECT_EQ(report->values.at("filled"), 1.0);
+  EXPECT_EQ(report->values.at("loop.0.filled"), 0.0);
+  EXPECT_EQ(report->values.at("loop.1.new_vertices"), report->values.at("new_vertices"));
+  EXPECT_GT(report->values.at("loop.1.border_edges"), 0.0);
+  ASSERT_EQ(report->notes.size(), 1u);
+  EXPECT_TRUE(test::contains(report->notes[0], "loop 0 left open: the largest loop"));
+
+  for (const std::string bad : {"", "1,", "x", "-1"}) {
+    test::DirectContext badCtx(*type, {{"mesh", input}}, {{"holes", bad}});
+    try {
+      type->create()->compute(badCtx);
+      ADD_FAILURE() << "accepted holes=" << bad;
+    } catch (const NodeError& e) {
+      EXPECT_TRUE(test::contains(e.what(), "loop ids like 0,2")) << e.what();
+    }
+  }
+  test::DirectContext missing(*type, {{"mesh", input}}, {{"holes", std::string("5")}});
+  EXPECT_THROW(type->create()->compute(missing), NodeError);
+}
+
+}  // namespace
+}  // namespace geobrush
