@@ -77,7 +77,24 @@ struct CloneOptions {
   bool progress = false;
 };
 
+struct FillOptions {
+  std::filesystem::path mesh;
+  std::filesystem::path output;
+  std::filesystem::path image;  // empty: no picture
+  std::string holes = "all";    // all, all-but-largest or loop ids like 0,2
+  int maxBorder = 0;            // 0: no limit
+  int continuity = 1;
+  bool json = false;
+  bool quiet = false;
+  bool progress = false;
+};
+
 int runGraph(const RunOptions& options);
+// Fills the chosen boundary loops of a mesh (the fill_holes node) and writes the result, and a
+// picture when asked; per loop, what was added or why it stays open.
+int fillHoles(const FillOptions& options);
+// Whether --holes is all, all-but-largest or a comma-separated list of loop ids.
+bool isHoleChoice(const std::string& holes);
 // Fills a clone method with the spec (points snapped to their meshes), applies --set, evaluates
 // it and writes the result mesh (and picture, and the filled graph when asked).
 int cloneMeshes(const CloneOptions& options);

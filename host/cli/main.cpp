@@ -194,6 +194,26 @@ int main(int argc, char** argv) {
   cloneCmd->add_flag("--quiet", clone.quiet, "Print nothing but errors");
   cloneCmd->add_flag("--progress", clone.progress, kProgressHelp);
 
+  cli::FillOptions fill;
+  auto* fillCmd = app.add_subcommand(
+      "fill",
+      "Fill a mesh's holes: each boundary loop chosen gets a patch like the surface around it.");
+  fillCmd->add_option("mesh", fill.mesh, "The mesh with holes")->required();
+  fillCmd->add_option("-o,--output", fill.output, "The filled mesh")->required();
+  fillCmd->add_option("--holes", fill.holes,
+                      "all (default), all-but-largest (keeps a bust's base or a sheet's edge open) "
+                      "or loop ids like 0,2 (loops numbered by their smallest vertex index)");
+  fillCmd->add_option("--max-border", fill.maxBorder, "Leave loops with more border edges open")
+      ->check(CLI::Range(0, 100000000));
+  fillCmd
+      ->add_option("--continuity", fill.continuity,
+                   "0: harmonic; 1: biharmonic, with slopes (default)")
+      ->check(CLI::Range(0, 1));
+  fillCmd->add_option("--image", fill.image, "A picture of the result (PNG)")->check(pngName());
+  fillCmd->add_flag("--json", fill.json, "Print a machine-readable report on stdout");
+  fillCmd->add_flag("--quiet", fill.quiet, "Print nothing but errors");
+  fillCmd->add_flag("--progress", fill.progress, kProgressHelp);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -216,6 +236,7 @@ int main(int argc, char** argv) {
       return cli::cloneMeshes(clone);
     }
     if (*compareCmd) return cli::compareGraphs(compare);
+    if (*fillCmd) return cli::fillHoles(fill);
     if (*validateCmd) return cli::validateGraph(validatePath, validateQuiet);
     if (*nodesCmd) return cli::listNodes(nodesJson);
     if (*renderCmd) {

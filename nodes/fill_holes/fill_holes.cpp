@@ -279,7 +279,8 @@ void checkNoIntersections(const TriMesh& mesh, const std::vector<BoundaryLoop>& 
       throw FillHolesError(int(i), loopName(int(i), loops[i]) +
                                        ": its fill would cut through the "
                                        "surface (" +
-                                       std::to_string(count) + " face pairs)");
+                                       std::to_string(count) +
+                                       (count == 1 ? " face pair)" : " face pairs)"));
   }
 }
 
