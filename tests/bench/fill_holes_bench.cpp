@@ -28,15 +28,6 @@ TriMesh load(const std::filesystem::path& path) {
   return readMesh(path).mesh->surface;
 }
 
-double diagonal(const TriMesh& mesh) {
-  Eigen::AlignedBox3d box;
-  for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
-  }
-  return box.diagonal().norm();
-}
-
 // An icosphere of 5 levels with the cap z > 1 - depth removed.
 TriMesh sphereWithCap(double depth) {
   TriMesh mesh = test::icosphere(6);
@@ -88,7 +79,7 @@ void report(benchmark::State& state, const HoleCase& hole, const TriMesh& filled
   if (hole.truth.n_faces() > 0)
     state.counters["mean_dist_over_diag"] =
         test::cgalDistances(addedPoints(filled, hole.holed), hole.truth).mean /
-        diagonal(hole.holed);
+        test::boundingDiagonal(hole.holed);
 }
 
 void BM_FillHoles(benchmark::State& state) {

@@ -86,22 +86,13 @@ FillHolesOptions listed(std::vector<int> loops, int continuity = 1) {
   return options;
 }
 
-double diagonal(const TriMesh& mesh) {
-  Vector3d lo = at(mesh, 0), hi = lo;
-  for (auto v : mesh.vertices()) {
-    lo = lo.cwiseMin(at(mesh, v.idx()));
-    hi = hi.cwiseMax(at(mesh, v.idx()));
-  }
-  return (hi - lo).norm();
-}
-
 // Face pairs that meet beyond a shared vertex (core's test, to rounding; the exact count is in
 // tests/reference).
 std::size_t intersectingPairs(const TriMesh& mesh) {
   std::vector<int> faces(mesh.n_faces());
   for (std::size_t f = 0; f < faces.size(); ++f)
     faces[f] = int(f);
-  return selfIntersections(mesh, faces, 1e-12 * diagonal(mesh));
+  return selfIntersections(mesh, faces, 1e-12 * test::boundingDiagonal(mesh));
 }
 
 TEST(FillHoles, FindsEachLoopStartingAtItsSmallestVertex) {
@@ -291,7 +282,7 @@ TEST(FillHoles, TheHolesOfACadPartCloseAndItsPlanarHoleFillsPlanar) {
   EXPECT_EQ(intersectingPairs(result.mesh), 0u);
   // A loop whose border lies in a plane fills in that plane (its chart's plane, height 0).
   const auto loops = boundaryLoops(holed);
-  const double diag = diagonal(holed);
+  const double diag = test::boundingDiagonal(holed);
   int planarLoops = 0;
   std::size_t next = holed.n_vertices();
   for (std::size_t i = 1; i < loops.size(); ++i) {

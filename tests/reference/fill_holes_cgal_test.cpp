@@ -11,6 +11,7 @@
 #include "cgal_reference.hpp"
 #include "fill_holes.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "mesh_checks.hpp"
 #include "test_support.hpp"
 
 namespace geobrush {
@@ -28,15 +29,6 @@ std::vector<Eigen::Vector3d> addedPoints(const TriMesh& filled, const TriMesh& h
     points.emplace_back(p[0], p[1], p[2]);
   }
   return points;
-}
-
-double diagonal(const TriMesh& mesh) {
-  Eigen::AlignedBox3d box;
-  for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
-  }
-  return box.diagonal().norm();
 }
 
 TEST(FillHolesAgainstCgal, TheScansAndTheCadPartFillWithoutSelfIntersections) {
@@ -58,7 +50,7 @@ TEST_P(CutHoleAgainstCgal, FillsNearTheRemovedPatchWithoutSelfIntersections) {
   const auto ours = fillHoles(holed, {});
   EXPECT_EQ(test::cgalSelfIntersections(ours.mesh), 0u);
   const auto cgal = test::cgalFillHoles(holed, 1);
-  const double diag = diagonal(holed);
+  const double diag = test::boundingDiagonal(holed);
   const auto oursDistance = test::cgalDistances(addedPoints(ours.mesh, holed), truth);
   const auto cgalDistance = test::cgalDistances(addedPoints(cgal.mesh, holed), truth);
   RecordProperty("mean_over_diag", std::to_string(oursDistance.mean / diag));
