@@ -1,6 +1,7 @@
 #include "geobrush/intersection.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <Eigen/Geometry>
 #include <numeric>
@@ -20,6 +21,81 @@ bool separates(const Eigen::Vector3d& axis, const Triangle3& a, const Triangle3&
   const double aMin = std::min({a0, a1, a2}), aMax = std::max({a0, a1, a2});
   const double bMin = std::min({b0, b1, b2}), bMax = std::max({b0, b1, b2});
   return aMax + tolerance < bMin || bMax + tolerance < aMin;
+}
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// Whether two segments of a plane cross at a point inside both (ends inside are caught by the
+// inside tests of the caller).
+bool segmentsCross(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                   const Eigen::Vector2d& d) {
+  const double o1 = cross2(b - a, c - a), o2 = cross2(b - a, d - a);
+  const double o3 = cross2(d - c, a - c), o4 = cross2(d - c, b - c);
+  return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
+}
+
+// Barycentric inside test in the triangle's plane, with `tolerance` as a length.
+bool insideTriangle(const Eigen::Vector3d& p, const Triangle3& t, const Eigen::Vector3d& unitNormal,
+                    double tolerance) {
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d edge = t[(k + 1) % 3] - t[k];
+    const Eigen::Vector3d inward = unitNormal.cross(edge).normalized();
+    if (inward.dot(p - t[k]) < -tolerance) return false;
+  }
+  return true;
+}
+
+// Whether the segment from a to b meets the triangle.
+bool segmentMeetsTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Triangle3& t,
+                          double tolerance) {
+  const Eigen::Vector3d normal = (t[1] - t[0]).cross(t[2] - t[0]);
+  if (normal.norm() == 0.0) return false;
+  const Eigen::Vector3d n = normal.normalized();
+  const double da = n.dot(a - t[0]), db = n.dot(b - t[0]);
+  if ((da > tolerance && db > tolerance) || (da < -tolerance && db < -tolerance)) return false;
+  if (std::abs(da) <= tolerance && std::abs(db) <= tolerance) {
+    // In the plane: an end inside, or the segment crossing an edge.
+    if (insideTriangle(a, t, n, tolerance) || insideTriangle(b, t, n, tolerance)) return true;
+    const Eigen::Vector3d u = (t[1] - t[0]).normalized(), v = n.cross(u);
+    const auto flat = [&](const Eigen::Vector3d& p) {
+      return Eigen::Vector2d(u.dot(p - t[0]), v.dot(p - t[0]));
+    };
+    for (int k = 0; k < 3; ++k)
+      if (segmentsCross(flat(a), flat(b), flat(t[k]), flat(t[(k + 1) % 3]))) return true;
+    return false;
+  }
+  const Eigen::Vector3d crossing = std::abs(da) <= tolerance   ? a
+                                   : std::abs(db) <= tolerance ? b
+                                                               : a + (b - a) * (da / (da - db));
+  return insideTriangle(crossing, t, n, tolerance);
+}
+
+// Faces sharing corners meet beyond them when an edge of one, away from the shared vertex,
+// meets the other (one shared vertex), or when they fold flat onto each other (a shared edge).
+bool adjacentTrianglesMeet(const Triangle3& a, const Triangle3& b, const std::array<int, 3>& ca,
+                           const std::array<int, 3>& cb, double tolerance) {
+  std::vector<int> sharedInA, sharedInB;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (ca[i] == cb[j]) {
+        sharedInA.push_back(i);
+        sharedInB.push_back(j);
+      }
+  if (sharedInA.size() == 1) {
+    const int i = sharedInA[0], j = sharedInB[0];
+    return segmentMeetsTriangle(b[(j + 1) % 3], b[(j + 2) % 3], a, tolerance) ||
+           segmentMeetsTriangle(a[(i + 1) % 3], a[(i + 2) % 3], b, tolerance);
+  }
+  if (sharedInA.size() != 2) return false;
+  const int thirdA = 3 - sharedInA[0] - sharedInA[1], thirdB = 3 - sharedInB[0] - sharedInB[1];
+  const Eigen::Vector3d e0 = a[sharedInA[0]], along = (a[sharedInA[1]] - e0).normalized();
+  const Eigen::Vector3d normal = (a[1] - a[0]).cross(a[2] - a[0]);
+  if (normal.norm() == 0.0 || std::abs(normal.normalized().dot(b[thirdB] - e0)) > tolerance)
+    return false;
+  const Eigen::Vector3d pa = a[thirdA] - e0, pb = b[thirdB] - e0;
+  return (pa - along * along.dot(pa)).dot(pb - along * along.dot(pb)) > 0.0;
 }
 
 }  // namespace
@@ -86,10 +162,18 @@ std::size_t selfIntersections(const TriMesh& mesh, const std::vector<int>& faces
       // Each pair once: from its smaller listed face.
       if (other == query || (listed[std::size_t(other)] && other < query)) return false;
       if (!boxes[std::size_t(other)].intersects(boxes[std::size_t(query)])) return false;
-      for (auto v : mesh.fv_range(TriMesh::FaceHandle(other)))
-        if (std::find(queryCorners.begin(), queryCorners.end(), v.idx()) != queryCorners.end())
-          return false;
-      count += trianglesIntersect(queryTriangle, faceTriangle(mesh, other), tolerance);
+      std::array<int, 3> corners{};
+      bool shares = false;
+      int k = 0;
+      for (auto v : mesh.fv_range(TriMesh::FaceHandle(other))) {
+        corners[std::size_t(k++)] = v.idx();
+        shares |=
+            std::find(queryCorners.begin(), queryCorners.end(), v.idx()) != queryCorners.end();
+      }
+      const Triangle3 triangle = faceTriangle(mesh, other);
+      count +=
+          shares ? adjacentTrianglesMeet(queryTriangle, triangle, queryCorners, corners, tolerance)
+                 : trianglesIntersect(queryTriangle, triangle, tolerance);
       return false;
     }
   };

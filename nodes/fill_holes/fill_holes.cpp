@@ -53,6 +53,18 @@ HoleChart chartAlong(const Vector3d& normal, const Vector3d& origin,
   return chart;
 }
 
+// Passes of smoothing a folded projection may take; each moves a point at most half way to its
+// neighbours' mean, so a few passes undo a zigzag and leave the loop's shape.
+constexpr int kChartSmoothingPasses = 8;
+
+std::vector<Vector2d> smoothedAlongLoop(const std::vector<Vector2d>& loop) {
+  const std::size_t n = loop.size();
+  std::vector<Vector2d> smoothed(n);
+  for (std::size_t i = 0; i < n; ++i)
+    smoothed[i] = 0.5 * loop[i] + 0.25 * (loop[(i + n - 1) % n] + loop[(i + 1) % n]);
+  return smoothed;
+}
+
 double signedArea(const std::vector<Vector2d>& polygon) {
   double twice = 0.0;
   for (std::size_t i = 0; i < polygon.size(); ++i) {
@@ -122,6 +134,7 @@ void splitExistingChords(PlanarPatch& patch, const TriMesh& mesh, const Boundary
 }
 
 struct HoleFill {
+  int continuity = 1;  // the one used: 0 for a border in a plane
   std::vector<Vector3d> newPoints;
   std::vector<std::array<int, 3>> faces;  // mesh vertex ids, new points from mesh.n_vertices()
 };
@@ -130,10 +143,13 @@ HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
                  const FillHolesOptions& options, int firstNewVertex) {
   const HoleChart chart = chartHole(mesh, loop);
   const int n = int(loop.vertices.size());
+  // Each border vertex asks for triangles the size of its edges on the surface (in the chart a
+  // zigzag border's are shorter, and the triangles would come out finer than the border).
   std::vector<double> size(std::size_t(n), 0.0);
   for (int i = 0; i < n; ++i) {
-    const double edge =
-        (chart.border[std::size_t((i + 1) % n)] - chart.border[std::size_t(i)]).norm();
+    const double edge = (point(mesh, loop.vertices[std::size_t((i + 1) % n)]) -
+                         point(mesh, loop.vertices[std::size_t(i)]))
+                            .norm();
     size[std::size_t(i)] += 0.5 * edge;
     size[std::size_t((i + 1) % n)] += 0.5 * edge;
   }
@@ -177,6 +193,8 @@ HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
   for (int v : loop.vertices)
     borderHeight = std::max(borderHeight, std::abs(chart.height(point(mesh, v))));
   if (chart.planar && borderHeight <= kPlanarBorder * loop.length) problem.continuity = 0;
+  HoleFill fill;
+  fill.continuity = problem.continuity;
   // Over a plane the heights, over the disc the positions.
   problem.values = Eigen::MatrixXd::Zero(problem.pointCount, chart.planar ? 1 : 3);
   for (std::size_t k = 0; k < known.size(); ++k) {
@@ -197,7 +215,6 @@ HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
     throw FillHolesError(loopId, loopName(loopId, loop) + ": " + e.what());
   }
 
-  HoleFill fill;
   fill.newPoints = std::move(lifted);
   auto meshVertex = [&](int p) {
     return p < n ? loop.vertices[std::size_t(p)] : firstNewVertex + p - n;
@@ -259,29 +276,25 @@ double meanEdgeLength(const std::vector<Vector3d>& points,
   return count ? sum / count : 0.0;
 }
 
-// A fill must not cut through the mesh (or another fill).
-void checkNoIntersections(const TriMesh& mesh, const std::vector<BoundaryLoop>& loops,
-                          const std::vector<std::vector<int>>& newFaces) {
+// The face pairs each loop's fill makes with the mesh (or another fill), where it has any.
+std::map<int, std::size_t> crossingFills(const TriMesh& mesh,
+                                         const std::vector<std::vector<int>>& newFaces) {
   std::vector<int> all;
   for (const auto& faces : newFaces)
     all.insert(all.end(), faces.begin(), faces.end());
-  if (all.empty()) return;
+  std::map<int, std::size_t> crossing;
+  if (all.empty()) return crossing;
   Vector3d lo = point(mesh, 0), hi = lo;
   for (auto v : mesh.vertices()) {
     lo = lo.cwiseMin(point(mesh, v.idx()));
     hi = hi.cwiseMax(point(mesh, v.idx()));
   }
   const double tolerance = 1e-9 * (hi - lo).norm();
-  if (selfIntersections(mesh, all, tolerance) == 0) return;
-  for (std::size_t i = 0; i < loops.size(); ++i) {
-    const std::size_t count = selfIntersections(mesh, newFaces[i], tolerance);
-    if (count > 0)
-      throw FillHolesError(int(i), loopName(int(i), loops[i]) +
-                                       ": its fill would cut through the "
-                                       "surface (" +
-                                       std::to_string(count) +
-                                       (count == 1 ? " face pair)" : " face pairs)"));
-  }
+  if (selfIntersections(mesh, all, tolerance) == 0) return crossing;
+  for (std::size_t i = 0; i < newFaces.size(); ++i)
+    if (const std::size_t count = selfIntersections(mesh, newFaces[i], tolerance); count > 0)
+      crossing[int(i)] = count;
+  return crossing;
 }
 
 }  // namespace
@@ -338,6 +351,17 @@ HoleChart chartHole(const TriMesh& mesh, const BoundaryLoop& loop) {
     HoleChart chart = chartAlong(normal.normalized(), origin, points);
     if (signedArea(chart.border) > 0.0 && isSimplePolygon(chart.border)) return chart;
   }
+  // A border that zigzags (along a chamfer, a scan's ragged edge) folds in projection only
+  // locally: smoothed along the loop, its projection comes apart. Only the chart moves; the
+  // border's vertices stay where they are.
+  if (areaNormal.norm() > 0.0) {
+    HoleChart chart = chartAlong(areaNormal.normalized(), origin, points);
+    for (int pass = 0; pass < kChartSmoothingPasses; ++pass) {
+      chart.border = smoothedAlongLoop(chart.border);
+      chart.planar = false;  // the fill's positions follow the border, not the chart
+      if (signedArea(chart.border) > 0.0 && isSimplePolygon(chart.border)) return chart;
+    }
+  }
   HoleChart disc = chartAlong(areaNormal.norm() > 0.0 ? areaNormal.normalized() : Vector3d::UnitZ(),
                               origin, points);
   disc.planar = false;
@@ -367,11 +391,12 @@ FillHolesResult fillHoles(const TriMesh& mesh, const FillHolesOptions& options) 
   }
   const std::vector<bool> chosen = chosenLoops(loops, options, result.holes);
   std::vector<std::vector<int>> newFaces(loops.size());
+  std::vector<int> firstVertex(loops.size(), 0);
   for (std::size_t i = 0; i < loops.size(); ++i) {
     if (!chosen[i]) continue;
     const auto start = std::chrono::steady_clock::now();
-    const int first = int(result.mesh.n_vertices());
-    const HoleFill fill = fillOne(mesh, loops[i], int(i), options, first);
+    firstVertex[i] = int(result.mesh.n_vertices());
+    const HoleFill fill = fillOne(mesh, loops[i], int(i), options, firstVertex[i]);
     for (std::size_t f = 0; f < fill.faces.size(); ++f)
       newFaces[i].push_back(int(result.mesh.n_faces() + f));
     for (const auto& p : fill.newPoints)
@@ -385,13 +410,38 @@ FillHolesResult fillHoles(const TriMesh& mesh, const FillHolesOptions& options) 
     }
     auto& report = result.holes[i];
     report.filled = true;
+    report.continuity = fill.continuity;
     report.newVertices = int(fill.newPoints.size());
     report.newFaces = int(fill.faces.size());
-    report.newMeanEdge = meanEdgeLength(fill.newPoints, fill.faces, mesh, first);
+    report.newMeanEdge = meanEdgeLength(fill.newPoints, fill.faces, mesh, firstVertex[i]);
     report.timeMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
-  checkNoIntersections(result.mesh, loops, newFaces);
+  // Where the border's slopes fold a fill into the surface, its values alone may not.
+  auto crossing = crossingFills(result.mesh, newFaces);
+  if (crossing.empty()) return result;
+  FillHolesOptions harmonic = options;
+  harmonic.continuity = 0;
+  for (const auto& [i, count] : crossing) {
+    if (result.holes[std::size_t(i)].continuity == 0) continue;
+    const HoleFill fill =
+        fillOne(mesh, loops[std::size_t(i)], i, harmonic, firstVertex[std::size_t(i)]);
+    for (std::size_t k = 0; k < fill.newPoints.size(); ++k) {
+      const Vector3d& p = fill.newPoints[k];
+      result.mesh.set_point(TriMesh::VertexHandle(firstVertex[std::size_t(i)] + int(k)),
+                            TriMesh::Point(p.x(), p.y(), p.z()));
+    }
+    result.holes[std::size_t(i)].continuity = 0;
+    result.holes[std::size_t(i)].note =
+        "filled harmonic: with the border's slopes it cut the surface";
+  }
+  crossing = crossingFills(result.mesh, newFaces);
+  if (!crossing.empty()) {
+    const auto [i, count] = *crossing.begin();
+    throw FillHolesError(
+        i, loopName(i, loops[std::size_t(i)]) + ": its fill would cut through the surface (" +
+               std::to_string(count) + (count == 1 ? " face pair)" : " face pairs)"));
+  }
   return result;
 }
 

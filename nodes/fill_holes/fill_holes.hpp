@@ -41,6 +41,8 @@ struct HoleReport {
   int borderEdges = 0;
   bool filled = false;
   std::string leftOpen;  // why a loop was not filled (not chosen, too long); empty when filled
+  int continuity = 0;    // the one the fill has: 0 for a planar border or where slopes fold it
+  std::string note;      // how the fill departs from the options, if it does
   int newVertices = 0;
   int newFaces = 0;
   double borderMeanEdge = 0.0;

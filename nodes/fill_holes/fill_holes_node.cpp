@@ -52,6 +52,9 @@ std::shared_ptr<geobrush::Metrics> report(const geobrush::FillHolesResult& resul
     v[key + "new_vertices"] = hole.newVertices;
     v[key + "new_faces"] = hole.newFaces;
     v[key + "new_mean_edge"] = hole.newMeanEdge;
+    v[key + "continuity"] = hole.continuity;
+    if (!hole.note.empty())
+      metrics->notes.push_back("loop " + std::to_string(hole.loop) + " " + hole.note);
     v[key + "time_ms"] = hole.timeMs;
     v["filled"] += 1.0;
     v["new_vertices"] += hole.newVertices;
@@ -98,7 +101,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
           .output<Mesh>("mesh", "The input's vertices and faces in their order, then the fills'.")
           .output<geobrush::Metrics>("report",
                                      "Per loop (loop.N.*): border_edges, border_mean_edge, "
-                                     "filled, new_vertices, new_faces, new_mean_edge, time_ms; "
+                                     "filled, new_vertices, new_faces, new_mean_edge, continuity "
+                                     "(the one the fill has: 0 where the border lies in a plane or "
+                                     "its slopes fold the fill into the surface), time_ms; "
                                      "totals; a note for each loop left open.")
           .paramString("holes", "all",
                        "all, all-but-largest (leaves the longest loop open: a bust's base, a "

@@ -23,7 +23,9 @@ bool trianglesIntersect(const Triangle3& a, const Triangle3& b, double tolerance
 // The corners of face f.
 Triangle3 faceTriangle(const TriMesh& mesh, int f);
 
-// Face pairs of `mesh` that intersect, with at least one face in `faces` and no shared vertex.
+// Face pairs of `mesh` that intersect, with at least one face in `faces`: faces with no corner in
+// common that meet (within `tolerance`), faces sharing one vertex that meet beyond it, faces
+// sharing an edge that fold flat onto each other (as CGAL's self_intersections counts them).
 std::size_t selfIntersections(const TriMesh& mesh, const std::vector<int>& faces, double tolerance);
 
 }  // namespace geobrush
