@@ -22,14 +22,6 @@ using namespace geobrush;
 
 namespace {
 
-std::vector<std::string> graphFiles() {
-  std::vector<std::string> files;
-  for (const auto& entry : std::filesystem::directory_iterator(test::sourceDir() / "graphs"))
-    if (entry.path().extension() == ".json") files.push_back(entry.path().filename().string());
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 std::string bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream text;
@@ -38,12 +30,7 @@ std::string bytes(const std::filesystem::path& path) {
 }
 
 EvalReport runGraph(const std::filesystem::path& file, const std::filesystem::path& outDir) {
-  Graph graph = readGraphFile(file);
-  prepareGraph(graph, test::registry());
-  EvalOptions options;
-  options.outputDir = outDir;
-  Evaluator evaluator(test::registry());
-  return evaluator.evaluate(graph, options);
+  return test::runGraphFile(file, outDir);
 }
 
 void checkMeshFile(const std::filesystem::path& path) {
@@ -72,7 +59,7 @@ class SavedGraph : public testing::TestWithParam<std::string> {};
 }  // namespace
 
 TEST(SavedGraphs, ThereIsADefaultGraph) {
-  const auto files = graphFiles();
+  const auto files = test::shippedGraphs();
   EXPECT_NE(std::find(files.begin(), files.end(), "default.json"), files.end());
 }
 
@@ -101,7 +88,7 @@ TEST_P(SavedGraph, RunsAndWritesValidDeterministicOutputs) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Graphs, SavedGraph, testing::ValuesIn(graphFiles()),
+INSTANTIATE_TEST_SUITE_P(Graphs, SavedGraph, testing::ValuesIn(test::shippedGraphs()),
                          [](const testing::TestParamInfo<std::string>& info) {
                            std::string name = info.param.substr(0, info.param.size() - 5);
                            for (char& c : name)
@@ -335,8 +322,8 @@ TEST(FillGraphs, ABunnyScanHoleIsClosed) {
   EXPECT_EQ(after.eulerCharacteristic, before.eulerCharacteristic + 1);
 }
 
-// All five of the bunny scan's real holes are filled in one graph, one stage per target canvas
-// (two of the holes share one): the scan becomes one closed manifold piece of genus 0.
+// All five of the bunny scan's real holes are filled in one graph by fill_holes: the scan becomes
+// one closed manifold piece of genus 0.
 TEST(FillGraphs, AllBunnyScanHolesAreClosed) {
   const MeshStats before = meshStats(readMesh(test::meshPath("bunny_scan.obj")).mesh->surface);
   ASSERT_EQ(before.boundaryLoops, 5u);

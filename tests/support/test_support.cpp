@@ -1,5 +1,6 @@
 #include "test_support.hpp"
 
+#include <algorithm>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -52,6 +53,23 @@ const NodeRegistry& registry() {
 }
 const std::vector<std::string>& registryLoadErrors() {
   return loaded().errors;
+}
+
+std::vector<std::string> shippedGraphs() {
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(sourceDir() / "graphs"))
+    if (entry.path().extension() == ".json") files.push_back(entry.path().filename().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+EvalReport runGraphFile(const std::filesystem::path& file, const std::filesystem::path& outDir) {
+  Graph graph = readGraphFile(file);
+  prepareGraph(graph, registry());
+  EvalOptions options;
+  options.outputDir = outDir;
+  Evaluator evaluator(registry());
+  return evaluator.evaluate(graph, options);
 }
 
 const NodeRegistry& testNodeRegistry() {

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/image.hpp"
 #include "geobrush/registry.hpp"
@@ -53,6 +54,10 @@ std::map<std::string, double> graphMetrics(Graph graph);
 std::map<std::string, double> graphMetrics(const std::filesystem::path& file,
                                            const std::vector<std::string>& assignments = {});
 
+// The graph files of graphs/ (file names, sorted).
+std::vector<std::string> shippedGraphs();
+// Evaluates a graph file with every plugin, writing its outputs into `outDir`.
+EvalReport runGraphFile(const std::filesystem::path& file, const std::filesystem::path& outDir);
 // Whether an RGBA pixel is the renders' white background.
 bool isBackground(const std::uint8_t* rgba);
 // The share of an image's pixels that are not the white background.
