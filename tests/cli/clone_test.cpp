@@ -84,19 +84,6 @@ TEST(Clone, ReproducesTheShippedCloneGraphsFromPlainArguments) {
   EXPECT_EQ(slurp(out / "mountain.obj"),
             shippedResult("clone_mountain_sphere.json", "mountain_on_sphere.obj"));
 
-  // The boot's lacing: the region correction takes in the whole lacing, far beyond the painted
-  // disc, so its graph chose a larger canvas, a thinner reversed-face ring and a wider target
-  // canvas (README, "Cloning from plain arguments"). Its paste has 7 new self-intersections,
-  // which the method refuses unless asked to write it as the graph does.
-  auto boot = cloneArgs(kBootLacesOnSphere, out / "boot.obj");
-  boot.insert(boot.end(), {"--set", "source_canvas.dabs=0.01837,0.11851,0.00119,0.08", "--set",
-                           "source_map.reversed_ring=1", "--set", "target_map.margin=0.5", "--set",
-                           "metrics.require_valid=false"});
-  const auto laces = runCli(boot);
-  ASSERT_EQ(laces.status, 0) << laces.err;
-  EXPECT_EQ(slurp(out / "boot.obj"),
-            shippedResult("clone_boot_laces_sphere.json", "boot_laces_on_sphere.obj"));
-
   auto ear = cloneArgs(kEarOnCubeEdge, out / "ear.obj");
   ear.insert(ear.end(), {"--set", "source_canvas.dabs=0.102853,0.375548,0.167421,0.1"});
   const auto b = runCli(ear);
@@ -207,6 +194,22 @@ TEST(Clone, BadArgumentsAreOneErrorLineAndWriteNothing) {
 
 // A paste wider than the feature under it (an ear tip of the bunny) folds over itself: the clone
 // fails naming the metrics node and what is wrong, and writes nothing, unless asked to write it.
+// The boot's lacing with the canvas the old shipped graph chose by hand: the region correction
+// takes in the whole lacing up to the canvas' outline at the collar, where the seam cuts a lace
+// and folds (13 face pairs, as CGAL's exact test counts them). The clone says so and writes
+// nothing.
+TEST(Clone, TheBootLacingIsRefusedRatherThanWrittenFolded) {
+  const auto out = test::tempDir("clone-boot");
+  auto boot = cloneArgs(kBootLacesOnSphere, out / "boot.obj");
+  boot.insert(boot.end(), {"--set", "source_canvas.dabs=0.01837,0.11851,0.00119,0.08", "--set",
+                           "source_map.reversed_ring=1", "--set", "target_map.margin=0.5"});
+  const auto refused = runCli(boot);
+  EXPECT_EQ(refused.status, 1) << refused.err;
+  EXPECT_TRUE(test::contains(refused.err, "the paste has 13 new self-intersections"))
+      << refused.err;
+  EXPECT_TRUE(fs::is_empty(out));
+}
+
 TEST(Clone, AnInvalidPasteFailsAndWritesNothingUnlessAskedTo) {
   const auto out = test::tempDir("clone-invalid");
   const Clone onEarTip{"mountain.obj",    "0.068548,19.73209,0.029055",  "6",

@@ -96,9 +96,8 @@ INSTANTIATE_TEST_SUITE_P(Graphs, SavedGraph, testing::ValuesIn(test::shippedGrap
                            return name;
                          });
 
-// The clone graphs paste onto closed targets: the result stays one closed manifold piece, and a
-// pasted handle adds one to the genus (Euler characteristic 2 - 2 genus): the boot's lacing brings
-// all twelve of the boot's handles.
+// The clone graphs paste onto closed targets: the result stays one closed manifold piece of the
+// target's genus.
 TEST(CloneGraphs, ResultsAreClosedManifoldsOfTheExpectedGenus) {
   struct Case {
     std::string graph, result;
@@ -107,7 +106,6 @@ TEST(CloneGraphs, ResultsAreClosedManifoldsOfTheExpectedGenus) {
   const std::vector<Case> cases = {
       {"clone_ear_cube_edge.json", "ear_on_cube_edge.obj", 2},
       {"clone_mountain_sphere.json", "mountain_on_sphere.obj", 2},
-      {"clone_boot_laces_sphere.json", "boot_laces_on_sphere.obj", 2 - 2 * 12},
   };
   for (const Case& c : cases) {
     const auto dir = test::tempDir("clone-" + c.graph);
@@ -147,16 +145,6 @@ TEST(CloneGraphs, SeamsNeitherFoldNorIntersectThePaste) {
   }
 }
 
-// The boot's lacing on sphere.obj: laces crossing over each other and looping through the hooks,
-// folded many times over in the domain. The ROI correction grows Q along the laces up to the
-// canvas' outline at the boot's collar, where a few seam faces still cross the paste (7 new
-// self-intersections, all between seam and paste faces there); the laces themselves do not.
-TEST(CloneGraphs, TheBootLacingBarelyIntersectsItself) {
-  const auto metrics = pasteMetrics("clone_boot_laces_sphere.json");
-  ASSERT_TRUE(metrics.count("new_self_intersections"));
-  EXPECT_LE(metrics.at("new_self_intersections"), 10);
-}
-
 // Painting the whole canvas, or solving on the smallest grid, still gives a closed manifold.
 TEST(CloneGraphs, AWholeCanvasRegionAndACoarseGridStayValid) {
   for (const std::string assignment : {"strokes.dabs=0,0,5,1", "roi.resolution=16"}) {
@@ -180,7 +168,7 @@ TEST(CloneGraphs, AWholeCanvasRegionAndACoarseGridStayValid) {
 // bit for bit, as with the whole draft.
 TEST(CloneGraphs, WarpingTheDraftSupportOnlyGivesTheSameResult) {
   for (const std::string name :
-       {"clone_ear_cube_edge", "clone_mountain_sphere", "clone_boot_laces_sphere"}) {
+       {"clone_ear_cube_edge", "clone_mountain_sphere"}) {
     std::string results[2];
     for (int whole = 0; whole < 2; ++whole) {
       Graph graph = readGraphFile(test::sourceDir() / "graphs" / (name + ".json"));
