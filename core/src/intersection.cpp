@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <Eigen/Geometry>
-#include <numeric>
 #include <unsupported/Eigen/BVH>
 
 namespace geobrush {
@@ -130,17 +129,23 @@ Triangle3 faceTriangle(const TriMesh& mesh, int f) {
 std::size_t selfIntersections(const TriMesh& mesh, const std::vector<int>& faces,
                               double tolerance) {
   using Box = Eigen::AlignedBox3d;
-  std::vector<int> ids(mesh.n_faces());
-  std::iota(ids.begin(), ids.end(), 0);
-  std::vector<Box> boxes;
-  boxes.reserve(ids.size());
-  for (int f : ids) {
-    Box box;
-    for (const auto& p : faceTriangle(mesh, f))
-      box.extend(p);
-    boxes.push_back(box);
-  }
-  const Eigen::KdBVH<double, 3, int> tree(ids.begin(), ids.end(), boxes.begin(), boxes.end());
+  std::vector<Box> boxes(mesh.n_faces());
+  for (std::size_t f = 0; f < boxes.size(); ++f)
+    for (const auto& p : faceTriangle(mesh, int(f)))
+      boxes[f].extend(p);
+  // Only faces near the listed ones can meet them: the tree holds those alone.
+  Box near;
+  for (int f : faces)
+    near.extend(boxes[std::size_t(f)]);
+  near = Box(near.min().array() - tolerance, near.max().array() + tolerance);
+  std::vector<int> ids;
+  std::vector<Box> idBoxes;
+  for (std::size_t f = 0; f < boxes.size(); ++f)
+    if (boxes[f].intersects(near)) {
+      ids.push_back(int(f));
+      idBoxes.push_back(boxes[f]);
+    }
+  const Eigen::KdBVH<double, 3, int> tree(ids.begin(), ids.end(), idBoxes.begin(), idBoxes.end());
   std::vector<char> listed(mesh.n_faces(), 0);
   for (int f : faces)
     listed[std::size_t(f)] = 1;
