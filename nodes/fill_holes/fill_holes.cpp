@@ -139,12 +139,11 @@ struct HoleFill {
   std::vector<std::array<int, 3>> faces;  // mesh vertex ids, new points from mesh.n_vertices()
 };
 
-HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
-                 const FillHolesOptions& options, int firstNewVertex) {
-  const HoleChart chart = chartHole(mesh, loop);
+// The chart's triangulation of the hole, its edges the length of the border's on the surface
+// (in the chart a zigzag border's are shorter, and the triangles would come out finer).
+PlanarPatch gradedPatch(const TriMesh& mesh, const BoundaryLoop& loop, const HoleChart& chart,
+                        double density) {
   const int n = int(loop.vertices.size());
-  // Each border vertex asks for triangles the size of its edges on the surface (in the chart a
-  // zigzag border's are shorter, and the triangles would come out finer than the border).
   std::vector<double> size(std::size_t(n), 0.0);
   for (int i = 0; i < n; ++i) {
     const double edge = (point(mesh, loop.vertices[std::size_t((i + 1) % n)]) -
@@ -153,27 +152,32 @@ HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
     size[std::size_t(i)] += 0.5 * edge;
     size[std::size_t((i + 1) % n)] += 0.5 * edge;
   }
-  PlanarPatch patch;
-  try {
-    patch = triangulatePolygon(chart.border, size, options.density);
-  } catch (const std::runtime_error& e) {
-    throw FillHolesError(loopId, loopName(loopId, loop) + ": " + e.what());
-  }
+  PlanarPatch patch = triangulatePolygon(chart.border, size, density);
   splitExistingChords(patch, mesh, loop, size);
+  return patch;
+}
 
-  // The membrane's points: new ones, then the border, then the ring outside.
-  const int added = int(patch.points.size()) - n;
-  const HoleRing ring = ringAround(mesh, loop);
-  std::vector<int> known(loop.vertices);
-  known.insert(known.end(), ring.outerVertices.begin(), ring.outerVertices.end());
-  std::unordered_map<int, int> local;  // mesh vertex -> membrane point
-  for (std::size_t k = 0; k < known.size(); ++k)
-    local[known[k]] = added + int(k);
+// The membrane over a hole: its points are the patch's new ones, then the border, then the ring
+// outside (`known`, mesh vertices), and its triangles the patch's (weighed in the chart) and the
+// ring's (weighed by their own shape: projected, they may fold where the surface turns).
+struct HoleMembrane {
   MembraneProblem problem;
-  problem.pointCount = added + int(known.size());
+  std::vector<int> known;
+};
+
+HoleMembrane holeMembrane(const TriMesh& mesh, const BoundaryLoop& loop, const PlanarPatch& patch) {
+  const int n = int(loop.vertices.size()), added = int(patch.points.size()) - n;
+  const HoleRing ring = ringAround(mesh, loop);
+  HoleMembrane membrane;
+  membrane.known = loop.vertices;
+  membrane.known.insert(membrane.known.end(), ring.outerVertices.begin(), ring.outerVertices.end());
+  std::unordered_map<int, int> local;  // mesh vertex -> membrane point
+  for (std::size_t k = 0; k < membrane.known.size(); ++k)
+    local[membrane.known[k]] = added + int(k);
+  MembraneProblem& problem = membrane.problem;
+  problem.pointCount = added + int(membrane.known.size());
   problem.unknownCount = added;
   problem.completeCount = added + n;
-  problem.continuity = options.continuity;
   auto membranePoint = [&](int p) { return p < n ? added + p : p - n; };
   for (const auto& tri : patch.triangles) {
     problem.triangles.push_back(
@@ -183,19 +187,23 @@ HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
       corners[k] << patch.points[std::size_t(tri[k])], 0.0;
     problem.corners.push_back(corners);
   }
-  // The ring weighs with its own shape: projected, it may fold where the surface turns.
   for (const auto& face : ring.faces) {
     problem.triangles.push_back({local.at(face[0]), local.at(face[1]), local.at(face[2])});
     problem.corners.push_back({point(mesh, face[0]), point(mesh, face[1]), point(mesh, face[2])});
   }
-  // A border in a plane (a cut through a CAD part) is capped flat whatever the ring's slopes.
-  double borderHeight = 0.0;
-  for (int v : loop.vertices)
-    borderHeight = std::max(borderHeight, std::abs(chart.height(point(mesh, v))));
-  if (chart.planar && borderHeight <= kPlanarBorder * loop.length) problem.continuity = 0;
-  HoleFill fill;
-  fill.continuity = problem.continuity;
-  // Over a plane the heights, over the disc the positions.
+  return membrane;
+}
+
+// The fill's new points: the harmonic membrane over the chart (heights over a plane, positions
+// over a disc); for C1, the biharmonic membrane of the positions, weighed by the harmonic fill's
+// own shape (as CGAL's fairing weighs by its first patch, here a smooth one).
+std::vector<Vector3d> solveFill(const TriMesh& mesh, const BoundaryLoop& loop,
+                                const HoleChart& chart, const PlanarPatch& patch,
+                                HoleMembrane membrane, int continuity) {
+  const int n = int(loop.vertices.size()), added = int(patch.points.size()) - n;
+  MembraneProblem& problem = membrane.problem;
+  const auto& known = membrane.known;
+  problem.continuity = 0;
   problem.values = Eigen::MatrixXd::Zero(problem.pointCount, chart.planar ? 1 : 3);
   for (std::size_t k = 0; k < known.size(); ++k) {
     const Vector3d p = point(mesh, known[k]);
@@ -204,23 +212,57 @@ HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
     else
       problem.values.row(added + int(k)) = p.transpose();
   }
+  const Eigen::MatrixXd harmonic = solveMembrane(problem);
   std::vector<Vector3d> lifted(static_cast<std::size_t>(added));
+  for (int i = 0; i < added; ++i)
+    lifted[std::size_t(i)] = chart.planar
+                                 ? chart.toSpace(patch.points[std::size_t(n + i)], harmonic(i, 0))
+                                 : Vector3d(harmonic.row(i).transpose());
+  if (continuity == 0) return lifted;
+
+  problem.continuity = 1;
+  for (std::size_t t = 0; t < patch.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int p = patch.triangles[t][std::size_t(k)];
+      problem.corners[t][std::size_t(k)] =
+          p < n ? point(mesh, loop.vertices[std::size_t(p)]) : lifted[std::size_t(p - n)];
+    }
+  problem.values.resize(problem.pointCount, 3);
+  for (std::size_t k = 0; k < known.size(); ++k)
+    problem.values.row(added + int(k)) = point(mesh, known[k]).transpose();
+  const Eigen::MatrixXd positions = solveMembrane(problem);
+  for (int i = 0; i < added; ++i)
+    lifted[std::size_t(i)] = positions.row(i).transpose();
+  return lifted;
+}
+
+HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
+                 const FillHolesOptions& options, int firstNewVertex) {
+  const HoleChart chart = chartHole(mesh, loop);
+  HoleFill fill;
+  // A border in a plane (a cut through a CAD part) is capped flat whatever the ring's slopes.
+  double borderHeight = 0.0;
+  for (int v : loop.vertices)
+    borderHeight = std::max(borderHeight, std::abs(chart.height(point(mesh, v))));
+  const bool flat = chart.planar && borderHeight <= kPlanarBorder * loop.length;
+  fill.continuity = flat ? 0 : options.continuity;
+  PlanarPatch patch;
   try {
-    const Eigen::MatrixXd solved = solveMembrane(problem);
-    for (int i = 0; i < added; ++i)
-      lifted[std::size_t(i)] = chart.planar
-                                   ? chart.toSpace(patch.points[std::size_t(n + i)], solved(i, 0))
-                                   : Vector3d(solved.row(i).transpose());
+    patch = gradedPatch(mesh, loop, chart, options.density);
+    fill.newPoints =
+        solveFill(mesh, loop, chart, patch, holeMembrane(mesh, loop, patch), fill.continuity);
   } catch (const std::runtime_error& e) {
     throw FillHolesError(loopId, loopName(loopId, loop) + ": " + e.what());
   }
-
-  fill.newPoints = std::move(lifted);
-  auto meshVertex = [&](int p) {
-    return p < n ? loop.vertices[std::size_t(p)] : firstNewVertex + p - n;
-  };
-  for (const auto& tri : patch.triangles)
-    fill.faces.push_back({meshVertex(tri[0]), meshVertex(tri[1]), meshVertex(tri[2])});
+  const int n = int(loop.vertices.size());
+  for (const auto& tri : patch.triangles) {
+    std::array<int, 3> face{};
+    for (int k = 0; k < 3; ++k)
+      face[std::size_t(k)] = tri[std::size_t(k)] < n
+                                 ? loop.vertices[std::size_t(tri[std::size_t(k)])]
+                                 : firstNewVertex + tri[std::size_t(k)] - n;
+    fill.faces.push_back(face);
+  }
   return fill;
 }
 

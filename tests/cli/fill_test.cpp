@@ -1,6 +1,7 @@
 // `geobrush fill`: a mesh's holes filled from plain arguments, with the command line's contract.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "geobrush/mesh_io.hpp"
@@ -37,32 +38,38 @@ TEST(CliFill, LeavesTheLargestLoopOpenAndReportsEachLoopAsJson) {
   EXPECT_EQ(test::topology(readMesh(dir / "bunny.obj").mesh->surface).boundaryLoops, 1u);
 }
 
-// A strip wound one and a half times around an axis: the disc spanning its border cuts it.
-fs::path helicalStrip(const fs::path& dir) {
+// A square sheet with a round hole and a pin standing through it: any disc spanning the hole
+// cuts the pin.
+fs::path pinThroughHole(const fs::path& dir) {
   std::string obj;
-  const int n = 90;
-  for (int i = 0; i <= n; ++i) {
-    const double angle = 3.0 * M_PI * i / n;
-    for (double w : {0.0, 0.3})
-      obj += "v " + std::to_string(std::cos(angle)) + " " + std::to_string(std::sin(angle)) + " " +
-             std::to_string(0.1 * angle + w) + "\n";
-  }
-  for (int i = 0; i < n; ++i) {
-    const int a = 2 * i + 1, b = a + 1, c = a + 2, d = a + 3;
-    obj += "f " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d) + "\n";
-    obj += "f " + std::to_string(a) + " " + std::to_string(d) + " " + std::to_string(b) + "\n";
-  }
-  return test::writeFile(dir / "strip.obj", obj);
+  const int n = 10;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      obj += "v " + std::to_string(double(i) / n) + " " + std::to_string(double(j) / n) + " 0\n";
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (std::hypot((i + 0.5) / n - 0.5, (j + 0.5) / n - 0.5) < 0.25) continue;
+      const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
+      obj += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + "\n";
+      obj += "f " + std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d) + "\n";
+    }
+  const int base = (n + 1) * (n + 1);
+  obj += "v 0.45 0.45 -0.5\nv 0.55 0.45 -0.5\nv 0.5 0.55 -0.5\nv 0.5 0.5 0.5\n";
+  for (const auto& f :
+       {std::array{1, 3, 2}, std::array{1, 2, 4}, std::array{2, 3, 4}, std::array{3, 1, 4}})
+    obj += "f " + std::to_string(base + f[0]) + " " + std::to_string(base + f[1]) + " " +
+           std::to_string(base + f[2]) + "\n";
+  return test::writeFile(dir / "pinned.obj", obj);
 }
 
 TEST(CliFill, ALoopItCannotFillFailsByNameAndWritesNothing) {
   const fs::path dir = test::tempDir("cli_fill_fail");
-  const auto run = runCli({"fill", helicalStrip(dir).string(), "-o", (dir / "out.obj").string(),
-                           "--image", (dir / "out.png").string()});
+  const auto run = runCli({"fill", pinThroughHole(dir).string(), "-o", (dir / "out.obj").string(),
+                           "--holes", "all-but-largest", "--image", (dir / "out.png").string()});
   EXPECT_EQ(run.status, 1);
   EXPECT_EQ(run.errorLines(), 1) << run.err;
-  EXPECT_TRUE(test::contains(run.err, "strip.obj: node 'fill'"));
-  EXPECT_TRUE(test::contains(run.err, "loop 0 (182 border edges, from vertex 0)"));
+  EXPECT_TRUE(test::contains(run.err, "pinned.obj: node 'fill'"));
+  EXPECT_TRUE(test::contains(run.err, "its fill would cut through the surface"));
   EXPECT_FALSE(fs::exists(dir / "out.obj"));
   EXPECT_FALSE(fs::exists(dir / "out.png"));
 }

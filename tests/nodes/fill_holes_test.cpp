@@ -189,8 +189,9 @@ TEST(FillHoles, MembraneReproducesAPlaneFromItsRing) {
 }
 
 // A strip wound one and a half times around an axis: its one border loop overlaps itself
-// seen from any side, so it is no disc in a plane, and the disc spanning it cuts the strip.
-TEST(FillHoles, ALoopThatOverlapsItselfFailsNamingIt) {
+// seen from any side, so it is no disc in a plane; over its smoothed chart the fill spans it
+// like a spiral staircase, closing the strip into one sheet without cutting it.
+TEST(FillHoles, ALoopThatOverlapsItselfInEveryPlaneFillsWithoutCuttingTheSurface) {
   TriMesh strip;
   const int n = 90;
   for (int i = 0; i <= n; ++i) {
@@ -203,12 +204,35 @@ TEST(FillHoles, ALoopThatOverlapsItselfFailsNamingIt) {
     strip.add_face(a, c, d);
     strip.add_face(a, d, b);
   }
+  EXPECT_FALSE(chartHole(strip, boundaryLoops(strip)[0]).planar);
+  const auto result = fillHoles(strip, {});
+  expectInputKept(strip, result.mesh);
+  EXPECT_EQ(test::topology(result.mesh).boundaryLoops, 0u);
+  EXPECT_EQ(test::topology(result.mesh).nonManifoldVertices, 0u);
+  EXPECT_EQ(intersectingPairs(result.mesh), 0u);
+}
+
+// A pin through a hole: any disc spanning the hole cuts it, so the fill fails, naming the loop.
+TEST(FillHoles, AFillThatWouldCutTheSurfaceFailsNamingItsLoop) {
+  TriMesh mesh = withoutFaces(
+      planeGrid(10), [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.25; });
+  const Mesh pin = test::tetrahedron(
+      {OpenMesh::Vec3d(0.45, 0.45, -0.5), {0.55, 0.45, -0.5}, {0.5, 0.55, -0.5}, {0.5, 0.5, 0.5}});
+  std::vector<TriMesh::VertexHandle> corners;
+  for (auto v : pin.surface.vertices())
+    corners.push_back(mesh.add_vertex(pin.surface.point(v)));
+  for (auto f : pin.surface.faces()) {
+    std::vector<TriMesh::VertexHandle> face;
+    for (auto v : pin.surface.fv_range(f))
+      face.push_back(corners[std::size_t(v.idx())]);
+    mesh.add_face(face);
+  }
   try {
-    fillHoles(strip, {});
-    FAIL() << "the strip's border was filled";
+    fillHoles(mesh, listed({1}));
+    FAIL() << "the hole was filled through the pin";
   } catch (const FillHolesError& e) {
-    EXPECT_EQ(e.loop(), 0);
-    EXPECT_TRUE(test::contains(e.what(), "loop 0 (182 border edges, from vertex 0)"));
+    EXPECT_EQ(e.loop(), 1);
+    EXPECT_TRUE(test::contains(e.what(), "loop 1 ("));
     EXPECT_TRUE(test::contains(e.what(), "its fill would cut through the surface"));
   }
 }
