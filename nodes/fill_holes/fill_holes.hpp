@@ -1,9 +1,10 @@
 // Automatic hole filling: each chosen boundary loop gets a chart of its own (the plane of the
 // loop), a triangulation whose edge lengths follow the border's (Liepa, "Filling holes in
-// meshes", SGP 2003, Sec. 3.2, done in the chart), and the membrane with G = 0 over it: the
-// harmonic (C0) or biharmonic (C1) height field matching the border's values, and for C1 the
-// slopes given by the ring of faces outside the border (GeoBrush paper, Eq. 3 with G = 0).
-// Existing vertices never move; the new faces share the border's vertices.
+// meshes", SGP 2003, Sec. 3.2, done in the chart), and the membrane with G = 0 over it (GeoBrush
+// paper, Eq. 3 with G = 0): the harmonic heights matching the border's values (C0), then for C1
+// the biharmonic positions matching the border's values and the slopes of the ring of faces
+// outside it, weighed by the harmonic fill's shape. A fill that would cut the surface is refilled
+// harmonic, then refused. Existing vertices never move; the new faces share the border's.
 #pragma once
 
 #include <array>
@@ -66,7 +67,7 @@ class FillHolesError : public std::runtime_error {
 };
 
 // Throws std::invalid_argument for bad options (a listed loop that does not exist) and
-// FillHolesError for a chosen loop that is not a disc in its chart.
+// FillHolesError for a chosen loop whose fill would cut the surface (or another fill).
 FillHolesResult fillHoles(const TriMesh& mesh, const FillHolesOptions& options);
 
 // Stages, exposed for tests.

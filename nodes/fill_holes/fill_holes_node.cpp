@@ -92,11 +92,13 @@ void registerNodes(geobrush::PluginRegistrar& r) {
           .label("Fill Holes")
           .category("Mesh")
           .doc("Fills boundary loops with no placement to choose. Each loop gets its own chart "
-               "(the loop's plane), a triangulation whose edges follow the border's lengths "
+               "(the loop's plane; for a loop that folds in every plane, its projection smoothed "
+               "along the loop), a triangulation whose edges follow the border's lengths "
                "inward, and the membrane with G = 0 over it (harmonic, or biharmonic with the "
-               "border's values and slopes). Existing vertices never move; the fill shares the "
-               "border's vertices. A chosen loop that is not a disc in its plane fails, naming "
-               "the loop. Loops are numbered by their smallest vertex index.")
+               "border's values and slopes). A border in a plane is capped flat. Existing "
+               "vertices never move; the fill shares the border's vertices. A fill that would "
+               "cut the surface is refilled harmonic, and fails naming its loop if it still "
+               "would. Loops are numbered by their smallest vertex index.")
           .input<Mesh>("mesh", "The mesh with holes.")
           .output<Mesh>("mesh", "The input's vertices and faces in their order, then the fills'.")
           .output<geobrush::Metrics>("report",
