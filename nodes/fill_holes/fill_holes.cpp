@@ -339,6 +339,34 @@ std::map<int, std::size_t> crossingFills(const TriMesh& mesh,
   return crossing;
 }
 
+// Where the border's slopes fold a fill into the surface, its values alone may not: refills
+// those loops harmonic, in place (the same triangulation), and returns the loops that still cut.
+std::map<int, std::size_t> refillCrossingHarmonic(const TriMesh& mesh,
+                                                  const std::vector<BoundaryLoop>& loops,
+                                                  const FillHolesOptions& options,
+                                                  const std::vector<int>& firstVertex,
+                                                  const std::vector<std::vector<int>>& newFaces,
+                                                  FillHolesResult& result) {
+  const auto crossing = crossingFills(result.mesh, newFaces);
+  if (crossing.empty()) return crossing;
+  FillHolesOptions harmonic = options;
+  harmonic.continuity = 0;
+  for (const auto& [i, count] : crossing) {
+    auto& report = result.holes[std::size_t(i)];
+    if (report.continuity == 0) continue;
+    const int first = firstVertex[std::size_t(i)];
+    const HoleFill fill = fillOne(mesh, loops[std::size_t(i)], i, harmonic, first);
+    for (std::size_t k = 0; k < fill.newPoints.size(); ++k) {
+      const Vector3d& p = fill.newPoints[k];
+      result.mesh.set_point(TriMesh::VertexHandle(first + int(k)),
+                            TriMesh::Point(p.x(), p.y(), p.z()));
+    }
+    report.continuity = 0;
+    report.note = "filled harmonic: with the border's slopes it cut the surface";
+  }
+  return crossingFills(result.mesh, newFaces);
+}
+
 }  // namespace
 
 Vector2d HoleChart::toChart(const Vector3d& p) const {
@@ -459,25 +487,7 @@ FillHolesResult fillHoles(const TriMesh& mesh, const FillHolesOptions& options) 
     report.timeMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
-  // Where the border's slopes fold a fill into the surface, its values alone may not.
-  auto crossing = crossingFills(result.mesh, newFaces);
-  if (crossing.empty()) return result;
-  FillHolesOptions harmonic = options;
-  harmonic.continuity = 0;
-  for (const auto& [i, count] : crossing) {
-    if (result.holes[std::size_t(i)].continuity == 0) continue;
-    const HoleFill fill =
-        fillOne(mesh, loops[std::size_t(i)], i, harmonic, firstVertex[std::size_t(i)]);
-    for (std::size_t k = 0; k < fill.newPoints.size(); ++k) {
-      const Vector3d& p = fill.newPoints[k];
-      result.mesh.set_point(TriMesh::VertexHandle(firstVertex[std::size_t(i)] + int(k)),
-                            TriMesh::Point(p.x(), p.y(), p.z()));
-    }
-    result.holes[std::size_t(i)].continuity = 0;
-    result.holes[std::size_t(i)].note =
-        "filled harmonic: with the border's slopes it cut the surface";
-  }
-  crossing = crossingFills(result.mesh, newFaces);
+  const auto crossing = refillCrossingHarmonic(mesh, loops, options, firstVertex, newFaces, result);
   if (!crossing.empty()) {
     const auto [i, count] = *crossing.begin();
     throw FillHolesError(

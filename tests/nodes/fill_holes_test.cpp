@@ -212,6 +212,41 @@ TEST(FillHoles, ALoopThatOverlapsItselfInEveryPlaneFillsWithoutCuttingTheSurface
   EXPECT_EQ(intersectingPairs(result.mesh), 0u);
 }
 
+// Appends a closed tetrahedron (a pin) to `mesh`.
+void addPin(TriMesh& mesh, const std::array<OpenMesh::Vec3d, 4>& corners) {
+  const Mesh pin = test::tetrahedron(corners);
+  std::vector<TriMesh::VertexHandle> added;
+  for (auto v : pin.surface.vertices())
+    added.push_back(mesh.add_vertex(pin.surface.point(v)));
+  for (auto f : pin.surface.faces()) {
+    std::vector<TriMesh::VertexHandle> face;
+    for (auto v : pin.surface.fv_range(f))
+      face.push_back(added[std::size_t(v.idx())]);
+    mesh.add_face(face);
+  }
+}
+
+// A hole at the top of a mound, under a pin that stops short of the hole's plane: the C1 fill
+// rises with the mound's slopes into the pin, the harmonic one stays below it.
+TEST(FillHoles, AFillTheSlopesWouldFoldIntoTheSurfaceIsFilledHarmonic) {
+  TriMesh mesh = withoutFaces(
+      planeGrid(20), [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.25; });
+  for (auto v : mesh.vertices()) {
+    auto p = mesh.point(v);
+    p[2] = -0.5 * std::max(0.0, std::hypot(p[0] - 0.5, p[1] - 0.5) - 0.25);
+    mesh.set_point(v, p);
+  }
+  addPin(mesh,
+         {OpenMesh::Vec3d(0.4, 0.4, 0.03), {0.6, 0.4, 0.03}, {0.5, 0.6, 0.03}, {0.5, 0.5, 0.5}});
+  const auto c1 = fillHoles(mesh, listed({1}));
+  EXPECT_EQ(c1.holes[1].continuity, 0);
+  EXPECT_TRUE(test::contains(c1.holes[1].note, "filled harmonic"));
+  EXPECT_EQ(intersectingPairs(c1.mesh), 0u);
+  const auto c0 = fillHoles(mesh, listed({1}, 0));
+  for (auto v : c0.mesh.vertices())
+    ASSERT_EQ(c0.mesh.point(v), c1.mesh.point(v));
+}
+
 // A pin through a hole: any disc spanning the hole cuts it, so the fill fails, naming the loop.
 TEST(FillHoles, AFillThatWouldCutTheSurfaceFailsNamingItsLoop) {
   TriMesh mesh = withoutFaces(
