@@ -134,6 +134,12 @@ EvalReport evaluateAndReport(const Graph& graph, const NodeRegistry& registry, E
 std::string runReportJson(const std::filesystem::path& graph, const EvalReport& report,
                           const std::vector<std::string>& pluginErrors,
                           const std::map<std::string, double>& metrics = {});
+// runReportJson's report of a fill, plus "holes": one object per boundary loop (loop,
+// border_edges, filled, new_vertices, new_faces, time_ms, ...) and the fill's notes.
+std::string fillReportJson(const std::filesystem::path& mesh, const EvalReport& report,
+                           const std::vector<std::string>& pluginErrors,
+                           const std::map<std::string, double>& metrics,
+                           const std::vector<std::string>& notes);
 std::string nodeTypesJson(const NodeRegistry& registry);
 std::string compareReportJson(const ComparedGraph& a, const ComparedGraph& b,
                               const std::filesystem::path& image, const std::string& error);

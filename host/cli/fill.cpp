@@ -79,14 +79,15 @@ int fillHoles(const FillOptions& options) {
   Evaluator evaluator(registry);
   const EvalReport report = evaluateAndReport(
       graph, registry, {},
-      {"fill " + options.mesh.string(), options.json, options.quiet, false, options.progress},
-      pluginErrors, &evaluator);
-  if (!report.ok) return kExitEvaluation;
-  if (!options.quiet && !options.json) {
-    const CollectedMetrics metrics = collectMetrics(graph, registry, evaluator);
+      {options.mesh, false, options.quiet || options.json, false, options.progress}, pluginErrors,
+      &evaluator);
+  CollectedMetrics metrics;
+  if (report.ok) metrics = collectMetrics(graph, registry, evaluator);
+  if (options.json)
+    std::cout << fillReportJson(options.mesh, report, pluginErrors, metrics.values, metrics.notes);
+  else if (report.ok && !options.quiet)
     printHoles(metrics.values, metrics.notes);
-  }
-  return kExitOk;
+  return report.ok ? kExitOk : kExitEvaluation;
 }
 
 }  // namespace geobrush::cli

@@ -30,11 +30,9 @@ json portsJson(const std::vector<PortDecl>& ports) {
   return list;
 }
 
-}  // namespace
-
-std::string runReportJson(const std::filesystem::path& graph, const EvalReport& report,
-                          const std::vector<std::string>& pluginErrors,
-                          const std::map<std::string, double>& metrics) {
+json runReport(const std::filesystem::path& graph, const EvalReport& report,
+               const std::vector<std::string>& pluginErrors,
+               const std::map<std::string, double>& metrics) {
   json nodes = json::array();
   for (const auto& run : report.runs) {
     nodes.push_back({{"name", run.node},
@@ -57,7 +55,51 @@ std::string runReportJson(const std::filesystem::path& graph, const EvalReport& 
                {"pluginErrors", pluginErrors}};
   if (!report.ok) root["error"] = report.error;
   if (!metrics.empty()) root["metrics"] = metrics;
+  return root;
+}
+
+std::string text(const json& root) {
   return root.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace
+
+std::string runReportJson(const std::filesystem::path& graph, const EvalReport& report,
+                          const std::vector<std::string>& pluginErrors,
+                          const std::map<std::string, double>& metrics) {
+  return text(runReport(graph, report, pluginErrors, metrics));
+}
+
+std::string fillReportJson(const std::filesystem::path& mesh, const EvalReport& report,
+                           const std::vector<std::string>& pluginErrors,
+                           const std::map<std::string, double>& metrics,
+                           const std::vector<std::string>& notes) {
+  json root = runReport(mesh, report, pluginErrors, metrics);
+  // fill.loop.N.FIELD, one object per loop in order.
+  const std::string prefix = "fill.loop.";
+  std::map<int, json> loops;
+  for (const auto& [key, value] : metrics) {
+    if (key.rfind(prefix, 0) != 0) continue;
+    const auto dot = key.find('.', prefix.size());
+    if (dot == std::string::npos) continue;
+    const int id = std::stoi(key.substr(prefix.size(), dot - prefix.size()));
+    const std::string field = key.substr(dot + 1);
+    json& loop = loops[id];
+    loop["loop"] = id;
+    if (field == "filled")
+      loop[field] = value != 0.0;
+    else if (field == "border_edges" || field == "new_vertices" || field == "new_faces" ||
+             field == "continuity")
+      loop[field] = int(value);
+    else
+      loop[field] = value;
+  }
+  json holes = json::array();
+  for (auto& [id, loop] : loops)
+    holes.push_back(std::move(loop));
+  root["holes"] = std::move(holes);
+  root["notes"] = notes;
+  return text(root);
 }
 
 std::string nodeTypesJson(const NodeRegistry& registry) {

@@ -100,37 +100,21 @@ HoleRing ringAround(const TriMesh& mesh, const BoundaryLoop& loop) {
   return ring;
 }
 
-// Splits, at its midpoint, each chord of the patch between two border points that the mesh
-// already joins by an edge: adding it again would make a non-manifold edge.
-void splitExistingChords(PlanarPatch& patch, const TriMesh& mesh, const BoundaryLoop& loop,
-                         std::vector<double>& size) {
+// The chord of triangle t, between two border points that the mesh already joins by an edge,
+// as the corner it starts at; -1 when there is none.
+int existingChord(const PlanarPatch& patch, std::size_t t, const TriMesh& mesh,
+                  const BoundaryLoop& loop) {
   const int n = int(loop.vertices.size());
-  for (std::size_t t = 0; t < patch.triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const int a = patch.triangles[t][k], b = patch.triangles[t][(k + 1) % 3];
-      if (a >= n || b >= n || (a + 1) % n == b || (b + 1) % n == a) continue;
-      const auto edge = mesh.find_halfedge(TriMesh::VertexHandle(loop.vertices[a]),
-                                           TriMesh::VertexHandle(loop.vertices[b]));
-      if (!edge.is_valid()) continue;
-      const int c = patch.triangles[t][(k + 2) % 3];
-      const int mid = int(patch.points.size());
-      patch.points.push_back(0.5 * (patch.points[a] + patch.points[b]));
-      size.push_back(0.5 * (size[a] + size[b]));
-      patch.triangles[t] = {a, mid, c};
-      patch.triangles.push_back({mid, b, c});
-      for (auto& other : patch.triangles) {  // the triangle across the chord, if any
-        for (int j = 0; j < 3; ++j) {
-          if (other[j] != b || other[(j + 1) % 3] != a) continue;
-          const int d = other[(j + 2) % 3];
-          other = {b, mid, d};
-          patch.triangles.push_back({mid, a, d});
-          break;
-        }
-      }
-      --t;  // look at the shortened triangle again
-      break;
-    }
+  for (int k = 0; k < 3; ++k) {
+    const int a = patch.triangles[t][std::size_t(k)],
+              b = patch.triangles[t][std::size_t((k + 1) % 3)];
+    if (a >= n || b >= n || (a + 1) % n == b || (b + 1) % n == a) continue;
+    if (mesh.find_halfedge(TriMesh::VertexHandle(loop.vertices[std::size_t(a)]),
+                           TriMesh::VertexHandle(loop.vertices[std::size_t(b)]))
+            .is_valid())
+      return k;
   }
+  return -1;
 }
 
 struct HoleFill {
@@ -368,6 +352,38 @@ std::map<int, std::size_t> refillCrossingHarmonic(const TriMesh& mesh,
 }
 
 }  // namespace
+
+void splitExistingChords(PlanarPatch& patch, const TriMesh& mesh, const BoundaryLoop& loop,
+                         std::vector<double>& size) {
+  for (std::size_t t = 0; t < patch.triangles.size();) {
+    const int k = existingChord(patch, t, mesh, loop);
+    if (k < 0) {
+      ++t;
+      continue;
+    }
+    const auto tri = patch.triangles[t];
+    const int a = tri[std::size_t(k)], b = tri[std::size_t((k + 1) % 3)],
+              c = tri[std::size_t((k + 2) % 3)];
+    const int mid = int(patch.points.size());
+    patch.points.push_back(0.5 * (patch.points[std::size_t(a)] + patch.points[std::size_t(b)]));
+    size.push_back(0.5 * (size[std::size_t(a)] + size[std::size_t(b)]));
+    patch.triangles[t] = {a, mid, c};
+    patch.triangles.push_back({mid, b, c});
+    // The triangle across the chord, if any, splits too.
+    for (std::size_t u = 0; u < patch.triangles.size(); ++u) {
+      const auto other = patch.triangles[u];
+      for (int j = 0; j < 3; ++j) {
+        if (other[std::size_t(j)] != b || other[std::size_t((j + 1) % 3)] != a) continue;
+        const int d = other[std::size_t((j + 2) % 3)];
+        patch.triangles[u] = {b, mid, d};
+        patch.triangles.push_back({mid, a, d});
+        u = patch.triangles.size();  // done
+        break;
+      }
+    }
+    // Triangle t is looked at again: it may have another chord.
+  }
+}
 
 Vector2d HoleChart::toChart(const Vector3d& p) const {
   return {axisU.dot(p - origin), axisV.dot(p - origin)};

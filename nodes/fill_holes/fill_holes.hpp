@@ -100,6 +100,12 @@ struct PlanarPatch {
 PlanarPatch triangulatePolygon(const std::vector<Eigen::Vector2d>& border,
                                const std::vector<double>& borderSize, double density);
 
+// Splits, at its midpoint, each chord of `patch` (over `loop`'s border points, in order) that
+// joins two border points the mesh already joins by an edge: adding it again would make a
+// non-manifold edge. `size` gets the new points' sizes.
+void splitExistingChords(PlanarPatch& patch, const TriMesh& mesh, const BoundaryLoop& loop,
+                         std::vector<double>& size);
+
 // True when no two non-adjacent edges of the closed polygon touch and no point repeats.
 bool isSimplePolygon(const std::vector<Eigen::Vector2d>& polygon);
 

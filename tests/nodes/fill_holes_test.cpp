@@ -272,6 +272,34 @@ TEST(FillHoles, AFillThatWouldCutTheSurfaceFailsNamingItsLoop) {
   }
 }
 
+// A square hole whose diagonal the mesh already has (a face bridging over it): the chord of the
+// fill along it is split at its midpoint, on both sides.
+TEST(FillHoles, AChordTheMeshAlreadyHasIsSplit) {
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> v;
+  for (const auto& p : {TriMesh::Point(0, 0, 0), TriMesh::Point(1, 0, 0), TriMesh::Point(1, 1, 0),
+                        TriMesh::Point(0, 1, 0), TriMesh::Point(0.5, 0.5, 1)})
+    v.push_back(mesh.add_vertex(p));
+  mesh.add_face(v[0], v[2], v[4]);  // a bridge whose edge 0-2 spans the square
+  BoundaryLoop loop;
+  loop.vertices = {0, 1, 2, 3};
+  PlanarPatch patch;
+  patch.points = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  patch.triangles = {{{0, 1, 2}}, {{0, 2, 3}}};
+  std::vector<double> size(4, 1.0);
+  splitExistingChords(patch, mesh, loop, size);
+  ASSERT_EQ(patch.points.size(), 5u);
+  EXPECT_EQ(patch.points[4], Vector2d(0.5, 0.5));
+  EXPECT_EQ(size.size(), 5u);
+  ASSERT_EQ(patch.triangles.size(), 4u);
+  for (const auto& t : patch.triangles) {
+    EXPECT_NE(std::find(t.begin(), t.end(), 4), t.end());  // every triangle meets the midpoint
+    const Vector2d &a = patch.points[std::size_t(t[0])], &b = patch.points[std::size_t(t[1])],
+                   &c = patch.points[std::size_t(t[2])];
+    EXPECT_GT((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x(), 0.0);  // still CCW
+  }
+}
+
 TEST(FillHoles, TheChoiceLeavesTheLargestTheUnlistedOrTheLongLoopsOpen) {
   const TriMesh holed = withoutFaces(planeGrid(20), [](const Vector3d& c) {
     return (c - Vector3d(0.3, 0.3, 0)).norm() < 0.1 || (c - Vector3d(0.7, 0.7, 0)).norm() < 0.2;
