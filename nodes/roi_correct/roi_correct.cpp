@@ -83,6 +83,18 @@ Dab enclosingDab(const TriMesh& mesh, const std::vector<Eigen::Vector2d>& uv,
   return {centre, radius * (1 + margin), false};
 }
 
+// The faces of `faces` (ascending) with a corner on the canvas' outline.
+std::vector<int> facesAtOutline(const TriMesh& mesh, const std::vector<int>& faces) {
+  std::vector<int> atOutline;
+  for (int f : faces)
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
+      if (mesh.is_boundary(v)) {
+        atOutline.push_back(f);
+        break;
+      }
+  return atOutline;
+}
+
 }  // namespace
 
 RoiCorrectResult correctRoi(const Strokes& strokes, const Parameterization& source,
@@ -114,7 +126,10 @@ RoiCorrectResult correctRoi(const Strokes& strokes, const Parameterization& sour
     for (int v : corners)
       inQ[std::size_t(v)] = result.strokes.contains(source.uv[std::size_t(v)]);
     const std::vector<int> crossed = crossedFaces(mesh, flagged, inQ);
-    if (crossed.empty()) return result;
+    if (crossed.empty()) {
+      result.outlineFaces = facesAtOutline(mesh, result.addedFaces);
+      return result;
+    }
     for (int seed : crossed) {
       if (taken[std::size_t(seed)]) continue;
       const std::vector<int> component = flaggedComponent(mesh, flagged, seed, taken);
@@ -125,6 +140,7 @@ RoiCorrectResult correctRoi(const Strokes& strokes, const Parameterization& sour
     std::sort(result.addedFaces.begin(), result.addedFaces.end());
   }
   result.settled = false;
+  result.outlineFaces = facesAtOutline(mesh, result.addedFaces);
   return result;
 }
 

@@ -36,6 +36,9 @@ struct RoiCorrectResult {
   std::vector<int> addedFaces;    // F_r: the flagged faces the added dabs take in, ascending
   std::size_t featuresAdded = 0;  // components of F_r
   bool settled = true;            // false when maxRounds were not enough to leave no cut
+  // Added faces at the canvas' outline: the region then ends at the outline inside folded
+  // geometry, and the seam there may fold (grow the canvas to take the whole feature). Ascending.
+  std::vector<int> outlineFaces;
 };
 
 // The canvas faces the correction may take in, per face 1 or 0: they depend on the source and the

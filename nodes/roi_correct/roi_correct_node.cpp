@@ -1,7 +1,9 @@
 #include <memory>
 #include <string>
 
+#include "geobrush/mesh.hpp"
 #include "geobrush/node.hpp"
+#include "geobrush/param.hpp"
 #include "geobrush/registry.hpp"
 #include "roi_correct.hpp"
 
@@ -11,6 +13,7 @@ using geobrush::Context;
 using geobrush::NodeError;
 using geobrush::Parameterization;
 using geobrush::Strokes;
+using geobrush::TriMesh;
 
 class RoiCorrectNode final : public geobrush::Node {
  public:
@@ -37,6 +40,14 @@ class RoiCorrectNode final : public geobrush::Node {
     }
     if (!result.settled)
       ctx.warn("the outline still cuts folded faces after the correction rounds; paint wider");
+    if (!result.outlineFaces.empty()) {
+      const auto& mesh = source->canvas->surface;
+      const auto p = mesh.calc_face_centroid(TriMesh::FaceHandle(result.outlineFaces.front()));
+      ctx.warn("the correction takes in folded faces up to the source canvas' outline (" +
+               std::to_string(result.outlineFaces.size()) + " faces, near " +
+               geobrush::formatParam(geobrush::Vec3{p[0], p[1], p[2]}) +
+               "): the seam may fold there; grow the source canvas to take the whole feature");
+    }
     ctx.out("strokes", std::make_shared<const Strokes>(std::move(result.strokes)));
   }
 
@@ -60,7 +71,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                  "that the source map folds over, those faces and the flagged faces next to them "
                  "are taken in whole, by a dab slightly larger than their image appended to the "
                  "strokes. Optionally steep protruding features are flagged as well, so that "
-                 "painting part of one takes all of it.")
+                 "painting part of one takes all of it. Warns where the faces it takes in reach "
+                 "the source canvas' outline: the region then ends inside folded geometry and "
+                 "the seam there may fold.")
             .input<Strokes>("strokes", "The painted dabs.")
             .input<Parameterization>("source", "E_s with its reversed-face flags.")
             .output<Strokes>("strokes", "The dabs, with one more per feature taken in.")

@@ -196,8 +196,8 @@ TEST(Clone, BadArgumentsAreOneErrorLineAndWriteNothing) {
 // fails naming the metrics node and what is wrong, and writes nothing, unless asked to write it.
 // The boot's lacing with the canvas the old shipped graph chose by hand: the region correction
 // takes in the whole lacing up to the canvas' outline at the collar, where the seam cuts a lace
-// and folds (13 face pairs, as CGAL's exact test counts them). The clone says so and writes
-// nothing.
+// and folds (13 face pairs, as CGAL's exact test counts them). The region correction warns
+// where, and the clone refuses the paste and writes nothing.
 TEST(Clone, TheBootLacingIsRefusedRatherThanWrittenFolded) {
   const auto out = test::tempDir("clone-boot");
   auto boot = cloneArgs(kBootLacesOnSphere, out / "boot.obj");
@@ -206,6 +206,8 @@ TEST(Clone, TheBootLacingIsRefusedRatherThanWrittenFolded) {
   const auto refused = runCli(boot);
   EXPECT_EQ(refused.status, 1) << refused.err;
   EXPECT_TRUE(test::contains(refused.err, "the paste has 13 new self-intersections"))
+      << refused.err;
+  EXPECT_TRUE(test::contains(refused.err, "folded faces up to the source canvas' outline"))
       << refused.err;
   EXPECT_TRUE(fs::is_empty(out));
 }

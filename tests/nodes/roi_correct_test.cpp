@@ -1,6 +1,7 @@
 // geobrush.roi_correct: outlines that cut folded or protruding faces take them in whole.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "canvas_fixtures.hpp"
@@ -102,6 +103,37 @@ TEST(RoiCorrect, GrowsThroughAdjacentReversedFaces) {
   }
   // The spike is cut by the second dab but is not flagged in this mode.
   EXPECT_FALSE(result.strokes.contains({0.45, 0.0}));
+  EXPECT_TRUE(result.outlineFaces.empty());
+}
+
+// A flagged patch that reaches the canvas' outline: the correction takes it in and names the
+// faces at the outline, where the region ends inside folded geometry.
+TEST(RoiCorrect, NamesTheFacesItTakesInAtTheCanvasOutline) {
+  auto param = spike();
+  auto flagged = std::make_shared<Parameterization>(*param);
+  const TriMesh& mesh = param->canvas->surface;
+  flagged->reversedFaces.assign(mesh.n_faces(), 0);
+  double left = 0.0;
+  for (auto v : mesh.vertices())
+    left = std::min(left, param->uv[std::size_t(v.idx())].x());
+  for (auto f : mesh.faces()) {
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (auto v : mesh.fv_range(f))
+      centre += param->uv[std::size_t(v.idx())] / 3;
+    flagged->reversedFaces[std::size_t(f.idx())] =
+        (centre - Eigen::Vector2d(left, 0.0)).norm() < 0.2;
+  }
+  const RoiCorrectResult result =
+      correctRoi(strokes({{{left + 0.25, 0.0}, 0.2, false}}), *flagged, RoiCorrectOptions{});
+  EXPECT_EQ(result.featuresAdded, 1u);
+  ASSERT_FALSE(result.outlineFaces.empty());
+  for (int f : result.outlineFaces) {
+    EXPECT_TRUE(flagged->reversedFaces[std::size_t(f)]);
+    bool atOutline = false;
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
+      atOutline = atOutline || mesh.is_boundary(v);
+    EXPECT_TRUE(atOutline) << f;
+  }
 }
 
 // On a real canvas the correction leaves no flagged face cut, whatever the dab.
