@@ -123,18 +123,20 @@ struct HoleFill {
   std::vector<std::array<int, 3>> faces;  // mesh vertex ids, new points from mesh.n_vertices()
 };
 
-// The chart's triangulation of the hole, its edges the length of the border's on the surface
-// (in the chart a zigzag border's are shorter, and the triangles would come out finer).
+// The chart's triangulation of the hole, as dense as the mesh around its border: each border
+// vertex asks for the edge of an equilateral triangle as large as its faces on the surface (on
+// average), so that long thin faces (a CAD part's fans) ask for their area, not their length.
 PlanarPatch gradedPatch(const TriMesh& mesh, const BoundaryLoop& loop, const HoleChart& chart,
                         double density) {
-  const int n = int(loop.vertices.size());
-  std::vector<double> size(std::size_t(n), 0.0);
-  for (int i = 0; i < n; ++i) {
-    const double edge = (point(mesh, loop.vertices[std::size_t((i + 1) % n)]) -
-                         point(mesh, loop.vertices[std::size_t(i)]))
-                            .norm();
-    size[std::size_t(i)] += 0.5 * edge;
-    size[std::size_t((i + 1) % n)] += 0.5 * edge;
+  std::vector<double> size;
+  for (int v : loop.vertices) {
+    double area = 0.0;
+    int faces = 0;
+    for (auto f : mesh.vf_range(TriMesh::VertexHandle(v))) {
+      area += mesh.calc_face_area(f);
+      ++faces;
+    }
+    size.push_back(std::sqrt(4.0 / std::sqrt(3.0) * area / faces));
   }
   PlanarPatch patch = triangulatePolygon(chart.border, size, density);
   splitExistingChords(patch, mesh, loop, size);
