@@ -1,8 +1,8 @@
 // Automatic hole filling: each chosen boundary loop gets a chart of its own (the plane of the
-// loop), a triangulation whose edge lengths follow the border's (Liepa, "Filling holes in
-// meshes", SGP 2003, Sec. 3.2, done in the chart), and the membrane with G = 0 over it (GeoBrush
-// paper, Eq. 3 with G = 0): the harmonic heights matching the border's values (C0), then for C1
-// the biharmonic positions matching the border's values and the slopes of the ring of faces
+// loop), a triangulation as dense as the mesh around the border, graded inward (Liepa, "Filling
+// holes in meshes", SGP 2003, Sec. 3.2, done in the chart), and the membrane with G = 0 over it
+// (GeoBrush paper, Eq. 3 with G = 0): the harmonic heights matching the border's values (C0), then
+// for C1 the biharmonic positions matching the border's values and the slopes of the ring of faces
 // outside it, weighed by the harmonic fill's shape. A fill that would cut the surface is refilled
 // harmonic, then refused. Existing vertices never move; the new faces share the border's.
 #pragma once

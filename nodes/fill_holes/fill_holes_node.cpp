@@ -93,8 +93,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
           .category("Mesh")
           .doc("Fills boundary loops with no placement to choose. Each loop gets its own chart "
                "(the loop's plane; for a loop that folds in every plane, its projection smoothed "
-               "along the loop), a triangulation whose edges follow the border's lengths "
-               "inward, and the membrane with G = 0 over it (harmonic, or biharmonic with the "
+               "along the loop), a triangulation as dense as the mesh around the border, "
+               "graded inward, and the membrane with G = 0 over it (harmonic, or biharmonic with "
+               "the "
                "border's values and slopes). A border in a plane is capped flat. Existing "
                "vertices never move; the fill shares the border's vertices. A fill that would "
                "cut the surface is refilled harmonic, and fails naming its loop if it still "
