@@ -167,8 +167,7 @@ TEST(CloneGraphs, AWholeCanvasRegionAndACoarseGridStayValid) {
 // gc_warp connected to the region warps only the draft support; the pasted result is the same,
 // bit for bit, as with the whole draft.
 TEST(CloneGraphs, WarpingTheDraftSupportOnlyGivesTheSameResult) {
-  for (const std::string name :
-       {"clone_ear_cube_edge", "clone_mountain_sphere"}) {
+  for (const std::string name : {"clone_ear_cube_edge", "clone_mountain_sphere"}) {
     std::string results[2];
     for (int whole = 0; whole < 2; ++whole) {
       Graph graph = readGraphFile(test::sourceDir() / "graphs" / (name + ".json"));

@@ -6,6 +6,7 @@
 
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
+#include "geobrush/intersection.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "geobrush/values.hpp"
 #include "mesh_checks.hpp"
@@ -13,7 +14,6 @@
 #include "roi.hpp"
 #include "stitch.hpp"
 #include "test_support.hpp"
-#include "geobrush/intersection.hpp"
 
 using namespace geobrush;
 
