@@ -75,19 +75,20 @@ bool segmentMeetsTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, co
 // meets the other (one shared vertex), or when they fold flat onto each other (a shared edge).
 bool adjacentTrianglesMeet(const Triangle3& a, const Triangle3& b, const std::array<int, 3>& ca,
                            const std::array<int, 3>& cb, double tolerance) {
-  std::vector<int> sharedInA, sharedInB;
+  std::array<int, 3> sharedInA{}, sharedInB{};
+  int shared = 0;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (ca[i] == cb[j]) {
-        sharedInA.push_back(i);
-        sharedInB.push_back(j);
+        sharedInA[std::size_t(shared)] = i;
+        sharedInB[std::size_t(shared++)] = j;
       }
-  if (sharedInA.size() == 1) {
+  if (shared == 1) {
     const int i = sharedInA[0], j = sharedInB[0];
     return segmentMeetsTriangle(b[(j + 1) % 3], b[(j + 2) % 3], a, tolerance) ||
            segmentMeetsTriangle(a[(i + 1) % 3], a[(i + 2) % 3], b, tolerance);
   }
-  if (sharedInA.size() != 2) return false;
+  if (shared != 2) return false;
   const int thirdA = 3 - sharedInA[0] - sharedInA[1], thirdB = 3 - sharedInB[0] - sharedInB[1];
   const Eigen::Vector3d e0 = a[sharedInA[0]], along = (a[sharedInA[1]] - e0).normalized();
   const Eigen::Vector3d normal = (a[1] - a[0]).cross(a[2] - a[0]);

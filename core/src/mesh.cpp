@@ -1,5 +1,7 @@
 #include "geobrush/mesh.hpp"
 
+#include <Eigen/Geometry>
+
 #include <string>
 
 namespace geobrush {
@@ -27,6 +29,15 @@ std::string Mesh::summary() const {
   };
   return count(surface.n_vertices(), "vertex", "vertices") + ", " +
          count(surface.n_faces(), "face", "faces");
+}
+
+double boundingDiagonal(const TriMesh& mesh) {
+  Eigen::AlignedBox3d box;
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
+  }
+  return box.isEmpty() ? 0.0 : box.diagonal().norm();
 }
 
 }  // namespace geobrush

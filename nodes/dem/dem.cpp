@@ -62,7 +62,8 @@ void checkInput(const std::vector<Eigen::Vector2d>& sourceUv, const TargetDemOpt
   }
 }
 
-double boundingDiagonal(const TriMesh& mesh) {
+// The bounding-box diagonal, refusing a vertex with a non-finite coordinate by name.
+double finiteDiagonal(const TriMesh& mesh) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
   for (auto v : mesh.vertices()) {
@@ -285,7 +286,7 @@ std::vector<Eigen::Vector3d> unitNormals(const TriMesh& mesh) {
 
 PreparedTarget::PreparedTarget(MeshPtr mesh)
     : mesh_(checkedMesh(std::move(mesh))),
-      diagonal_(boundingDiagonal(mesh_->surface)),
+      diagonal_(finiteDiagonal(mesh_->surface)),
       normals_(unitNormals(mesh_->surface)),
       locator_(mesh_->surface) {}
 

@@ -312,12 +312,7 @@ std::map<int, std::size_t> crossingFills(const TriMesh& mesh,
     all.insert(all.end(), faces.begin(), faces.end());
   std::map<int, std::size_t> crossing;
   if (all.empty()) return crossing;
-  Vector3d lo = point(mesh, 0), hi = lo;
-  for (auto v : mesh.vertices()) {
-    lo = lo.cwiseMin(point(mesh, v.idx()));
-    hi = hi.cwiseMax(point(mesh, v.idx()));
-  }
-  const double tolerance = 1e-9 * (hi - lo).norm();
+  const double tolerance = 1e-9 * boundingDiagonal(mesh);
   if (selfIntersections(mesh, all, tolerance) == 0) return crossing;
   for (std::size_t i = 0; i < newFaces.size(); ++i)
     if (const std::size_t count = selfIntersections(mesh, newFaces[i], tolerance); count > 0)
@@ -444,9 +439,9 @@ HoleChart chartHole(const TriMesh& mesh, const BoundaryLoop& loop) {
   // border's vertices stay where they are.
   if (areaNormal.norm() > 0.0) {
     HoleChart chart = chartAlong(areaNormal.normalized(), origin, points);
+    chart.planar = false;  // the fill's positions follow the border, not the chart
     for (int pass = 0; pass < kChartSmoothingPasses; ++pass) {
       chart.border = smoothedAlongLoop(chart.border);
-      chart.planar = false;  // the fill's positions follow the border, not the chart
       if (signedArea(chart.border) > 0.0 && isSimplePolygon(chart.border)) return chart;
     }
   }

@@ -38,13 +38,6 @@ double degrees(double radians) {
   return radians * 180.0 / M_PI;
 }
 
-double boundingDiagonal(const TriMesh& mesh) {
-  Eigen::AlignedBox3d box;
-  for (auto v : mesh.vertices())
-    box.extend(position(mesh, v));
-  return box.isEmpty() ? 0 : box.diagonal().norm();
-}
-
 // Vertices with another vertex within `tolerance` of them: a seam that does not share its
 // vertices shows up here.
 std::vector<char> duplicatedVertices(const TriMesh& mesh, double tolerance) {

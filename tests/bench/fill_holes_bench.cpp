@@ -74,7 +74,7 @@ void report(benchmark::State& state, const HoleCase& hole, const TriMesh& filled
   if (hole.truth.n_faces() > 0)
     state.counters["mean_dist_over_diag"] =
         test::cgalDistances(addedPoints(filled, hole.holed), hole.truth).mean /
-        test::boundingDiagonal(hole.holed);
+        boundingDiagonal(hole.holed);
 }
 
 void BM_FillHoles(benchmark::State& state) {

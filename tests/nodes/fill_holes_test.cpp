@@ -92,7 +92,7 @@ std::size_t intersectingPairs(const TriMesh& mesh) {
   std::vector<int> faces(mesh.n_faces());
   for (std::size_t f = 0; f < faces.size(); ++f)
     faces[f] = int(f);
-  return selfIntersections(mesh, faces, 1e-12 * test::boundingDiagonal(mesh));
+  return selfIntersections(mesh, faces, 1e-12 * boundingDiagonal(mesh));
 }
 
 TEST(FillHoles, FindsEachLoopStartingAtItsSmallestVertex) {
@@ -361,7 +361,7 @@ TEST(FillHoles, TheHolesOfACadPartCloseAndItsPlanarHoleFillsPlanar) {
   EXPECT_FALSE(chartHole(holed, boundaryLoops(holed)[0]).planar);
   // A loop whose border lies in a plane fills in that plane (its chart's plane, height 0).
   const auto loops = boundaryLoops(holed);
-  const double diag = test::boundingDiagonal(holed);
+  const double diag = boundingDiagonal(holed);
   int planarLoops = 0;
   std::size_t next = holed.n_vertices();
   for (std::size_t i = 0; i < loops.size(); ++i) {

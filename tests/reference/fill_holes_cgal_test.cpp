@@ -47,7 +47,7 @@ TEST_P(CutHoleAgainstCgal, FillsAtLeastAsNearTheRemovedPatchWithoutSelfIntersect
   const auto ours = fillHoles(holed, {});
   EXPECT_EQ(test::cgalSelfIntersections(ours.mesh), 0u);
   const auto cgal = test::cgalFillHoles(holed, 1);
-  const double diag = test::boundingDiagonal(holed);
+  const double diag = boundingDiagonal(holed);
   const auto oursDistance = test::cgalDistances(addedPoints(ours.mesh, holed), truth);
   const auto cgalDistance = test::cgalDistances(addedPoints(cgal.mesh, holed), truth);
   RecordProperty("mean_over_diag", std::to_string(oursDistance.mean / diag));

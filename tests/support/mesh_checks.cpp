@@ -1,7 +1,5 @@
 #include "mesh_checks.hpp"
 
-#include <Eigen/Geometry>
-
 #include <map>
 
 #include <algorithm>
@@ -117,15 +115,6 @@ TriMesh boxCage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n) {
     }
   }
   return mesh;
-}
-
-double boundingDiagonal(const TriMesh& mesh) {
-  Eigen::AlignedBox3d box;
-  for (auto v : mesh.vertices()) {
-    const auto& p = mesh.point(v);
-    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
-  }
-  return box.diagonal().norm();
 }
 
 double surfaceArea(const TriMesh& mesh) {

@@ -24,8 +24,6 @@ TriMesh boxCage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n);
 TriMesh icosphere(int levels);
 
 double surfaceArea(const TriMesh& mesh);
-// The length of the diagonal of the mesh's axis-aligned bounding box.
-double boundingDiagonal(const TriMesh& mesh);
 
 // Sum of the signed volumes of the tetrahedra from the origin to each face: the enclosed volume
 // of a closed mesh, positive when its faces are oriented outward.

@@ -47,4 +47,8 @@ class Mesh final : public Value {
 
 using MeshPtr = std::shared_ptr<const Mesh>;
 
+// The length of the diagonal of the mesh's axis-aligned bounding box; 0 for a mesh without
+// vertices. What tolerances relative to a mesh's size are measured in.
+double boundingDiagonal(const TriMesh& mesh);
+
 }  // namespace geobrush
