@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "geobrush/loop_zip.hpp"
 #include "geobrush/submesh.hpp"
 
 namespace geobrush {
@@ -92,152 +93,6 @@ double meanNearestDistance(const std::vector<Vector2d>& a, const std::vector<Vec
     sum += std::sqrt(best);
   }
   return sum / double(a.size());
-}
-
-// Twice the signed area of the triangle pqr in the domain: positive when counterclockwise.
-double orientation(const Vector2d& p, const Vector2d& q, const Vector2d& r) {
-  const Vector2d e = q - p, f = r - p;
-  return e.x() * f.y() - e.y() * f.x();
-}
-
-// The strip between loop `a` and loop `b` (vertex ids of the combined mesh, uv alongside), both
-// in the direction of their boundary halfedges, as the steps of a walk along a forwards and b
-// backwards from a[0] and b[start]: each step takes the next vertex of one loop and makes a
-// triangle with the current vertex of the other, whose orientation is then consistent with both
-// sides. A strip is a list of steps; true advances along a.
-using Strip = std::vector<char>;
-
-// Whether a step's triangle turns over in the domain (the canvases' faces are counterclockwise).
-struct StripWalk {
-  const std::vector<Vector2d>& uvA;
-  const std::vector<Vector2d>& uvB;
-  std::size_t start;
-  std::size_t bAt(std::size_t step) const {
-    return (start + uvB.size() - step % uvB.size()) % uvB.size();
-  }
-  // The step from (i, j) along a: triangle a_i, a_i+1, b_j.
-  bool turnsAlongA(std::size_t i, std::size_t j) const {
-    return orientation(uvA[i % uvA.size()], uvA[(i + 1) % uvA.size()], uvB[bAt(j)]) < 0;
-  }
-  // The step from (i, j) along b: triangle b_j+1, b_j, a_i.
-  bool turnsAlongB(std::size_t i, std::size_t j) const {
-    return orientation(uvB[bAt(j + 1)], uvB[bAt(j)], uvA[i % uvA.size()]) < 0;
-  }
-  double crossEdge(std::size_t i, std::size_t j) const {
-    return (uvA[i % uvA.size()] - uvB[bAt(j)]).norm();
-  }
-};
-
-// The greedy strip: at each step the shorter new edge in the parameter domain, or, with
-// `keepOrientation`, the other one where only the other keeps the triangle's orientation: on a
-// refined seam, whose outlines lie close together, the shorter edge can turn a triangle over
-// where an outline bends.
-Strip greedyStrip(const StripWalk& walk, bool keepOrientation) {
-  const std::size_t na = walk.uvA.size(), nb = walk.uvB.size();
-  Strip strip;
-  std::size_t i = 0, j = 0;
-  while (i < na || j < nb) {
-    bool alongA = j == nb || (i < na && walk.crossEdge(i + 1, j) <= walk.crossEdge(i, j + 1));
-    const bool aTurns = walk.turnsAlongA(i, j), bTurns = walk.turnsAlongB(i, j);
-    if (keepOrientation && i < na && j < nb && aTurns != bTurns) alongA = bTurns;
-    strip.push_back(alongA);
-    (alongA ? i : j) += 1;
-  }
-  return strip;
-}
-
-std::size_t turnedOver(const StripWalk& walk, const Strip& strip) {
-  std::size_t turned = 0, i = 0, j = 0;
-  for (const char alongA : strip) {
-    turned += alongA ? walk.turnsAlongA(i, j) : walk.turnsAlongB(i, j);
-    (alongA ? i : j) += 1;
-  }
-  return turned;
-}
-
-// The strip with the fewest triangles turned over in the domain, and of those the shortest sum of
-// new edges: a shortest path through the grid of (steps along a, steps along b) (Fuchs, Kedem and
-// Uselton 1977, "Optimal surface reconstruction from planar contours", with the turned-over
-// triangles counted first). Costs the product of the loops' lengths.
-Strip fewestTurnedStrip(const StripWalk& walk) {
-  const std::size_t na = walk.uvA.size(), nb = walk.uvB.size(), columns = nb + 1;
-  struct Cost {
-    std::size_t turned = std::numeric_limits<std::size_t>::max();
-    double length = std::numeric_limits<double>::infinity();
-    bool operator<(const Cost& other) const {
-      return turned != other.turned ? turned < other.turned : length < other.length;
-    }
-  };
-  std::vector<Cost> best((na + 1) * columns);
-  std::vector<char> cameAlongA((na + 1) * columns, 0);
-  best[0] = {0, 0};
-  for (std::size_t i = 0; i <= na; ++i)
-    for (std::size_t j = 0; j <= nb; ++j) {
-      if (i == 0 && j == 0) continue;
-      const double edge = walk.crossEdge(i, j);
-      Cost cost;
-      if (i > 0) {
-        const Cost& before = best[(i - 1) * columns + j];
-        cost = {before.turned + walk.turnsAlongA(i - 1, j), before.length + edge};
-        cameAlongA[i * columns + j] = 1;
-      }
-      if (j > 0) {
-        const Cost& before = best[i * columns + j - 1];
-        const Cost alongB{before.turned + walk.turnsAlongB(i, j - 1), before.length + edge};
-        if (alongB < cost) {
-          cost = alongB;
-          cameAlongA[i * columns + j] = 0;
-        }
-      }
-      best[i * columns + j] = cost;
-    }
-  Strip strip(na + nb);
-  for (std::size_t i = na, j = nb, k = na + nb; k-- > 0;) {
-    strip[k] = cameAlongA[i * columns + j];
-    (strip[k] ? i : j) -= 1;
-  }
-  return strip;
-}
-
-// Loops longer than this product are left to the greedy strip.
-constexpr std::size_t kMaxStripGrid = std::size_t(1) << 22;
-
-// Triangulates the strip between loop `a` and loop `b`, starting at the vertex of b nearest a[0]:
-// the greedy strip (see greedyStrip), or, where it turns triangles over in the domain, the strip
-// that turns over the fewest (see fewestTurnedStrip): near notches of an outline, or where a
-// coarse target's outline is much longer between two vertices than R_in's, the greedy walk can
-// fan one vertex across the other outline, and a folded strip intersects the paste.
-std::vector<std::array<int, 3>> zip(const std::vector<int>& a, const std::vector<Vector2d>& uvA,
-                                    const std::vector<int>& b, const std::vector<Vector2d>& uvB,
-                                    bool keepOrientation) {
-  std::size_t start = 0;
-  double nearest = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < b.size(); ++k) {
-    const double d = (uvB[k] - uvA[0]).squaredNorm();
-    if (d < nearest) {
-      nearest = d;
-      start = k;
-    }
-  }
-  const StripWalk walk{uvA, uvB, start};
-  Strip strip = greedyStrip(walk, keepOrientation);
-  const std::size_t greedyTurned = turnedOver(walk, strip);
-  if (greedyTurned > 0 && (a.size() + 1) * (b.size() + 1) <= kMaxStripGrid) {
-    Strip fewest = fewestTurnedStrip(walk);
-    if (turnedOver(walk, fewest) < greedyTurned) strip = std::move(fewest);
-  }
-  std::vector<std::array<int, 3>> triangles;
-  std::size_t i = 0, j = 0;
-  for (const char alongA : strip) {
-    if (alongA) {
-      triangles.push_back({a[i % a.size()], a[(i + 1) % a.size()], b[walk.bAt(j)]});
-      ++i;
-    } else {
-      triangles.push_back({b[walk.bAt(j + 1)], b[walk.bAt(j)], a[i % a.size()]});
-      ++j;
-    }
-  }
-  return triangles;
 }
 
 std::string vertexText(int v) {
@@ -1072,7 +927,8 @@ StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameteriza
     }
     if (best == seams.size()) throw StitchError("two source loops pair with one seam loop");
     paired[best] = 1;
-    for (const auto& t : zip(ids, uv, seams[best], seamUv[best], band.has_value())) {
+    const DomainZipMetric metric(uv, seamUv[best]);
+    for (const auto& t : zipLoops(ids, seams[best], metric, band.has_value())) {
       const auto face = out.add_face(TriMesh::VertexHandle(t[0]), TriMesh::VertexHandle(t[1]),
                                      TriMesh::VertexHandle(t[2]));
       if (!face.is_valid()) {
