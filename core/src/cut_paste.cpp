@@ -1,0 +1,234 @@
+#include "geobrush/cut_paste.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <string>
+
+#include "geobrush/exponential_map.hpp"
+#include "geobrush/hash.hpp"
+#include "geobrush/submesh.hpp"
+
+namespace geobrush {
+namespace {
+
+Eigen::Vector3d toEigen(const TriMesh::Point& p) {
+  return {p[0], p[1], p[2]};
+}
+
+void hashVector3s(Hasher& hasher, const std::vector<Eigen::Vector3d>& values) {
+  hasher.u64(values.size());
+  for (const auto& v : values)
+    hasher.f64(v.x()).f64(v.y()).f64(v.z());
+}
+
+Eigen::Vector3d interpolatedNormal(const std::array<Eigen::Vector3d, 3>& normals,
+                                   const Eigen::Vector3d& b) {
+  const Eigen::Vector3d n = b[0] * normals[0] + b[1] * normals[1] + b[2] * normals[2];
+  const double length = n.norm();
+  return length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::UnitZ();
+}
+
+Eigen::Vector3d basePoint(const std::array<Eigen::Vector3d, 3>& corners, const Eigen::Vector3d& b) {
+  return b[0] * corners[0] + b[1] * corners[1] + b[2] * corners[2];
+}
+
+// The boundary loop through `start`'s outgoing boundary halfedge, as vertex ids.
+std::vector<int> loopFrom(const TriMesh& mesh, TriMesh::HalfedgeHandle start) {
+  std::vector<int> loop;
+  auto h = start;
+  do {
+    loop.push_back(mesh.from_vertex_handle(h).idx());
+    h = mesh.next_halfedge_handle(h);
+    if (loop.size() > mesh.n_halfedges())
+      throw std::invalid_argument("a boundary loop never closes");
+  } while (h != start);
+  return loop;
+}
+
+std::size_t boundaryLoopCount(const TriMesh& mesh) {
+  std::vector<char> seen(mesh.n_halfedges(), 0);
+  std::size_t loops = 0;
+  for (auto h : mesh.halfedges()) {
+    if (!mesh.is_boundary(h) || seen[h.idx()]) continue;
+    ++loops;
+    auto g = h;
+    do {
+      seen[g.idx()] = 1;
+      g = mesh.next_halfedge_handle(g);
+    } while (g != h);
+  }
+  return loops;
+}
+
+}  // namespace
+
+Hash DetailEncoding::contentHash() const {
+  Hasher hasher;
+  hasher.str(kTypeId);
+  hasher.u64(feature ? feature->contentHash() : 0).u64(base ? base->contentHash() : 0);
+  hasher.u64(std::uint64_t(method));
+  hasher.span(std::span<const int>(baseFace));
+  hashVector3s(hasher, barycentric);
+  hashVector3s(hasher, offset);
+  return hasher.digest();
+}
+
+std::string DetailEncoding::summary() const {
+  return std::string("detail encoding of ") + std::to_string(offset.size()) + " vertices (" +
+         (method == DetailMethod::LocalFrame ? "local frames" : "normal displacement") + ")";
+}
+
+Hash SurfacePath::contentHash() const {
+  Hasher hasher;
+  hasher.str(kTypeId).u64(mesh ? mesh->contentHash() : 0);
+  hasher.span(std::span<const int>(face));
+  hashVector3s(hasher, point);
+  hasher.f64(closingGap).f64(scale);
+  return hasher.digest();
+}
+
+std::string SurfacePath::summary() const {
+  return "surface path of " + std::to_string(point.size()) + " points, closing gap " +
+         std::to_string(closingGap);
+}
+
+FaceFrame faceFrame(const std::array<Eigen::Vector3d, 3>& corners) {
+  FaceFrame frame;
+  const Eigen::Vector3d edge = corners[1] - corners[0];
+  const Eigen::Vector3d normal = edge.cross(corners[2] - corners[0]);
+  if (edge.norm() == 0 || normal.norm() == 0) return frame;
+  frame.e1 = edge.normalized();
+  frame.n = normal.normalized();
+  frame.e2 = frame.n.cross(frame.e1);
+  return frame;
+}
+
+std::vector<Eigen::Vector3d> vertexNormals(const TriMesh& mesh) {
+  std::vector<Eigen::Vector3d> normals(mesh.n_vertices(), Eigen::Vector3d::Zero());
+  for (auto v : mesh.vertices()) {
+    const Eigen::Vector3d n = angleWeightedNormal(mesh, v);
+    if (n.norm() > 0) normals[v.idx()] = n.normalized();
+  }
+  return normals;
+}
+
+Eigen::Vector3d encodeOffset(const std::array<Eigen::Vector3d, 3>& corners,
+                             const std::array<Eigen::Vector3d, 3>& cornerNormals,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& point,
+                             DetailMethod method) {
+  const Eigen::Vector3d d = point - basePoint(corners, b);
+  if (method == DetailMethod::NormalDisplacement)
+    return {0, 0, d.dot(interpolatedNormal(cornerNormals, b))};
+  const FaceFrame frame = faceFrame(corners);
+  return {d.dot(frame.e1), d.dot(frame.e2), d.dot(frame.n)};
+}
+
+Eigen::Vector3d decodeOffset(const std::array<Eigen::Vector3d, 3>& corners,
+                             const std::array<Eigen::Vector3d, 3>& cornerNormals,
+                             const Eigen::Vector3d& b, const Eigen::Vector3d& offset,
+                             DetailMethod method, double scale) {
+  const Eigen::Vector3d base = basePoint(corners, b);
+  if (method == DetailMethod::NormalDisplacement)
+    return base + scale * offset.z() * interpolatedNormal(cornerNormals, b);
+  const FaceFrame frame = faceFrame(corners);
+  return base + scale * (offset.x() * frame.e1 + offset.y() * frame.e2 + offset.z() * frame.n);
+}
+
+Canvas canvasOfMesh(const MeshPtr& mesh) {
+  const TriMesh& surface = mesh->surface;
+  if (surface.n_vertices() == 0 || boundaryLoopCount(surface) != 1)
+    throw std::invalid_argument("a base must be a disc: one boundary loop");
+  const auto v0 = surface.vertex_handle(0);
+  TriMesh::HalfedgeHandle start;
+  for (auto h : surface.voh_range(v0))
+    if (surface.is_boundary(h)) start = h;
+  if (!start.is_valid()) throw std::invalid_argument("vertex 0 of a base must be on its boundary");
+  Canvas canvas;
+  canvas.source = mesh;
+  canvas.surface = surface;
+  canvas.sourceVertex.resize(surface.n_vertices());
+  for (std::size_t v = 0; v < surface.n_vertices(); ++v)
+    canvas.sourceVertex[v] = int(v);
+  canvas.sourceFace.resize(surface.n_faces());
+  for (std::size_t f = 0; f < surface.n_faces(); ++f)
+    canvas.sourceFace[f] = int(f);
+  canvas.boundary = loopFrom(surface, start);
+  canvas.originVertex = 0;
+  canvas.originPoint = toEigen(surface.point(v0));
+  canvas.originFace = surface.face_handle(surface.opposite_halfedge_handle(start)).idx();
+  return canvas;
+}
+
+Canvas canvasFromFaces(const MeshPtr& source, std::vector<int> faces, int originFace,
+                       const Eigen::Vector3d& originPoint) {
+  std::sort(faces.begin(), faces.end());
+  const TriMesh& mesh = source->surface;
+  std::vector<char> inRegion(mesh.n_faces(), 0);
+  for (int f : faces)
+    inRegion[f] = 1;
+  std::vector<int> borderOut(mesh.n_vertices(), 0);
+  for (int f : faces)
+    for (auto h : mesh.fh_range(TriMesh::FaceHandle(f))) {
+      const auto g = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+      if (g.is_valid() && inRegion[g.idx()]) continue;
+      const int v = mesh.from_vertex_handle(h).idx();
+      if (++borderOut[v] == 2)
+        throw std::invalid_argument("the region touches itself at vertex " + std::to_string(v));
+    }
+  Submesh sub = extractSubmesh(mesh, faces);
+  if (sub.unattachedFace >= 0)
+    throw std::invalid_argument("face " + std::to_string(sub.unattachedFace) +
+                                " of the region is not manifold with its neighbours");
+  const std::size_t loops = boundaryLoopCount(sub.surface);
+  if (loops != 1)
+    throw std::invalid_argument("the region is bounded by " + std::to_string(loops) +
+                                " loops, not one");
+  Canvas canvas;
+  canvas.source = source;
+  canvas.surface = std::move(sub.surface);
+  canvas.sourceVertex = std::move(sub.sourceVertex);
+  canvas.sourceFace = std::move(sub.sourceFace);
+  TriMesh::HalfedgeHandle start;
+  for (auto h : canvas.surface.halfedges())
+    if (canvas.surface.is_boundary(h) &&
+        (!start.is_valid() || canvas.surface.from_vertex_handle(h).idx() <
+                                  canvas.surface.from_vertex_handle(start).idx()))
+      start = h;
+  canvas.boundary = loopFrom(canvas.surface, start);
+  const auto at = std::lower_bound(faces.begin(), faces.end(), originFace);
+  if (at == faces.end() || *at != originFace)
+    throw std::invalid_argument("the origin's face " + std::to_string(originFace) +
+                                " is not in the region");
+  canvas.originFace = int(at - faces.begin());
+  canvas.originPoint = originPoint;
+  double best = std::numeric_limits<double>::infinity();
+  for (auto v : canvas.surface.fv_range(TriMesh::FaceHandle(canvas.originFace))) {
+    const double d = (toEigen(canvas.surface.point(v)) - originPoint).norm();
+    if (d < best || (d == best && v.idx() < canvas.originVertex)) {
+      best = d;
+      canvas.originVertex = v.idx();
+    }
+  }
+  return canvas;
+}
+
+void umbrellaSmooth(TriMesh& mesh, const std::vector<char>& movable, int iterations) {
+  std::vector<TriMesh::Point> next(mesh.n_vertices());
+  for (int it = 0; it < iterations; ++it) {
+    for (auto v : mesh.vertices()) {
+      next[v.idx()] = mesh.point(v);
+      if (!movable[v.idx()]) continue;
+      TriMesh::Point sum(0, 0, 0);
+      int count = 0;
+      for (auto w : mesh.vv_range(v)) {
+        sum += mesh.point(w);
+        ++count;
+      }
+      if (count > 0) next[v.idx()] = sum / double(count);
+    }
+    for (auto v : mesh.vertices())
+      mesh.set_point(v, next[v.idx()]);
+  }
+}
+
+}  // namespace geobrush
