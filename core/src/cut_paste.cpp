@@ -212,6 +212,30 @@ Canvas canvasFromFaces(const MeshPtr& source, std::vector<int> faces, int origin
   return canvas;
 }
 
+Eigen::Matrix3d fitSimilarity2d(const std::vector<Eigen::Vector2d>& from,
+                                const std::vector<Eigen::Vector2d>& to) {
+  if (from.size() != to.size() || from.empty())
+    throw std::invalid_argument("a similarity needs as many points to map as to map onto");
+  Eigen::Vector2d meanFrom = Eigen::Vector2d::Zero(), meanTo = Eigen::Vector2d::Zero();
+  for (std::size_t k = 0; k < from.size(); ++k) {
+    meanFrom += from[k] / double(from.size());
+    meanTo += to[k] / double(to.size());
+  }
+  double re = 0, im = 0, spread = 0;
+  for (std::size_t k = 0; k < from.size(); ++k) {
+    const Eigen::Vector2d p = from[k] - meanFrom, q = to[k] - meanTo;
+    re += p.x() * q.x() + p.y() * q.y();
+    im += p.x() * q.y() - p.y() * q.x();
+    spread += p.squaredNorm();
+  }
+  Eigen::Matrix2d linear = Eigen::Matrix2d::Identity();
+  if (spread > 0) linear << re / spread, -im / spread, im / spread, re / spread;
+  Eigen::Matrix3d similarity = Eigen::Matrix3d::Identity();
+  similarity.topLeftCorner<2, 2>() = linear;
+  similarity.topRightCorner<2, 1>() = meanTo - linear * meanFrom;
+  return similarity;
+}
+
 void umbrellaSmooth(TriMesh& mesh, const std::vector<char>& movable, int iterations) {
   std::vector<TriMesh::Point> next(mesh.n_vertices());
   for (int it = 0; it < iterations; ++it) {

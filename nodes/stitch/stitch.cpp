@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "geobrush/face_selection.hpp"
 #include "geobrush/loop_zip.hpp"
 #include "geobrush/submesh.hpp"
 
@@ -17,71 +18,6 @@ namespace geobrush {
 namespace {
 
 using Eigen::Vector2d;
-
-// Selected faces around `v` that form more than one fan (the selection touches itself at v).
-bool pinched(const TriMesh& mesh, TriMesh::VertexHandle v, const std::vector<char>& selected) {
-  int fans = 0;
-  bool previous = false, first = false, any = false;
-  for (auto h : mesh.voh_range(v)) {
-    const auto f = mesh.face_handle(h);
-    const bool in = f.is_valid() && selected[std::size_t(f.idx())];
-    if (!any) first = in;
-    fans += in && any && !previous;
-    previous = in;
-    any = true;
-  }
-  // The circulation is a cycle: a fan that starts the round was not counted, unless it wraps.
-  fans += first && !previous;
-  return fans > 1;
-}
-
-// Deselects the faces around vertices where the selection is pinched, until none is: every
-// vertex of the selection then has one fan of selected faces and the selection is a manifold.
-// A pinched vertex is a corner of a selected and of an unselected face: `candidates` lists faces
-// whose corners include every such vertex (e.g. the smaller of the two sets), so that the cost
-// follows the region rather than the mesh, but for a pass over one byte per vertex. Each round
-// visits its vertices in increasing order.
-void removePinches(const TriMesh& mesh, std::vector<char>& selected,
-                   const std::vector<int>& candidateFaces) {
-  std::vector<char> queued(mesh.n_vertices(), 0);
-  int lowest = int(mesh.n_vertices()), highest = -1;
-  auto queue = [&](TriMesh::VertexHandle v) {
-    queued[std::size_t(v.idx())] = 1;
-    lowest = std::min(lowest, v.idx());
-    highest = std::max(highest, v.idx());
-  };
-  for (int f : candidateFaces)
-    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-      queue(v);
-  std::vector<int> candidates;
-  while (highest >= 0) {
-    candidates.clear();
-    for (int v = lowest; v <= highest; ++v)
-      if (queued[std::size_t(v)]) {
-        queued[std::size_t(v)] = 0;
-        candidates.push_back(v);
-      }
-    lowest = int(mesh.n_vertices());
-    highest = -1;
-    for (int v : candidates) {
-      const auto vh = TriMesh::VertexHandle(v);
-      if (!pinched(mesh, vh, selected)) continue;
-      for (auto f : mesh.vf_range(vh))
-        if (selected[std::size_t(f.idx())]) {
-          selected[std::size_t(f.idx())] = 0;
-          for (auto w : mesh.fv_range(f))
-            queue(w);
-        }
-    }
-  }
-}
-
-std::vector<int> selectedFaces(const std::vector<char>& selected) {
-  std::vector<int> faces;
-  for (std::size_t f = 0; f < selected.size(); ++f)
-    if (selected[f]) faces.push_back(int(f));
-  return faces;
-}
 
 // Mean distance from the points of `a` to the nearest point of `b`.
 double meanNearestDistance(const std::vector<Vector2d>& a, const std::vector<Vector2d>& b) {

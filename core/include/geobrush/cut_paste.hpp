@@ -99,6 +99,13 @@ Canvas canvasOfMesh(const MeshPtr& mesh);
 Canvas canvasFromFaces(const MeshPtr& source, std::vector<int> faces, int originFace,
                        const Eigen::Vector3d& originPoint);
 
+// The similarity (rotation, uniform scale, translation; no reflection) that best maps `from` onto
+// `to` in the least-squares sense, as a homogeneous 3x3 matrix: in complex numbers,
+// q = mean(to) + z (p - mean(from)) with z = sum conj(p - mean) (q - mean) / sum |p - mean|^2
+// (Umeyama 1991 in the plane). The identity translation-free map when `from` has no spread.
+Eigen::Matrix3d fitSimilarity2d(const std::vector<Eigen::Vector2d>& from,
+                                const std::vector<Eigen::Vector2d>& to);
+
 // Umbrella smoothing (Jacobi): each vertex with movable[v] moves to the mean of its neighbours,
 // `iterations` times.
 void umbrellaSmooth(TriMesh& mesh, const std::vector<char>& movable, int iterations);
