@@ -1,0 +1,190 @@
+#include "detail_transfer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <functional>
+
+#include "canvas_fixtures.hpp"
+#include "direct_context.hpp"
+#include "geobrush/domain_locator.hpp"
+#include "geobrush/surface_point.hpp"
+#include "geobrush/values.hpp"
+#include "test_support.hpp"
+
+namespace geobrush {
+namespace {
+
+using Uv = std::function<Eigen::Vector2d(const Eigen::Vector3d&)>;
+
+Eigen::Vector3d point3(const TriMesh& mesh, int v) {
+  const auto& p = mesh.point(TriMesh::VertexHandle(v));
+  return {p[0], p[1], p[2]};
+}
+
+// A base by the pipeline's convention: the feature's loop, then its centroid, fanned.
+MeshPtr fanBase(const Canvas& feature) {
+  TriMesh base;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int v : feature.boundary) {
+    base.add_vertex(feature.surface.point(TriMesh::VertexHandle(v)));
+    centroid += point3(feature.surface, v) / double(feature.boundary.size());
+  }
+  const auto c = base.add_vertex(TriMesh::Point(centroid.x(), centroid.y(), centroid.z()));
+  const int n = int(feature.boundary.size());
+  for (int i = 0; i < n; ++i)
+    base.add_face(TriMesh::VertexHandle((i + 1) % n), TriMesh::VertexHandle(i), c);
+  return std::make_shared<const Mesh>(base);
+}
+
+ParameterizationPtr parameterize(const CanvasPtr& canvas, const Uv& uv) {
+  auto p = std::make_shared<Parameterization>();
+  p->canvas = canvas;
+  for (auto v : canvas->surface.vertices()) {
+    p->uv.push_back(uv(point3(canvas->surface, v.idx())));
+    p->normal.push_back(Eigen::Vector3d::UnitZ());
+  }
+  return p;
+}
+
+// The encoding detail_encode makes: each feature vertex located on the base in the domain.
+DetailEncoding encode(const ParameterizationPtr& feature, const ParameterizationPtr& base) {
+  DetailEncoding encoding;
+  encoding.feature = feature;
+  encoding.base = base;
+  const DomainLocator locator(*base);
+  const TriMesh& b = base->canvas->surface;
+  const auto normals = vertexNormals(b);
+  for (auto v : feature->canvas->surface.vertices()) {
+    const DomainHit hit = locator.locate(feature->uv[std::size_t(v.idx())]);
+    std::array<Eigen::Vector3d, 3> corners, cornerNormals;
+    int c = 0;
+    for (auto w : b.fv_range(TriMesh::FaceHandle(hit.face))) {
+      corners[std::size_t(c)] = point3(b, w.idx());
+      cornerNormals[std::size_t(c++)] = normals[std::size_t(w.idx())];
+    }
+    encoding.baseFace.push_back(hit.face);
+    encoding.barycentric.push_back(hit.barycentric);
+    encoding.offset.push_back(encodeOffset(corners, cornerNormals, hit.barycentric,
+                                           point3(feature->canvas->surface, v.idx()),
+                                           DetailMethod::LocalFrame));
+  }
+  return encoding;
+}
+
+// A walk that lands each base loop vertex's domain point where `place` puts it on `target`.
+SurfacePath walkTo(const MeshPtr& target, const Parameterization& base,
+                   const std::function<Eigen::Vector3d(const Eigen::Vector2d&)>& place,
+                   double scale) {
+  SurfacePath walk;
+  walk.mesh = target;
+  walk.scale = scale;
+  for (int v : base.canvas->boundary) {
+    const SurfacePoint at = nearestSurfacePoint(target->surface, place(base.uv[std::size_t(v)]));
+    walk.face.push_back(at.face);
+    walk.point.push_back(at.point);
+  }
+  return walk;
+}
+
+double bump(double x, double y) {
+  const double s = 1 - (x * x + y * y) / 0.16;
+  return s > 0 ? 0.3 * s * s : 0.0;
+}
+
+struct Source {
+  MeshPtr mesh;
+  CanvasPtr feature;
+  ParameterizationPtr featureUv, baseUv;
+};
+
+Source bumpSource() {
+  Source s;
+  s.mesh = test::heightGrid(30, bump);
+  const int centre = nearestSurfacePoint(s.mesh->surface, {0.01, 0.02, 0.3}).face;
+  s.feature = std::make_shared<const Canvas>(test::growDiscCanvas(s.mesh, centre, 0.6));
+  const Uv xy = [](const Eigen::Vector3d& p) { return Eigen::Vector2d(p.x(), p.y()); };
+  s.featureUv = parameterize(s.feature, xy);
+  s.baseUv = parameterize(std::make_shared<const Canvas>(canvasOfMesh(fanBase(*s.feature))), xy);
+  return s;
+}
+
+TEST(DetailTransfer, OntoItsOwnBaseTheFeatureComesBackUnchanged) {
+  const Source s = bumpSource();
+  const DetailEncoding encoding = encode(s.featureUv, s.baseUv);
+  const SurfacePath walk = walkTo(
+      s.mesh, *s.baseUv,
+      [&](const Eigen::Vector2d& u) { return DomainLocator(*s.featureUv).locate(u).point; }, 1.0);
+  const DetailTransferResult result = transferDetail(encoding, *s.featureUv, *s.baseUv, walk);
+  EXPECT_EQ(result.shrink, 1.0);
+  EXPECT_EQ(result.uncovered, 0u);
+  const double diagonal = boundingDiagonal(s.feature->surface);
+  for (auto v : result.pasted.vertices())
+    EXPECT_LT((point3(result.pasted, v.idx()) - point3(s.feature->surface, v.idx())).norm(),
+              1e-9 * diagonal);
+}
+
+TEST(DetailTransfer, OntoAMovedPlaneTheFeatureIsASimilarCopy) {
+  const Source s = bumpSource();
+  const DetailEncoding encoding = encode(s.featureUv, s.baseUv);
+  const double lambda = 0.7;
+  Eigen::Isometry3d rigid = Eigen::Isometry3d::Identity();
+  rigid.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  rigid.pretranslate(Eigen::Vector3d(4, -1, 2));
+  const MeshPtr target = test::heightGrid(
+      40, [](double, double) { return 0.0; }, rigid);
+  const auto place = [&](const Eigen::Vector2d& u) {
+    return Eigen::Vector3d(rigid * Eigen::Vector3d(lambda * u.x(), lambda * u.y(), 0));
+  };
+  const int centre = nearestSurfacePoint(target->surface, place({0.01, 0.02})).face;
+  const auto region = std::make_shared<const Canvas>(test::growDiscCanvas(target, centre, 0.8));
+  const Uv targetUv = [&](const Eigen::Vector3d& p) {
+    return Eigen::Vector2d((rigid.inverse() * p).head<2>() / lambda);
+  };
+  const auto targetFeature = parameterize(region, targetUv);
+  const auto targetBase =
+      parameterize(std::make_shared<const Canvas>(canvasOfMesh(fanBase(*region))), targetUv);
+  const DetailTransferResult result = transferDetail(encoding, *targetFeature, *targetBase,
+                                                     walkTo(target, *s.baseUv, place, lambda));
+  EXPECT_EQ(result.shrink, 1.0);
+  EXPECT_LT(result.alignmentResidual, 1e-12);
+  for (auto v : result.pasted.vertices()) {
+    const Eigen::Vector3d expected = rigid * (lambda * point3(s.feature->surface, v.idx()));
+    EXPECT_LT((point3(result.pasted, v.idx()) - expected).norm(), 1e-9);
+  }
+}
+
+TEST(DetailTransferNode, RefusesAWalkOfAnotherLoop) {
+  const Source s = bumpSource();
+  auto encoding = std::make_shared<const DetailEncoding>(encode(s.featureUv, s.baseUv));
+  auto walk = std::make_shared<SurfacePath>(walkTo(
+      s.mesh, *s.baseUv,
+      [&](const Eigen::Vector2d& u) { return DomainLocator(*s.featureUv).locate(u).point; }, 1.0));
+  const NodeType* type = test::registry().find("geobrush.detail_transfer");
+  ASSERT_NE(type, nullptr);
+  test::DirectContext ctx(*type, {{"encoding", encoding},
+                                  {"target_feature", s.featureUv},
+                                  {"target_base", s.baseUv},
+                                  {"walk", walk}});
+  test::run(type->create(), ctx);
+  const auto pasted = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("pasted"));
+  ASSERT_NE(pasted, nullptr);
+  EXPECT_EQ(pasted->surface.n_vertices(), s.feature->surface.n_vertices());
+
+  walk->point.pop_back();
+  walk->face.pop_back();
+  test::DirectContext bad(*type, {{"encoding", encoding},
+                                  {"target_feature", s.featureUv},
+                                  {"target_base", s.baseUv},
+                                  {"walk", walk}});
+  try {
+    test::run(type->create(), bad);
+    FAIL() << "a walk of another loop was used";
+  } catch (const NodeError& e) {
+    EXPECT_EQ(e.where(), "input 'walk'");
+  }
+}
+
+}  // namespace
+}  // namespace geobrush
