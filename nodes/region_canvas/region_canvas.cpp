@@ -8,10 +8,11 @@
 namespace geobrush {
 namespace {
 
-std::vector<char> facesInRegion(const Canvas& canvas, const std::vector<int>& vertices) {
+std::vector<char> paintedFaces(const Strokes& strokes, const Parameterization& source) {
+  const Canvas& canvas = *source.canvas;
   std::vector<char> in(canvas.surface.n_vertices(), 0);
-  for (int v : vertices)
-    if (v >= 0 && std::size_t(v) < in.size()) in[std::size_t(v)] = 1;
+  for (std::size_t v = 0; v < in.size(); ++v)
+    in[v] = strokes.contains(source.uv[v]);
   std::vector<char> selected(canvas.surface.n_faces(), 0);
   for (auto f : canvas.surface.faces()) {
     bool all = true;
@@ -45,14 +46,15 @@ std::size_t countSelected(const std::vector<char>& selected) {
 
 }  // namespace
 
-RegionCanvasResult regionCanvas(const Region2D& region, const Parameterization& source) {
+RegionCanvasResult regionCanvas(const Strokes& strokes, const Parameterization& source) {
   const Canvas& canvas = *source.canvas;
-  if (!canvas.source || canvas.sourceFace.size() != canvas.surface.n_faces())
+  if (!canvas.source || canvas.sourceFace.size() != canvas.surface.n_faces() ||
+      source.uv.size() != canvas.surface.n_vertices())
     throw std::invalid_argument("the source canvas does not say which mesh faces it holds");
   const TriMesh& surface = canvas.surface;
-  std::vector<char> selected = facesInRegion(canvas, region.sourceVertices);
+  std::vector<char> selected = paintedFaces(strokes, source);
   const std::size_t painted = countSelected(selected);
-  if (painted == 0) throw std::invalid_argument("the region holds no whole source face");
+  if (painted == 0) throw std::invalid_argument("the strokes paint no whole source face");
   removePinches(surface, selected, selectedFaces(selected));
   std::vector<int> piece = keptPiece(surface, selected, canvas.originFace);
   if (piece.empty()) throw std::invalid_argument("the region has no face left that forms a disc");

@@ -16,10 +16,10 @@ struct RegionCanvasResult {
   std::size_t enclosed = 0;  // faces outside R_in taken in because R_in surrounds them
 };
 
-// The source canvas faces whose three corners are in R_in (region.sourceVertices), made into one
-// region bounded by one loop: faces around vertices where it touches itself are dropped, the
+// The source canvas faces whose three corners the strokes paint (R_in: E_s(v) in Q), made into
+// one region bounded by one loop: faces around vertices where it touches itself are dropped, the
 // edge-connected piece holding the canvas origin (else the largest) is kept, and the holes it
 // surrounds are filled. Throws std::invalid_argument when nothing is left.
-RegionCanvasResult regionCanvas(const Region2D& region, const Parameterization& source);
+RegionCanvasResult regionCanvas(const Strokes& strokes, const Parameterization& source);
 
 }  // namespace geobrush

@@ -11,18 +11,18 @@ using geobrush::Canvas;
 using geobrush::Context;
 using geobrush::NodeError;
 using geobrush::Parameterization;
-using geobrush::Region2D;
+using geobrush::Strokes;
 
 class RegionCanvasNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
-    const auto region = ctx.in<Region2D>("region");
+    const auto strokes = ctx.in<Strokes>("strokes");
     const auto source = ctx.in<Parameterization>("source");
     geobrush::RegionCanvasResult result;
     try {
-      result = geobrush::regionCanvas(*region, *source);
+      result = geobrush::regionCanvas(*strokes, *source);
     } catch (const std::invalid_argument& e) {
-      throw NodeError::input("region", e.what());
+      throw NodeError::input("strokes", e.what());
     }
     if (result.dropped > 0)
       ctx.warn(std::to_string(result.dropped) +
@@ -36,13 +36,15 @@ void registerNodes(geobrush::PluginRegistrar& r) {
   r.add(geobrush::NodeTypeBuilder("geobrush.region_canvas", 1)
             .label("Region Canvas")
             .category("Cut and Paste")
-            .doc("The painted region R_in as a canvas of its own (the feature F of cut and "
-                 "paste): the source canvas faces whose corners R_in holds, as one piece "
+            .doc("The painted region as a canvas of its own (the feature F of cut and paste): "
+                 "the source canvas faces whose three corners the strokes paint, as one piece "
                  "bounded by one loop. Faces that touch the rest at a corner only and pieces "
                  "apart from the one under the origin are left out (with a warning); holes the "
                  "region surrounds are filled, so a painted ring takes in what it encloses. Any "
                  "genus inside.")
-            .input<Region2D>("region", "The painted region (geobrush.roi).")
+            .input<Strokes>("strokes",
+                            "The painting in the shared (u, v) domain (geobrush.strokes, or "
+                            "roi_correct's corrected strokes).")
             .input<Parameterization>("source",
                                      "The source canvas' parameterization the region "
                                      "was painted on.")

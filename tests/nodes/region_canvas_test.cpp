@@ -37,25 +37,19 @@ ParameterizationPtr heightField(int n, const std::function<double(double, double
                    [](const TriMesh::Point& p) { return Eigen::Vector2d(p[0], p[1]); });
 }
 
-// The region R_in of the source canvas vertices whose uv passes `inside`.
-Region2D regionWhere(const Parameterization& source,
-                     const std::function<bool(const Eigen::Vector2d&)>& inside) {
-  Region2D region;
-  for (std::size_t v = 0; v < source.uv.size(); ++v)
-    if (inside(source.uv[v])) region.sourceVertices.push_back(int(v));
-  return region;
+Strokes disc(const Eigen::Vector2d& centre, double radius, bool subtract = false) {
+  Strokes strokes;
+  strokes.dabs.push_back(Dab{centre, radius, subtract});
+  return strokes;
 }
 
-// Faces of the source canvas with three corners in the region.
-std::size_t wholeFaces(const Parameterization& source, const Region2D& region) {
-  std::vector<char> in(source.uv.size(), 0);
-  for (int v : region.sourceVertices)
-    in[std::size_t(v)] = 1;
+// Faces of the source canvas whose three corners the strokes paint.
+std::size_t paintedFaces(const Parameterization& source, const Strokes& strokes) {
   std::size_t count = 0;
   for (auto f : source.canvas->surface.faces()) {
     bool all = true;
     for (auto v : source.canvas->surface.fv_range(f))
-      all = all && in[std::size_t(v.idx())];
+      all = all && strokes.contains(source.uv[std::size_t(v.idx())]);
     count += all;
   }
   return count;
@@ -71,11 +65,10 @@ void expectDisc(const TriMesh& surface) {
 TEST(RegionCanvas, APaintedDiscIsItsWholeFacesOnTheSourceMesh) {
   const auto source =
       heightField(20, [](double x, double y) { return 0.1 * std::sin(3 * x) * std::cos(2 * y); });
-  const Region2D disc =
-      regionWhere(*source, [](const Eigen::Vector2d& u) { return u.norm() < 0.6; });
-  const RegionCanvasResult result = regionCanvas(disc, *source);
+  const Strokes painted = disc({0, 0}, 0.6);
+  const RegionCanvasResult result = regionCanvas(painted, *source);
   expectDisc(result.feature.surface);
-  EXPECT_EQ(result.feature.surface.n_faces(), wholeFaces(*source, disc));
+  EXPECT_EQ(result.feature.surface.n_faces(), paintedFaces(*source, painted));
   EXPECT_EQ(result.dropped, 0u);
   EXPECT_EQ(result.enclosed, 0u);
   EXPECT_EQ(result.feature.source, source->canvas->source);
@@ -89,20 +82,15 @@ TEST(RegionCanvas, APaintedDiscIsItsWholeFacesOnTheSourceMesh) {
 
 TEST(RegionCanvas, ARingTakesInWhatItEnclosesAndAPieceApartIsLeftOut) {
   const auto source = heightField(24, [](double, double) { return 0.0; });
-  const Region2D painted = regionWhere(*source, [](const Eigen::Vector2d& u) {
-    const double r = (u - Eigen::Vector2d(0.01, 0.02)).norm();
-    const bool ring = r > 0.25 && r < 0.6;
-    const bool apart = (u - Eigen::Vector2d(0.85, 0.85)).norm() < 0.12;
-    return ring || apart;
-  });
+  const Eigen::Vector2d centre(0.01, 0.02);
+  Strokes painted = disc(centre, 0.6);
+  painted.dabs.push_back(Dab{centre, 0.25, true});
+  painted.dabs.push_back(Dab{{0.85, 0.85}, 0.12, false});
   const RegionCanvasResult result = regionCanvas(painted, *source);
   expectDisc(result.feature.surface);
   EXPECT_GT(result.enclosed, 0u);
   EXPECT_GT(result.dropped, 0u);
-  const Region2D disc = regionWhere(*source, [](const Eigen::Vector2d& u) {
-    return (u - Eigen::Vector2d(0.01, 0.02)).norm() < 0.6;
-  });
-  EXPECT_EQ(result.feature.surface.n_faces(), wholeFaces(*source, disc));
+  EXPECT_EQ(result.feature.surface.n_faces(), paintedFaces(*source, disc(centre, 0.6)));
 }
 
 TEST(RegionCanvas, ARegionOnARealTerrainIsADisc) {
@@ -112,32 +100,30 @@ TEST(RegionCanvas, ARegionOnARealTerrainIsADisc) {
   double reach = 0;
   for (const auto& u : terrain->uv)
     reach = std::max(reach, u.norm());
-  const Region2D region =
-      regionWhere(*terrain, [&](const Eigen::Vector2d& u) { return u.norm() < 0.3 * reach; });
-  const RegionCanvasResult result = regionCanvas(region, *terrain);
+  const Strokes painted = disc({0, 0}, 0.3 * reach);
+  const RegionCanvasResult result = regionCanvas(painted, *terrain);
   expectDisc(result.feature.surface);
-  EXPECT_EQ(result.feature.surface.n_faces(), wholeFaces(*terrain, region) + result.enclosed);
+  EXPECT_EQ(result.feature.surface.n_faces(), paintedFaces(*terrain, painted) + result.enclosed);
 }
 
-TEST(RegionCanvasNode, OutputsTheFeatureAndNamesAnEmptyRegion) {
+TEST(RegionCanvasNode, OutputsTheFeatureAndNamesAnEmptyPainting) {
   const auto source = heightField(12, [](double, double) { return 0.0; });
   const NodeType* type = test::registry().find("geobrush.region_canvas");
   ASSERT_NE(type, nullptr);
-  auto disc = std::make_shared<const Region2D>(
-      regionWhere(*source, [](const Eigen::Vector2d& u) { return u.norm() < 0.5; }));
-  test::DirectContext ctx(*type, {{"region", disc}, {"source", source}});
+  auto painted = std::make_shared<const Strokes>(disc({0, 0}, 0.5));
+  test::DirectContext ctx(*type, {{"strokes", painted}, {"source", source}});
   test::run(type->create(), ctx);
   const auto feature = std::dynamic_pointer_cast<const Canvas>(ctx.outputs.at("feature"));
   ASSERT_NE(feature, nullptr);
   expectDisc(feature->surface);
 
-  auto empty = std::make_shared<const Region2D>();
-  test::DirectContext bad(*type, {{"region", empty}, {"source", source}});
+  auto empty = std::make_shared<const Strokes>();
+  test::DirectContext bad(*type, {{"strokes", empty}, {"source", source}});
   try {
     test::run(type->create(), bad);
-    FAIL() << "an empty region gave a canvas";
+    FAIL() << "an empty painting gave a canvas";
   } catch (const NodeError& e) {
-    EXPECT_EQ(e.where(), "input 'region'");
+    EXPECT_EQ(e.where(), "input 'strokes'");
   }
 }
 
