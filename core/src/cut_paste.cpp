@@ -75,7 +75,10 @@ Hash DetailEncoding::contentHash() const {
 
 std::string DetailEncoding::summary() const {
   return std::string("detail encoding of ") + std::to_string(offset.size()) + " vertices (" +
-         (method == DetailMethod::LocalFrame ? "local frames" : "normal displacement") + ")";
+         (method == DetailMethod::FaceFrame     ? "face frames"
+          : method == DetailMethod::SmoothFrame ? "smooth frames"
+                                                : "normal displacement") +
+         ")";
 }
 
 Hash SurfacePath::contentHash() const {
@@ -112,25 +115,80 @@ std::vector<Eigen::Vector3d> vertexNormals(const TriMesh& mesh) {
   return normals;
 }
 
-Eigen::Vector3d encodeOffset(const std::array<Eigen::Vector3d, 3>& corners,
-                             const std::array<Eigen::Vector3d, 3>& cornerNormals,
-                             const Eigen::Vector3d& b, const Eigen::Vector3d& point,
-                             DetailMethod method) {
-  const Eigen::Vector3d d = point - basePoint(corners, b);
+BaseFrameField baseFrameField(const TriMesh& base, const std::vector<Eigen::Vector2d>& uv) {
+  BaseFrameField field;
+  field.normal = vertexNormals(base);
+  field.tangent.assign(base.n_vertices(), Eigen::Vector3d::Zero());
+  for (auto f : base.faces()) {
+    std::array<int, 3> c{};
+    int k = 0;
+    for (auto v : base.fv_range(f))
+      c[std::size_t(k++)] = v.idx();
+    Eigen::Matrix<double, 3, 2> edges;
+    edges << toEigen(base.point(TriMesh::VertexHandle(c[1]))) -
+                 toEigen(base.point(TriMesh::VertexHandle(c[0]))),
+        toEigen(base.point(TriMesh::VertexHandle(c[2]))) -
+            toEigen(base.point(TriMesh::VertexHandle(c[0])));
+    Eigen::Matrix2d domain;
+    domain << uv[std::size_t(c[1])] - uv[std::size_t(c[0])],
+        uv[std::size_t(c[2])] - uv[std::size_t(c[0])];
+    if (std::abs(domain.determinant()) == 0) continue;
+    const Eigen::Vector3d du = (edges * domain.inverse()).col(0);
+    const double area = 0.5 * edges.col(0).cross(edges.col(1)).norm();
+    for (int v : c)
+      field.tangent[std::size_t(v)] += area * du;
+  }
+  for (std::size_t v = 0; v < field.tangent.size(); ++v) {
+    Eigen::Vector3d& t = field.tangent[v];
+    t -= t.dot(field.normal[v]) * field.normal[v];
+    if (t.norm() > 0) t.normalize();
+  }
+  return field;
+}
+
+BaseFace baseFace(const TriMesh& base, const BaseFrameField& field, int face) {
+  BaseFace out;
+  std::size_t k = 0;
+  for (auto v : base.fv_range(TriMesh::FaceHandle(face))) {
+    out.point[k] = toEigen(base.point(v));
+    out.normal[k] = field.normal[std::size_t(v.idx())];
+    out.tangent[k++] = field.tangent[std::size_t(v.idx())];
+  }
+  return out;
+}
+
+namespace {
+
+FaceFrame smoothFrame(const BaseFace& face, const Eigen::Vector3d& b) {
+  FaceFrame frame;
+  frame.n = interpolatedNormal(face.normal, b);
+  Eigen::Vector3d t = b[0] * face.tangent[0] + b[1] * face.tangent[1] + b[2] * face.tangent[2];
+  t -= t.dot(frame.n) * frame.n;
+  if (t.norm() == 0) return faceFrame(face.point);
+  frame.e1 = t.normalized();
+  frame.e2 = frame.n.cross(frame.e1);
+  return frame;
+}
+
+}  // namespace
+
+Eigen::Vector3d encodeOffset(const BaseFace& face, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& point, DetailMethod method) {
+  const Eigen::Vector3d d = point - basePoint(face.point, b);
   if (method == DetailMethod::NormalDisplacement)
-    return {0, 0, d.dot(interpolatedNormal(cornerNormals, b))};
-  const FaceFrame frame = faceFrame(corners);
+    return {0, 0, d.dot(interpolatedNormal(face.normal, b))};
+  const FaceFrame frame =
+      method == DetailMethod::SmoothFrame ? smoothFrame(face, b) : faceFrame(face.point);
   return {d.dot(frame.e1), d.dot(frame.e2), d.dot(frame.n)};
 }
 
-Eigen::Vector3d decodeOffset(const std::array<Eigen::Vector3d, 3>& corners,
-                             const std::array<Eigen::Vector3d, 3>& cornerNormals,
-                             const Eigen::Vector3d& b, const Eigen::Vector3d& offset,
-                             DetailMethod method, double scale) {
-  const Eigen::Vector3d base = basePoint(corners, b);
+Eigen::Vector3d decodeOffset(const BaseFace& face, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& offset, DetailMethod method, double scale) {
+  const Eigen::Vector3d base = basePoint(face.point, b);
   if (method == DetailMethod::NormalDisplacement)
-    return base + scale * offset.z() * interpolatedNormal(cornerNormals, b);
-  const FaceFrame frame = faceFrame(corners);
+    return base + scale * offset.z() * interpolatedNormal(face.normal, b);
+  const FaceFrame frame =
+      method == DetailMethod::SmoothFrame ? smoothFrame(face, b) : faceFrame(face.point);
   return base + scale * (offset.x() * frame.e1 + offset.y() * frame.e2 + offset.z() * frame.n);
 }
 

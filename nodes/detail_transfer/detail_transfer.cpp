@@ -163,22 +163,16 @@ DetailTransferResult transferDetail(const DetailEncoding& encoding,
         locator.locate(apply(alignment.similarity, sourceBase.uv[std::size_t(v.idx())]));
     movedBase.set_point(v, TriMesh::Point(hit.point.x(), hit.point.y(), hit.point.z()));
   }
-  const std::vector<Eigen::Vector3d> normals = vertexNormals(movedBase);
+  const BaseFrameField field = baseFrameField(movedBase, sourceBase.uv);
 
   // Step 2: the feature rebuilt over the moved faces.
   DetailTransferResult result;
   result.pasted = encoding.feature->canvas->surface;
   for (auto v : result.pasted.vertices()) {
     const std::size_t i = std::size_t(v.idx());
-    const auto face = TriMesh::FaceHandle(encoding.baseFace[i]);
-    std::array<Eigen::Vector3d, 3> corners, cornerNormals;
-    int c = 0;
-    for (auto w : movedBase.fv_range(face)) {
-      corners[std::size_t(c)] = point3(movedBase, w.idx());
-      cornerNormals[std::size_t(c++)] = normals[std::size_t(w.idx())];
-    }
-    const Eigen::Vector3d x = decodeOffset(corners, cornerNormals, encoding.barycentric[i],
-                                           encoding.offset[i], encoding.method, walk.scale);
+    const Eigen::Vector3d x =
+        decodeOffset(baseFace(movedBase, field, encoding.baseFace[i]), encoding.barycentric[i],
+                     encoding.offset[i], encoding.method, walk.scale);
     result.pasted.set_point(v, TriMesh::Point(x.x(), x.y(), x.z()));
   }
   result.alignment = alignment.similarity;

@@ -49,26 +49,21 @@ ParameterizationPtr parameterize(const CanvasPtr& canvas, const Uv& uv) {
 }
 
 // The encoding detail_encode makes: each feature vertex located on the base in the domain.
-DetailEncoding encode(const ParameterizationPtr& feature, const ParameterizationPtr& base) {
+DetailEncoding encode(const ParameterizationPtr& feature, const ParameterizationPtr& base,
+                      DetailMethod method = DetailMethod::SmoothFrame) {
   DetailEncoding encoding;
+  encoding.method = method;
   encoding.feature = feature;
   encoding.base = base;
   const DomainLocator locator(*base);
   const TriMesh& b = base->canvas->surface;
-  const auto normals = vertexNormals(b);
+  const BaseFrameField field = baseFrameField(b, base->uv);
   for (auto v : feature->canvas->surface.vertices()) {
     const DomainHit hit = locator.locate(feature->uv[std::size_t(v.idx())]);
-    std::array<Eigen::Vector3d, 3> corners, cornerNormals;
-    int c = 0;
-    for (auto w : b.fv_range(TriMesh::FaceHandle(hit.face))) {
-      corners[std::size_t(c)] = point3(b, w.idx());
-      cornerNormals[std::size_t(c++)] = normals[std::size_t(w.idx())];
-    }
     encoding.baseFace.push_back(hit.face);
     encoding.barycentric.push_back(hit.barycentric);
-    encoding.offset.push_back(encodeOffset(corners, cornerNormals, hit.barycentric,
-                                           point3(feature->canvas->surface, v.idx()),
-                                           DetailMethod::LocalFrame));
+    encoding.offset.push_back(encodeOffset(baseFace(b, field, hit.face), hit.barycentric,
+                                           point3(feature->canvas->surface, v.idx()), method));
   }
   return encoding;
 }

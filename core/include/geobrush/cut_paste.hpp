@@ -24,7 +24,8 @@ namespace geobrush {
 
 // How a feature vertex's offset from its base point is kept.
 enum class DetailMethod {
-  LocalFrame,          // the paper's: all three components in the base face's frame
+  FaceFrame,           // the paper's: all three components in the base face's own frame
+  SmoothFrame,         // all three in a frame interpolated over the face from its corners'
   NormalDisplacement,  // the baseline: the height along the base's interpolated normal only
 };
 
@@ -39,7 +40,7 @@ class DetailEncoding final : public Value {
 
   ParameterizationPtr feature;  // P^F: its canvas is F
   ParameterizationPtr base;     // P^B: its canvas is B (canvasOfMesh)
-  DetailMethod method = DetailMethod::LocalFrame;
+  DetailMethod method = DetailMethod::SmoothFrame;
   std::vector<int> baseFace;                 // per F vertex: face of B
   std::vector<Eigen::Vector3d> barycentric;  // per F vertex, on that face's corners in fv order
   std::vector<Eigen::Vector3d> offset;       // per F vertex: (e1, e2, n) components of d
@@ -74,18 +75,32 @@ FaceFrame faceFrame(const std::array<Eigen::Vector3d, 3>& corners);
 // Each vertex's angle-weighted normal (angleWeightedNormal), unit; zero where it cancels out.
 std::vector<Eigen::Vector3d> vertexNormals(const TriMesh& mesh);
 
-// The offset of `point` from the base point at barycentric `b` of a face with these corners
-// (and these corner normals, read by NormalDisplacement), in the method's components.
-Eigen::Vector3d encodeOffset(const std::array<Eigen::Vector3d, 3>& corners,
-                             const std::array<Eigen::Vector3d, 3>& cornerNormals,
-                             const Eigen::Vector3d& b, const Eigen::Vector3d& point,
-                             DetailMethod method);
+// What the offset methods read on a base, per vertex: the unit normal, and the unit tangent
+// along which the base's parameterization grows u there (the faces' d x / d u, weighted by their
+// area, made normal to the normal). A base moved onto another surface keeps its uv, so its
+// tangents turn with it.
+struct BaseFrameField {
+  std::vector<Eigen::Vector3d> normal;
+  std::vector<Eigen::Vector3d> tangent;
+};
+BaseFrameField baseFrameField(const TriMesh& base, const std::vector<Eigen::Vector2d>& uv);
+
+// A face of a base with its corners' frames, in fv order.
+struct BaseFace {
+  std::array<Eigen::Vector3d, 3> point, normal, tangent;
+};
+BaseFace baseFace(const TriMesh& base, const BaseFrameField& field, int face);
+
+// The offset of `point` from the face's point at barycentric `b`, in the method's components:
+// FaceFrame in faceFrame(points); SmoothFrame in the frame whose normal and tangent are the
+// corners' interpolated at b (the tangent made normal to the normal); NormalDisplacement
+// (0, 0, height along the interpolated normal).
+Eigen::Vector3d encodeOffset(const BaseFace& face, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& point, DetailMethod method);
 
 // The inverse of encodeOffset over a (possibly moved) face, the offset scaled by `scale`.
-Eigen::Vector3d decodeOffset(const std::array<Eigen::Vector3d, 3>& corners,
-                             const std::array<Eigen::Vector3d, 3>& cornerNormals,
-                             const Eigen::Vector3d& b, const Eigen::Vector3d& offset,
-                             DetailMethod method, double scale);
+Eigen::Vector3d decodeOffset(const BaseFace& face, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& offset, DetailMethod method, double scale);
 
 // A disc-shaped mesh as a canvas of itself: identity vertex and face maps, `boundary` the loop
 // from vertex 0 in the direction of its boundary halfedges, origin at vertex 0. Throws
