@@ -4,6 +4,9 @@
 #include <limits>
 #include <string>
 
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
 #include "geobrush/exponential_map.hpp"
 #include "geobrush/hash.hpp"
 #include "geobrush/submesh.hpp"
@@ -292,6 +295,37 @@ Eigen::Matrix3d fitSimilarity2d(const std::vector<Eigen::Vector2d>& from,
   similarity.topLeftCorner<2, 2>() = linear;
   similarity.topRightCorner<2, 1>() = meanTo - linear * meanFrom;
   return similarity;
+}
+
+void umbrellaSmoothToRest(TriMesh& mesh, const std::vector<char>& movable) {
+  std::vector<int> unknown(mesh.n_vertices(), -1);
+  int count = 0;
+  for (auto v : mesh.vertices())
+    if (movable[std::size_t(v.idx())] && mesh.valence(v) > 0)
+      unknown[std::size_t(v.idx())] = count++;
+  if (count == 0) return;
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(count, 3);
+  for (auto v : mesh.vertices()) {
+    const int row = unknown[std::size_t(v.idx())];
+    if (row < 0) continue;
+    entries.emplace_back(row, row, double(mesh.valence(v)));
+    for (auto w : mesh.vv_range(v)) {
+      const int column = unknown[std::size_t(w.idx())];
+      if (column >= 0)
+        entries.emplace_back(row, column, -1.0);
+      else
+        rhs.row(row) += toEigen(mesh.point(w)).transpose();
+    }
+  }
+  Eigen::SparseMatrix<double> laplacian(count, count);
+  laplacian.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+  if (solver.info() != Eigen::Success) return;  // a piece with no fixed vertex
+  const Eigen::MatrixXd x = solver.solve(rhs);
+  for (auto v : mesh.vertices())
+    if (const int row = unknown[std::size_t(v.idx())]; row >= 0)
+      mesh.set_point(v, TriMesh::Point(x(row, 0), x(row, 1), x(row, 2)));
 }
 
 void umbrellaSmooth(TriMesh& mesh, const std::vector<char>& movable, int iterations) {

@@ -302,7 +302,10 @@ void smoothInterior(TriMesh& mesh, int iterations) {
   std::vector<char> movable(mesh.n_vertices(), 0);
   for (auto v : mesh.vertices())
     movable[std::size_t(v.idx())] = mesh.is_boundary(v) ? 0 : 1;
-  umbrellaSmooth(mesh, movable, iterations);
+  if (iterations < 0)
+    umbrellaSmoothToRest(mesh, movable);
+  else
+    umbrellaSmooth(mesh, movable, iterations);
 }
 
 }  // namespace geobrush

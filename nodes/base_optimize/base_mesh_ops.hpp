@@ -44,7 +44,8 @@ int collapseNeedles(TriMesh& mesh, int loopVertices, double tau, double maxLengt
 // other live vertices in index order; live faces in index order, each from its first halfedge.
 TriMesh compactBase(const TriMesh& mesh, int loopVertices);
 
-// Step 4: `iterations` Jacobi umbrella passes (core umbrellaSmooth) over non-boundary vertices.
+// Step 4: `iterations` Jacobi umbrella passes (core umbrellaSmooth) over non-boundary vertices;
+// a negative count smooths them to rest (umbrellaSmoothToRest).
 void smoothInterior(TriMesh& mesh, int iterations);
 
 }  // namespace geobrush

@@ -34,7 +34,6 @@ void checkOptions(const BaseOptimizeOptions& options) {
           "cap_angle_deg must lie in [90, 180]");
   require(options.aspectThreshold >= 0 && options.aspectThreshold <= 0.5,
           "aspect_threshold must lie in [0, 0.5]");
-  require(options.smoothIterations >= 0, "smooth_iterations must not be negative");
 }
 
 }  // namespace

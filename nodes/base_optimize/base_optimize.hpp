@@ -19,7 +19,8 @@ struct BaseOptimizeOptions {
   double referenceLength = 0.0;  // the reference; 0: l_min, B0's shortest edge (Sec. 5.2)
   double capAngleDeg = 160.0;    // a face with a larger angle that is no needle is a cap
   double aspectThreshold = 0.1;  // tau: needles are collapsed until every aspect ratio exceeds it
-  int smoothIterations = 5;      // Jacobi umbrella passes over the interior vertices
+  // Jacobi umbrella passes over the interior vertices; negative: to rest (their limit).
+  int smoothIterations = -1;
   std::size_t maxVertices = 2000000;  // refuse a density that would need more vertices
 };
 

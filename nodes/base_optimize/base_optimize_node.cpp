@@ -13,6 +13,7 @@ namespace {
 using geobrush::Context;
 using geobrush::Mesh;
 using geobrush::NodeError;
+using geobrush::TriMesh;
 
 std::shared_ptr<geobrush::Metrics> report(const geobrush::BaseOptimizeResult& result) {
   auto metrics = std::make_shared<geobrush::Metrics>();
@@ -32,6 +33,14 @@ std::shared_ptr<geobrush::Metrics> report(const geobrush::BaseOptimizeResult& re
   return metrics;
 }
 
+// The length of the mesh's boundary (the bases' one loop).
+double loopLength(const TriMesh& mesh) {
+  double length = 0;
+  for (auto h : mesh.halfedges())
+    if (mesh.is_boundary(h)) length += mesh.calc_edge_length(h);
+  return length;
+}
+
 class BaseOptimizeNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -43,9 +52,13 @@ class BaseOptimizeNode final : public geobrush::Node {
     options.smoothIterations = ctx.param<int>("smooth_iterations");
     const bool referenced = ctx.hasInput("reference");
     if (referenced) {
-      options.referenceLength = geobrush::meanEdgeLength(ctx.in<Mesh>("reference")->surface);
+      const TriMesh& reference = ctx.in<Mesh>("reference")->surface;
+      const double scale = loopLength(base->surface) / loopLength(reference);
+      options.referenceLength = geobrush::meanEdgeLength(reference) * scale;
       if (!(options.referenceLength > 0.0) || !std::isfinite(options.referenceLength))
-        throw NodeError::input("reference", "its mean edge length is not a positive length");
+        throw NodeError::input("reference",
+                               "its mean edge length, scaled to this loop, is not a positive "
+                               "length");
     }
     geobrush::BaseOptimizeResult result;
     try {
@@ -80,14 +93,18 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                "3) collapse the shortest edge of faces with aspect ratio <= aspect_threshold "
                "(into a boundary end, else to the midpoint; only where OpenMesh allows it, no "
                "normal flips and no edge reaches the Eq. 2 bound); 4) umbrella-smooth the "
-               "interior. Edges smoothing stretched past the bound are split again. Refuses "
+               "interior, by default to rest (the paper's few passes leave a dense base "
+               "almost as jagged as B0: the detail encoded over it then folds where it is "
+               "moved onto another base). Edges smoothing stretched past the bound are split "
+               "again. Refuses "
                "densities needing more than 2,000,000 vertices.")
           .input<Mesh>("base",
                        "B0: vertices 0..n-1 its boundary loop, in the order of its "
                        "boundary halfedges (min_area_triangulate's output).")
           .optionalInput<Mesh>("reference",
-                               "The source base B^S: its mean edge length is the reference (Sec. "
-                               "7.1, for a target base). Without it the reference is l_min, "
+                               "The source base B^S: its mean edge length, scaled by the ratio "
+                               "of the two loops' lengths (the paste's scale), is the reference "
+                               "(Sec. 7.1, for a target base). Without it the reference is l_min, "
                                "B0's shortest edge, diagonals included (Sec. 5.2).")
           .output<Mesh>("base",
                         "B: vertices 0..n-1 are B0's, bit-identical and in order; then the "
@@ -110,8 +127,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                        "at most tau are collapsed; a face whose shortest edge is below tau x its "
                        "longest is a needle, not a cap.")
           .range(0.0, 0.5)
-          .paramInt("smooth_iterations", 5, "Jacobi umbrella passes over the interior vertices.")
-          .range(0, 1000)
+          .paramInt("smooth_iterations", -1,
+                    "Jacobi umbrella passes over the interior vertices; -1: to rest (the "
+                    "passes' limit, one sparse solve).")
+          .range(-1, 1000)
           .node<BaseOptimizeNode>()
           .build());
 }

@@ -340,13 +340,22 @@ INSTANTIATE_TEST_SUITE_P(Meshes, RealBase,
                          ::testing::Values(std::make_tuple("sphere.obj", 0.3, 0.5, 0.81, 0.7),
                                            std::make_tuple("bunny_small.obj", 0.0, 5.0, 3.5, 2.5)));
 
-// A target base is sized by the source base: the reference's mean edge length, not l_min.
+double loopLength(const TriMesh& mesh) {
+  double length = 0;
+  for (auto h : mesh.halfedges())
+    if (mesh.is_boundary(h)) length += mesh.calc_edge_length(h);
+  return length;
+}
+
+// A target base is sized by the source base: the reference's mean edge length scaled by the ratio
+// of the loops' lengths (the paste's scale), not l_min.
 TEST(BaseOptimizeNode, AReferenceMeshSetsTheDensity) {
   const MeshPtr source = realBase("sphere.obj", Vector3d(0.3, 0.5, 0.81), 0.7);
   const NodeRun sourceRun = optimizeThroughNode(source);
   const MeshPtr target = realBase("sphere.obj", Vector3d(-0.6, 0.2, -0.7), 0.9);
   const NodeRun run = optimizeThroughNode(target, sourceRun.base, {{"epsilon", 1.5}});
-  const double mean = meanEdgeLength(sourceRun.base->surface);
+  const double mean = meanEdgeLength(sourceRun.base->surface) *
+                      (loopLength(target->surface) / loopLength(sourceRun.base->surface));
   EXPECT_DOUBLE_EQ(run.report->values.at("reference_length"), mean);
   EXPECT_DOUBLE_EQ(run.report->values.at("target_length"), 1.5 * mean);
   expectBaseConvention(target->surface, run.base->surface, 1.5 * mean);
@@ -378,9 +387,20 @@ TEST(BaseOptimizeNode, NamesTheInputOrParamThatCannotWork) {
   const auto tinyEdge = std::make_shared<const Mesh>(
       fanBase({{0, 0, 0}, {1e-4, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}));
   expectRefusal(tinyEdge, nullptr, "param 'epsilon'", "more than the limit of 2000000");
-  // A reference of edges near 1e-4 asks the same of the unit square.
-  const auto tinyReference = std::make_shared<const Mesh>(
-      fanBase({{0, 0, 0}, {1e-4, 0, 0}, {1e-4, 1e-4, 0}, {0, 1e-4, 0}}));
+  // A reference whose edges are mostly near 1e-6 for a loop as long as the square's asks the same
+  // of the unit square: a unit square beside a grid of 1e-6 squares.
+  TriMesh tiny = fanBase(square);
+  const int n = 200;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      tiny.add_vertex(TriMesh::Point(2 + 1e-6 * i, 1e-6 * j, 0));
+  const auto grid = [&](int i, int j) { return TriMesh::VertexHandle(4 + j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      tiny.add_face(grid(i, j), grid(i + 1, j), grid(i + 1, j + 1));
+      tiny.add_face(grid(i, j), grid(i + 1, j + 1), grid(i, j + 1));
+    }
+  const auto tinyReference = std::make_shared<const Mesh>(tiny);
   expectRefusal(std::make_shared<const Mesh>(fanBase(square)), tinyReference, "input 'reference'",
                 "more than the limit of 2000000");
   expectRefusal(std::make_shared<const Mesh>(fanBase(square)), std::make_shared<const Mesh>(),

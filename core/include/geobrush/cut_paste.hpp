@@ -121,6 +121,11 @@ Canvas canvasFromFaces(const MeshPtr& source, std::vector<int> faces, int origin
 Eigen::Matrix3d fitSimilarity2d(const std::vector<Eigen::Vector2d>& from,
                                 const std::vector<Eigen::Vector2d>& to);
 
+// The limit of umbrella smoothing: every vertex with movable[v] at the mean of its neighbours, the
+// others fixed (the uniform-weight harmonic surface over them), by one sparse Cholesky solve.
+// Components without a fixed vertex are left as they are.
+void umbrellaSmoothToRest(TriMesh& mesh, const std::vector<char>& movable);
+
 // Umbrella smoothing (Jacobi): each vertex with movable[v] moves to the mean of its neighbours,
 // `iterations` times.
 void umbrellaSmooth(TriMesh& mesh, const std::vector<char>& movable, int iterations);
