@@ -297,6 +297,40 @@ Eigen::Matrix3d fitSimilarity2d(const std::vector<Eigen::Vector2d>& from,
   return similarity;
 }
 
+namespace {
+
+double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+bool segmentsMeet(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                  const Eigen::Vector2d& d) {
+  const double o1 = cross2(b - a, c - a), o2 = cross2(b - a, d - a);
+  const double o3 = cross2(d - c, a - c), o4 = cross2(d - c, b - c);
+  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
+    return true;
+  auto on = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& x,
+               double o) {
+    return o == 0 && x.x() >= std::min(p.x(), q.x()) && x.x() <= std::max(p.x(), q.x()) &&
+           x.y() >= std::min(p.y(), q.y()) && x.y() <= std::max(p.y(), q.y());
+  };
+  return on(a, b, c, o1) || on(a, b, d, o2) || on(c, d, a, o3) || on(c, d, b, o4);
+}
+
+}  // namespace
+
+std::pair<int, int> firstSelfCrossing(const std::vector<Eigen::Vector2d>& p) {
+  const int m = int(p.size());
+  for (int i = 0; i < m; ++i)
+    for (int j = i + 2; j < m; ++j) {
+      if (i == 0 && j == m - 1) continue;
+      if (segmentsMeet(p[std::size_t(i)], p[std::size_t((i + 1) % m)], p[std::size_t(j)],
+                       p[std::size_t((j + 1) % m)]))
+        return {i, j};
+    }
+  return {-1, -1};
+}
+
 void umbrellaSmoothToRest(TriMesh& mesh, const std::vector<char>& movable) {
   std::vector<int> unknown(mesh.n_vertices(), -1);
   int count = 0;

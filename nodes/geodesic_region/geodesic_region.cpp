@@ -34,29 +34,6 @@ double turn(const Vector2d& a, const Vector2d& b) {
   return std::atan2(cross2(a, b), a.dot(b));
 }
 
-bool segmentsMeet2(const Vector2d& a, const Vector2d& b, const Vector2d& c, const Vector2d& d) {
-  const double o1 = cross2(b - a, c - a), o2 = cross2(b - a, d - a);
-  const double o3 = cross2(d - c, a - c), o4 = cross2(d - c, b - c);
-  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
-    return true;
-  auto on = [](const Vector2d& p, const Vector2d& q, const Vector2d& x, double o) {
-    return o == 0 && x.x() >= std::min(p.x(), q.x()) && x.x() <= std::max(p.x(), q.x()) &&
-           x.y() >= std::min(p.y(), q.y()) && x.y() <= std::max(p.y(), q.y());
-  };
-  return on(a, b, c, o1) || on(a, b, d, o2) || on(c, d, a, o3) || on(c, d, b, o4);
-}
-
-// Sides i and j (not neighbours) of the polygon that meet, or (-1, -1).
-std::pair<int, int> firstCrossing(const std::vector<Vector2d>& p) {
-  const int m = int(p.size());
-  for (int i = 0; i < m; ++i)
-    for (int j = i + 2; j < m; ++j) {
-      if (i == 0 && j == m - 1) continue;
-      if (segmentsMeet2(p[i], p[(i + 1) % m], p[j], p[(j + 1) % m])) return {i, j};
-    }
-  return {-1, -1};
-}
-
 GeodesicRegionError walkError(WalkStop stop, int side, const GeodesicWalkResult& walk, int budget) {
   const std::string where =
       side < 0 ? "toward the first corner" : "on side " + std::to_string(side);
@@ -351,7 +328,7 @@ std::vector<Vector2d> basePolygon(const Parameterization& base) {
       throw GeodesicRegionError("base", "corners " + std::to_string(i) + " and " +
                                             std::to_string((i + 1) % m) +
                                             " of the base's boundary coincide in uv");
-  const auto [i, j] = firstCrossing(polygon);
+  const auto [i, j] = firstSelfCrossing(polygon);
   if (i >= 0)
     throw GeodesicRegionError("base", "the base's boundary crosses itself in uv (sides " +
                                           std::to_string(i) + " and " + std::to_string(j) +

@@ -166,6 +166,14 @@ int countOutside(const Canvas& feature, const std::vector<Vector2d>& featureUv,
   return outside;
 }
 
+// Whether the base's outline in the domain is a simple polygon (the walk on the target needs one).
+bool simpleOutline(const std::vector<int>& loop, const std::vector<Vector2d>& baseUv) {
+  std::vector<Vector2d> polygon;
+  for (int v : loop)
+    polygon.push_back(baseUv[v]);
+  return firstSelfCrossing(polygon).first < 0;
+}
+
 std::vector<std::uint8_t> clockwiseFaces(const TriMesh& mesh, const std::vector<Vector2d>& uv) {
   std::vector<std::uint8_t> flipped(mesh.n_faces(), 0);
   for (auto f : mesh.faces()) {
@@ -331,8 +339,9 @@ IntrinsicParamResult intrinsicParameterize(const Canvas& feature, const TriMesh&
   };
   const bool automatic = options.boundary == BoundaryMode::Auto;
   solveWith(automatic ? BoundaryMode::Plane : options.boundary);
-  if (automatic && result.outsideVertices > 0) {
+  if (automatic && (result.outsideVertices > 0 || !simpleOutline(loop, result.baseUv))) {
     result.planeOutsideVertices = result.outsideVertices;
+    result.planeOutlineCrosses = !simpleOutline(loop, result.baseUv);
     solveWith(BoundaryMode::ConvexHull);
   }
   result.origin =

@@ -28,7 +28,7 @@ enum class BoundaryMode {
 struct IntrinsicParamOptions {
   double lambda = 0.5;  // weight of the Dirichlet (conformal) energy
   double mu = 0.5;      // weight of the chi (authalic) energy
-  BoundaryMode boundary = BoundaryMode::Plane;
+  BoundaryMode boundary = BoundaryMode::Auto;
   // When set, both uv sets are moved by the similarity that best maps F's boundary uv onto this
   // parameterization's uv of the same source vertices, and take its origin, rotation and scale.
   const Parameterization* frame = nullptr;
@@ -72,6 +72,7 @@ struct IntrinsicParamResult {
   BoundaryMode used = BoundaryMode::Plane;  // Auto resolved
   int outsideVertices = 0;       // interior F vertices whose uv lies outside P^B's boundary polygon
   int planeOutsideVertices = 0;  // the same under Plane, where Auto switched to ConvexHull
+  bool planeOutlineCrosses = false;  // Plane's outline crossed itself, where Auto switched
 };
 
 // Throws IntrinsicParamError unless B keeps the pipeline's convention over F (cut_paste.hpp):

@@ -65,6 +65,10 @@ class IntrinsicParamNode final : public geobrush::Node {
       ctx.warn("boundary switched from plane to convex_hull: " +
                std::to_string(result.planeOutsideVertices) +
                " vertices of P^F fell outside P^B's boundary");
+    else if (result.planeOutlineCrosses)
+      ctx.warn(
+          "boundary switched from plane to convex_hull: the loop's projection onto its "
+          "plane crosses itself");
     if (result.outsideVertices > 0)
       ctx.warn(std::to_string(result.outsideVertices) +
                " vertices of P^F lie outside P^B's boundary; encoding extrapolates them");
@@ -102,11 +106,13 @@ void registerNodes(geobrush::PluginRegistrar& r) {
           .range(0.0, 1e6)
           .paramDouble("mu", 0.5, "Weight of the chi (authalic) energy.")
           .range(0.0, 1e6)
-          .paramEnum("boundary", "plane", {"plane", "natural", "convex_hull", "auto"},
+          .paramEnum("boundary", "auto", {"auto", "plane", "natural", "convex_hull"},
                      "plane: the boundary projected on its best-fit plane; natural: the boundary "
                      "of B flattened with a free boundary (LSCM); convex_hull: the natural "
-                     "boundary's convex hull; auto: plane, or convex_hull when F leaves B's "
-                     "boundary. The interiors always follow the intrinsic map.")
+                     "boundary's convex hull; auto (the default): plane, or convex_hull when F "
+                     "leaves B's boundary or the projected loop crosses itself (a loop over "
+                     "handles: the walk on the target needs a simple outline). The interiors "
+                     "always follow the intrinsic map.")
           .node<IntrinsicParamNode>()
           .build());
 }

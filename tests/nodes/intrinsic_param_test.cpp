@@ -211,8 +211,10 @@ TEST(IntrinsicParam, PlaneModeUvIsTheProjectionAboutTheBoundaryCentroid) {
   std::vector<Vector2d> plane;
   const MeshPtr mesh = jitteredGrid(6, tilted(), &plane);
   const CanvasPtr feature = canvasOf(mesh, allFaces(mesh->surface));
+  IntrinsicParamOptions planeMode;
+  planeMode.boundary = BoundaryMode::Plane;
   const IntrinsicParamResult r =
-      intrinsicParameterize(*feature, centroidFan(*feature)->surface, {});
+      intrinsicParameterize(*feature, centroidFan(*feature)->surface, planeMode);
   const Vector3d normal = tilted().linear() * Vector3d::UnitZ();
   EXPECT_NEAR(r.plane.normal.dot(normal), 1.0, 1e-12);  // the faces' side: +z of the grid
   EXPECT_NEAR(r.plane.uAxis.cross(r.plane.vAxis).dot(r.plane.normal), 1.0, 1e-12);
@@ -423,7 +425,9 @@ TEST(IntrinsicParam, AutoSwitchesToTheConvexHullWhenFLeavesAConcaveBoundary) {
   const CanvasPtr feature = canvasOf(tent, allFaces(tent->surface));
   ASSERT_EQ(feature->boundary.front(), 0);
   const MeshPtr base = stripBase(*feature, 12);
-  const IntrinsicParamResult plane = intrinsicParameterize(*feature, base->surface, {});
+  IntrinsicParamOptions planeMode;
+  planeMode.boundary = BoundaryMode::Plane;
+  const IntrinsicParamResult plane = intrinsicParameterize(*feature, base->surface, planeMode);
   EXPECT_EQ(clockwiseFaces(plane.baseUv, base->surface), 0);
   EXPECT_EQ(plane.outsideVertices, 1);  // the apex, in the C's gap
   IntrinsicParamOptions options;
@@ -439,8 +443,9 @@ TEST(IntrinsicParam, AutoSwitchesToTheConvexHullWhenFLeavesAConcaveBoundary) {
   test::DirectContext ctx(*type, {{"feature", feature}, {"base", base}},
                           {{"boundary", std::string("auto")}});
   test::run(type->create(), ctx);
-  ASSERT_EQ(ctx.warnings.size(), 1u);
-  EXPECT_TRUE(test::contains(ctx.warnings[0], "switched from plane to convex_hull"));
+  ASSERT_GE(ctx.warnings.size(), 1u);
+  EXPECT_TRUE(test::contains(ctx.warnings[0], "switched from plane to convex_hull"))
+      << ctx.warnings[0];
 }
 
 TEST(IntrinsicParamNode, OutputsBothParameterizationsOverTheirCanvases) {

@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "geobrush/canvas.hpp"
@@ -125,6 +126,11 @@ Eigen::Matrix3d fitSimilarity2d(const std::vector<Eigen::Vector2d>& from,
 // others fixed (the uniform-weight harmonic surface over them), by one sparse Cholesky solve.
 // Components without a fixed vertex are left as they are.
 void umbrellaSmoothToRest(TriMesh& mesh, const std::vector<char>& movable);
+
+// Two sides of the closed polygon that are not neighbours and meet (touching counts), as their
+// indices (side i runs from corner i to corner i + 1), or (-1, -1) for a simple polygon.
+// O(m^2) in the polygon's corners.
+std::pair<int, int> firstSelfCrossing(const std::vector<Eigen::Vector2d>& polygon);
 
 // Umbrella smoothing (Jacobi): each vertex with movable[v] moves to the mean of its neighbours,
 // `iterations` times.
