@@ -5,6 +5,7 @@
 #include <string>
 
 #include "geobrush/domain_locator.hpp"
+#include "geobrush/intersection.hpp"
 #include "geobrush/surface_point.hpp"
 
 namespace geobrush {
@@ -130,6 +131,18 @@ Alignment alignBases(const Parameterization& sourceBase, const std::vector<Eigen
   return a;
 }
 
+std::size_t allFaceIntersections(const TriMesh& mesh) {
+  std::vector<int> faces(mesh.n_faces());
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    faces[f] = int(f);
+  return selfIntersections(mesh, faces, 1e-12 * boundingDiagonal(mesh));
+}
+
+std::size_t newFeatureIntersections(const TriMesh& source, const TriMesh& pasted) {
+  const std::size_t before = allFaceIntersections(source), after = allFaceIntersections(pasted);
+  return after > before ? after - before : 0;
+}
+
 void checkInputs(const DetailEncoding& encoding, const Parameterization& targetFeature,
                  const Parameterization& targetBase, const SurfacePath& walk) {
   if (!encoding.feature || !encoding.base) throw std::invalid_argument("the encoding is empty");
@@ -175,6 +188,10 @@ DetailTransferResult transferDetail(const DetailEncoding& encoding,
                      encoding.offset[i], encoding.method, walk.scale);
     result.pasted.set_point(v, TriMesh::Point(x.x(), x.y(), x.z()));
   }
+  for (const auto& uv : encoding.feature->uv)
+    result.placedUv.push_back(apply(alignment.similarity, uv));
+  result.newSelfIntersections =
+      newFeatureIntersections(encoding.feature->canvas->surface, result.pasted);
   result.alignment = alignment.similarity;
   result.shrink = alignment.shrink;
   result.alignmentResidual = alignment.residual;

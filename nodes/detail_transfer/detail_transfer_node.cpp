@@ -29,11 +29,26 @@ class DetailTransferNode final : public geobrush::Node {
       ctx.warn(std::to_string(result.uncovered) +
                " source base vertices stay outside the target base after shrinking: their "
                "detail is placed over the target base's nearest outline faces");
+    if (result.newSelfIntersections > 0)
+      ctx.warn(
+          "the pasted feature cuts into itself: " + std::to_string(result.newSelfIntersections) +
+          " more pairs of its faces meet than at its source; the target bends against the "
+          "feature there (a convex feature in a concave region): paste it smaller or "
+          "where the target is flatter");
     auto report = std::make_shared<geobrush::Metrics>();
+    report->values["new_self_intersections"] = double(result.newSelfIntersections);
     report->values["shrink"] = result.shrink;
     report->values["alignment_residual"] = result.alignmentResidual;
     report->values["uncovered"] = double(result.uncovered);
+    auto placed = std::make_shared<Parameterization>();
+    placed->canvas = encoding->feature->canvas;
+    placed->uv = std::move(result.placedUv);
+    placed->normal = encoding->feature->normal;
+    placed->origin = feature->origin;
+    placed->rotation = feature->rotation;
+    placed->scale = feature->scale;
     ctx.out("pasted", std::make_shared<const geobrush::Mesh>(result.pasted));
+    ctx.out("placed", placed);
     ctx.out("report", report);
   }
 };
@@ -60,9 +75,15 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .output<geobrush::Mesh>("pasted",
                                     "The feature with its connectivity, in place on the "
                                     "target (not yet joined to it).")
+            .output<Parameterization>("placed",
+                                      "The feature's vertices in the target's domain: their "
+                                      "source domain points, aligned (for gap_fill to lay the gap "
+                                      "out in).")
             .output<geobrush::Metrics>("report",
                                        "shrink (the cover factor), alignment_residual (domain "
-                                       "units), uncovered (source base vertices left outside).")
+                                       "units), uncovered (source base vertices left outside), "
+                                       "new_self_intersections (face pairs of the pasted "
+                                       "feature that meet, beyond its source's).")
             .node<DetailTransferNode>()
             .build());
 }

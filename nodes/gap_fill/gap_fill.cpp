@@ -44,23 +44,27 @@ std::vector<int> appendFeature(TriMesh& out, const TriMesh& pasted) {
 
 struct Loops {
   std::vector<int> feature, hole;  // result vertex ids, in their boundary halfedges' direction
+  std::vector<int> featureCanvas, holeCanvas;  // the same vertices on their canvases
 };
 
 Loops gapLoops(const Canvas& region, const Canvas& feature, const AppendedFaces& kept,
                const std::vector<int>& featureIds) {
   Loops loops;
-  for (int v : feature.boundary)
+  for (int v : feature.boundary) {
     loops.feature.push_back(featureIds[std::size_t(v)]);
+    loops.featureCanvas.push_back(v);
+  }
   // The hole runs against the region's own boundary.
   for (auto it = region.boundary.rbegin(); it != region.boundary.rend(); ++it) {
     const int id = kept.vertexInOut[std::size_t(region.sourceVertex[std::size_t(*it)])];
     if (id < 0) throw std::invalid_argument("the region's outline is not on the kept target");
     loops.hole.push_back(id);
+    loops.holeCanvas.push_back(*it);
   }
   return loops;
 }
 
-std::vector<int> zipGap(TriMesh& out, const Loops& loops) {
+std::vector<std::array<int, 3>> zipInSpace(const TriMesh& out, const Loops& loops) {
   const std::vector<Eigen::Vector3d> normals = vertexNormals(out);
   std::vector<Eigen::Vector3d> pa, pb, na, nb;
   for (int v : loops.feature) {
@@ -71,9 +75,22 @@ std::vector<int> zipGap(TriMesh& out, const Loops& loops) {
     pb.push_back(point3(out, v));
     nb.push_back(normals[std::size_t(v)]);
   }
-  const SpaceZipMetric metric(pa, pb, na, nb);
+  return zipLoops(loops.feature, loops.hole, SpaceZipMetric(pa, pb, na, nb), true);
+}
+
+std::vector<std::array<int, 3>> zipInDomain(const Loops& loops, const GapDomain& domain) {
+  std::vector<Eigen::Vector2d> uvA, uvB;
+  for (int v : loops.featureCanvas)
+    uvA.push_back(domain.featureUv->at(std::size_t(v)));
+  for (int v : loops.holeCanvas)
+    uvB.push_back(domain.regionUv->at(std::size_t(v)));
+  return zipLoops(loops.feature, loops.hole, DomainZipMetric(uvA, uvB), true);
+}
+
+std::vector<int> zipGap(TriMesh& out, const Loops& loops, const GapDomain& domain) {
+  const bool inDomain = domain.regionUv && domain.featureUv;
   std::vector<int> faces;
-  for (const auto& t : zipLoops(loops.feature, loops.hole, metric, true)) {
+  for (const auto& t : inDomain ? zipInDomain(loops, domain) : zipInSpace(out, loops)) {
     const auto f = out.add_face(TriMesh::VertexHandle(t[0]), TriMesh::VertexHandle(t[1]),
                                 TriMesh::VertexHandle(t[2]));
     if (!f.is_valid())
@@ -113,7 +130,8 @@ void smoothRings(TriMesh& out, const Loops& loops, int passes) {
 }  // namespace
 
 GapFillResult fillGap(const TriMesh& target, const Canvas& region, const TriMesh& pasted,
-                      const Canvas& feature, const GapFillOptions& options) {
+                      const Canvas& feature, const GapFillOptions& options,
+                      const GapDomain& domain) {
   if (pasted.n_vertices() != feature.surface.n_vertices() ||
       pasted.n_faces() != feature.surface.n_faces())
     throw std::invalid_argument("the pasted mesh does not have the feature's connectivity");
@@ -122,7 +140,7 @@ GapFillResult fillGap(const TriMesh& target, const Canvas& region, const TriMesh
   const std::size_t keptVertices = result.mesh.n_vertices();
   const std::vector<int> featureIds = appendFeature(result.mesh, pasted);
   const Loops loops = gapLoops(region, feature, kept, featureIds);
-  result.map.seamFaces = zipGap(result.mesh, loops);
+  result.map.seamFaces = zipGap(result.mesh, loops, domain);
   smoothRings(result.mesh, loops, options.smoothIterations);
 
   result.map.targetVertex.assign(result.mesh.n_vertices(), -1);

@@ -3,7 +3,9 @@
 // Sharir), then smoothed ring by ring (../papers/topology-free-cut-and-paste.txt, section 5.2).
 #pragma once
 
+#include <Eigen/Core>
 #include <stdexcept>
+#include <vector>
 
 #include "geobrush/canvas.hpp"
 #include "geobrush/region.hpp"
@@ -12,6 +14,14 @@ namespace geobrush {
 
 struct GapFillOptions {
   int smoothIterations = 3;  // pass k smooths rings 0..k-1 around the gap
+};
+
+// Where both loops lie in the target's domain: the hole's in the region's parameterization, the
+// feature's where the transfer placed it. With them the gap is zipped in the domain (its
+// triangles kept from turning over there), as GeoBrush's stitch does; without, in space.
+struct GapDomain {
+  const std::vector<Eigen::Vector2d>* regionUv = nullptr;   // per region canvas vertex
+  const std::vector<Eigen::Vector2d>* featureUv = nullptr;  // per feature canvas vertex
 };
 
 struct GapFillResult {
@@ -24,6 +34,7 @@ struct GapFillResult {
 // std::invalid_argument when the inputs do not belong together or the zip cannot be joined as a
 // manifold.
 GapFillResult fillGap(const TriMesh& target, const Canvas& region, const TriMesh& pasted,
-                      const Canvas& feature, const GapFillOptions& options = {});
+                      const Canvas& feature, const GapFillOptions& options = {},
+                      const GapDomain& domain = {});
 
 }  // namespace geobrush

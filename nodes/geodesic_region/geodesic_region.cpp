@@ -417,6 +417,7 @@ LastSide walkCorners(const TriMesh& target, const SurfacePoint& start,
 }
 
 constexpr double kStretchWeight = 10;
+constexpr double kMaxStep = 0.25;
 
 // The loop's shape that closes it: on a curved target the polygon's own turns do not add up to
 // a closed loop (Gauss-Bonnet: the heading comes back turned by the curvature enclosed), so the
@@ -458,11 +459,21 @@ LoopShape closingShape(const TriMesh& target, const SurfacePoint& start,
         jacobian.col(k) = (miss(shaped(shape, delta * Eigen::Vector3d::Unit(k))) - current) / delta;
       const Eigen::Matrix2d normal = jacobian * jacobian.transpose();
       if (!(std::abs(normal.determinant()) > 0)) break;
-      const Eigen::Vector3d step = -jacobian.transpose() * normal.inverse() * current;
-      if (!step.allFinite() || step.norm() > 1) break;
-      shape = shaped(shape, step);
-      if (!(shape.stretch.norm() < 0.5)) break;
-      current = miss(shape);
+      Eigen::Vector3d step = -jacobian.transpose() * normal.inverse() * current;
+      if (!step.allFinite()) break;
+      // Damped: a step of at most kMaxStep in the weighted unknowns (radians of total turn),
+      // halved while it does not bring the end closer.
+      step *= std::min(1.0, kMaxStep / step.norm());
+      LoopShape next = shaped(shape, step);
+      Vector2d nextMiss = miss(next);
+      for (int halvings = 0; halvings < 4 && nextMiss.norm() >= current.norm(); ++halvings) {
+        step /= 2;
+        next = shaped(shape, step);
+        nextMiss = miss(next);
+      }
+      if (!(next.stretch.norm() < 0.5)) break;
+      shape = next;
+      current = nextMiss;
     } catch (const std::invalid_argument&) {
       break;
     }

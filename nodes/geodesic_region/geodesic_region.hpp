@@ -29,7 +29,7 @@ struct GeodesicRegionOptions {
   // Tries at aiming the last side at the first corner (each one walk of the last side).
   int aimIterations = 32;
   // Newton steps for the bend and stretch that close the loop (each three walks of the loop).
-  int closingIterations = 8;
+  int closingIterations = 16;
   GeodesicWalkOptions walk;
 };
 

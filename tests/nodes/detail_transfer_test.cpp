@@ -150,6 +150,54 @@ TEST(DetailTransfer, OntoAMovedPlaneTheFeatureIsASimilarCopy) {
   }
 }
 
+// A canvas as a base by the pipeline's convention: its loop's vertices first, in order, then the
+// others, with the same faces.
+MeshPtr canvasAsBase(const Canvas& canvas) {
+  std::vector<int> order(canvas.surface.n_vertices(), -1);
+  TriMesh base;
+  auto add = [&](int v) {
+    order[std::size_t(v)] = base.add_vertex(canvas.surface.point(TriMesh::VertexHandle(v))).idx();
+  };
+  for (int v : canvas.boundary)
+    add(v);
+  for (auto v : canvas.surface.vertices())
+    if (order[std::size_t(v.idx())] < 0) add(v.idx());
+  for (auto f : canvas.surface.faces()) {
+    std::vector<TriMesh::VertexHandle> corners;
+    for (auto v : canvas.surface.fv_range(f))
+      corners.emplace_back(order[std::size_t(v.idx())]);
+    base.add_face(corners);
+  }
+  return std::make_shared<const Mesh>(base);
+}
+
+// The bump pasted onto a plane and into a valley whose sides meet at 60 degrees (a convex feature
+// in a concave region, the paper's admitted failure): over the valley the offsets along the sides'
+// normals cross above its floor, and the transfer says so; over the plane nothing crosses.
+TEST(DetailTransfer, AConvexFeatureInAConcaveValleyCutsIntoItselfAndSaysSo) {
+  const Source s = bumpSource();
+  const DetailEncoding encoding = encode(s.featureUv, s.baseUv);
+  for (const double slope : {0.0, std::tan(60.0 * M_PI / 180)}) {
+    const MeshPtr target =
+        test::heightGrid(40, [&](double x, double) { return slope * std::abs(x); });
+    const int centre = nearestSurfacePoint(target->surface, {0.01, 0.02, 0}).face;
+    const auto region = std::make_shared<const Canvas>(test::growDiscCanvas(target, centre, 0.8));
+    const Uv xy = [](const Eigen::Vector3d& p) { return Eigen::Vector2d(p.x(), p.y()); };
+    const auto targetFeature = parameterize(region, xy);
+    const auto targetBase =
+        parameterize(std::make_shared<const Canvas>(canvasOfMesh(canvasAsBase(*region))), xy);
+    const auto place = [&](const Eigen::Vector2d& u) {
+      return Eigen::Vector3d(u.x(), u.y(), slope * std::abs(u.x()));
+    };
+    const DetailTransferResult result = transferDetail(encoding, *targetFeature, *targetBase,
+                                                       walkTo(target, *s.baseUv, place, 1.0));
+    if (slope == 0)
+      EXPECT_EQ(result.newSelfIntersections, 0u);
+    else
+      EXPECT_GT(result.newSelfIntersections, 0u);
+  }
+}
+
 TEST(DetailTransferNode, RefusesAWalkOfAnotherLoop) {
   const Source s = bumpSource();
   auto encoding = std::make_shared<const DetailEncoding>(encode(s.featureUv, s.baseUv));

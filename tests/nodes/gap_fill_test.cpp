@@ -93,6 +93,33 @@ TEST(GapFill, AFeatureRaisedOverASphereJoinsWithoutFolding) {
   EXPECT_EQ(test::topology(result.mesh).eulerCharacteristic, 2);
 }
 
+std::vector<Eigen::Vector2d> xy(const TriMesh& mesh) {
+  std::vector<Eigen::Vector2d> uv;
+  for (auto v : mesh.vertices())
+    uv.emplace_back(mesh.point(v)[0], mesh.point(v)[1]);
+  return uv;
+}
+
+// A wide gap around a feature raised high over the plane: zipped in the domain, no gap triangle
+// turns over there, and the join stays clean.
+TEST(GapFill, InTheDomainNoGapTriangleTurnsOver) {
+  const MeshPtr plane = test::heightGrid(24, [](double, double) { return 0.0; });
+  const int centre = faceAt(plane, {0.01, 0.02, 0});
+  const Canvas region = test::growDiscCanvas(plane, centre, 0.8);
+  const Canvas feature = test::growDiscCanvas(plane, centre, 0.3);
+  const std::vector<Eigen::Vector2d> regionUv = xy(region.surface), featureUv = xy(feature.surface);
+  const GapFillResult result = fillGap(plane->surface, region, lifted(feature, 0.4), feature,
+                                       GapFillOptions{0}, GapDomain{&regionUv, &featureUv});
+  expectCleanJoin(result, plane->surface, region, feature);
+  for (int f : result.map.seamFaces) {
+    std::vector<Eigen::Vector2d> corners;
+    for (auto v : result.mesh.fv_range(TriMesh::FaceHandle(f)))
+      corners.emplace_back(result.mesh.point(v)[0], result.mesh.point(v)[1]);
+    const Eigen::Vector2d e = corners[1] - corners[0], g = corners[2] - corners[0];
+    EXPECT_GE(e.x() * g.y() - e.y() * g.x(), 0) << f;
+  }
+}
+
 TEST(GapFillNode, JoinsAndRefusesAPasteOfAnotherShape) {
   const MeshPtr plane = test::heightGrid(16, [](double, double) { return 0.0; });
   const int centre = faceAt(plane, {0.01, 0.02, 0});
