@@ -73,6 +73,7 @@ Hash DetailEncoding::contentHash() const {
   hasher.span(std::span<const int>(baseFace));
   hashVector3s(hasher, barycentric);
   hashVector3s(hasher, offset);
+  hasher.u64(selfIntersections);
   return hasher.digest();
 }
 

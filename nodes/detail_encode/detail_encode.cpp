@@ -1,5 +1,7 @@
 #include "detail_encode.hpp"
 
+#include "geobrush/intersection.hpp"
+
 #include <cmath>
 
 #include "geobrush/domain_locator.hpp"
@@ -99,6 +101,11 @@ DetailEncoding encodeDetail(const ParameterizationPtr& feature, const Parameteri
     encoding.offset[v] = encodeOffset(baseFace(b, field, hit.face), hit.barycentric,
                                       pointOf(f.surface, int(v)), method);
   }
+  std::vector<int> faces(f.surface.n_faces());
+  for (std::size_t k = 0; k < faces.size(); ++k)
+    faces[k] = int(k);
+  encoding.selfIntersections =
+      selfIntersections(f.surface, faces, 1e-12 * boundingDiagonal(f.surface));
   return encoding;
 }
 

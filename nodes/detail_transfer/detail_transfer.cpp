@@ -138,8 +138,8 @@ std::size_t allFaceIntersections(const TriMesh& mesh) {
   return selfIntersections(mesh, faces, 1e-12 * boundingDiagonal(mesh));
 }
 
-std::size_t newFeatureIntersections(const TriMesh& source, const TriMesh& pasted) {
-  const std::size_t before = allFaceIntersections(source), after = allFaceIntersections(pasted);
+std::size_t newFeatureIntersections(std::size_t before, const TriMesh& pasted) {
+  const std::size_t after = allFaceIntersections(pasted);
   return after > before ? after - before : 0;
 }
 
@@ -190,8 +190,7 @@ DetailTransferResult transferDetail(const DetailEncoding& encoding,
   }
   for (const auto& uv : encoding.feature->uv)
     result.placedUv.push_back(apply(alignment.similarity, uv));
-  result.newSelfIntersections =
-      newFeatureIntersections(encoding.feature->canvas->surface, result.pasted);
+  result.newSelfIntersections = newFeatureIntersections(encoding.selfIntersections, result.pasted);
   result.alignment = alignment.similarity;
   result.shrink = alignment.shrink;
   result.alignmentResidual = alignment.residual;

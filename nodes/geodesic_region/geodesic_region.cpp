@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "geobrush/cut_paste.hpp"
+#include "geobrush/intersection.hpp"
 
 namespace geobrush {
 namespace {
@@ -215,48 +216,58 @@ int sideOfLoop(const WalkedLoop& loop, const std::vector<int>& pieces, const Vec
   return left ? 1 : -1;
 }
 
-// Faces not crossed, numbered by component of edge adjacency among themselves; -1 for crossed.
-std::vector<int> uncrossedComponents(const TriMesh& target, const std::vector<char>& crossed,
-                                     int& count) {
-  std::vector<int> component(target.n_faces(), -1);
-  count = 0;
-  std::vector<int> stack;
-  for (int seed = 0; seed < int(target.n_faces()); ++seed) {
-    if (crossed[std::size_t(seed)] || component[std::size_t(seed)] >= 0) continue;
-    component[std::size_t(seed)] = count;
-    stack.assign(1, seed);
-    while (!stack.empty()) {
-      const int f = stack.back();
-      stack.pop_back();
-      for (auto g : target.ff_range(TriMesh::FaceHandle(f)))
-        if (!crossed[std::size_t(g.idx())] && component[std::size_t(g.idx())] < 0) {
-          component[std::size_t(g.idx())] = count;
-          stack.push_back(g.idx());
-        }
-    }
-    ++count;
-  }
-  return component;
-}
-
-// Per component: votes {left, right} from its edges with crossed faces.
-std::vector<std::array<int, 2>> sideVotes(const TriMesh& target, const WalkedLoop& loop,
-                                          const std::map<int, std::vector<int>>& byFace,
-                                          const std::vector<int>& component, int count) {
-  std::vector<std::array<int, 2>> votes(std::size_t(count), {0, 0});
+// Per face: 1 where an edge with a crossed face lies on the loop's left, 2 on its right, 3 both.
+std::vector<std::uint8_t> sideMarks(const TriMesh& target, const WalkedLoop& loop,
+                                    const std::map<int, std::vector<int>>& byFace,
+                                    const std::vector<char>& crossed) {
+  std::vector<std::uint8_t> marks(target.n_faces(), 0);
   for (const auto& [face, pieces] : byFace) {
     const Vector3d normal = faceUnitNormal(target, face);
     for (auto h : target.fh_range(TriMesh::FaceHandle(face))) {
       const auto g = target.face_handle(target.opposite_halfedge_handle(h));
-      if (!g.is_valid() || component[std::size_t(g.idx())] < 0) continue;
+      if (!g.is_valid() || crossed[std::size_t(g.idx())]) continue;
       const auto a = target.point(target.from_vertex_handle(h));
       const auto b = target.point(target.to_vertex_handle(h));
       const Vector3d middle(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2]));
       const int side = sideOfLoop(loop, pieces, normal, middle);
-      if (side != 0) ++votes[std::size_t(component[std::size_t(g.idx())])][side > 0 ? 0 : 1];
+      if (side != 0) marks[std::size_t(g.idx())] |= side > 0 ? 1 : 2;
     }
   }
-  return votes;
+  return marks;
+}
+
+GeodesicRegionError touchesItself(int face) {
+  return GeodesicRegionError("placement",
+                             "the walked loop touches itself: the faces around target face " +
+                                 std::to_string(face) +
+                                 " lie on both of its sides: use a smaller scale, or move the "
+                                 "origin where the target curves less");
+}
+
+// The faces not crossed that the loop encloses: a flood through uncrossed faces from those
+// marked on its inner side, which must not reach one marked on the outer side. Costs the
+// region's size, not the target's.
+std::vector<int> enclosedFaces(const TriMesh& target, const std::vector<char>& crossed,
+                               const std::vector<std::uint8_t>& marks, bool innerLeft) {
+  const std::uint8_t inner = innerLeft ? 1 : 2, outer = innerLeft ? 2 : 1;
+  std::vector<char> reached(target.n_faces(), 0);
+  std::vector<int> queue;
+  for (std::size_t f = 0; f < marks.size(); ++f)
+    if (marks[f] & inner) {
+      if (marks[f] & outer) throw touchesItself(int(f));
+      reached[f] = 1;
+      queue.push_back(int(f));
+    }
+  for (std::size_t next = 0; next < queue.size(); ++next)
+    for (auto g : target.ff_range(TriMesh::FaceHandle(queue[next]))) {
+      const std::size_t k = std::size_t(g.idx());
+      if (crossed[k] || reached[k]) continue;
+      if (marks[k] & outer) throw touchesItself(g.idx());
+      reached[k] = 1;
+      queue.push_back(g.idx());
+    }
+  std::sort(queue.begin(), queue.end());
+  return queue;
 }
 
 void requirePlacement(const MeshPtr& target, const Parameterization& placement) {
@@ -277,23 +288,19 @@ void requirePlacement(const MeshPtr& target, const Parameterization& placement) 
         "the placement's scale must be a finite number > 0, not " + number(placement.scale));
 }
 
-// Per component, whether it lies on the inner side; throws where one lies on both.
-std::vector<char> innerComponents(const std::vector<std::array<int, 2>>& votes,
-                                  const std::vector<int>& component, bool innerLeft) {
-  const int inner = innerLeft ? 0 : 1;
-  std::vector<char> inside(votes.size(), 0);
-  for (std::size_t c = 0; c < votes.size(); ++c) {
-    if (votes[c][0] > 0 && votes[c][1] > 0) {
-      const auto face = std::find(component.begin(), component.end(), int(c)) - component.begin();
-      throw GeodesicRegionError(
-          "placement", "the walked loop touches itself: the faces around target face " +
-                           std::to_string(face) +
-                           " lie on both of its sides: use a smaller scale, or move the origin "
-                           "where the target curves less");
-    }
-    inside[c] = votes[c][std::size_t(inner)] > 0;
-  }
-  return inside;
+// The placement's origin on the target: on the target face under its canvas' origin face where
+// the canvas says which that is (no search over the whole target on every move), else the
+// nearest point of the target.
+SurfacePoint startPoint(const TriMesh& mesh, const Parameterization& placement) {
+  const Canvas& canvas = *placement.canvas;
+  if (canvas.originFace < 0 || std::size_t(canvas.originFace) >= canvas.sourceFace.size())
+    return nearestSurfacePoint(mesh, placement.origin.point);
+  SurfacePoint start;
+  start.face = canvas.sourceFace[std::size_t(canvas.originFace)];
+  const Triangle3 t = faceTriangle(mesh, start.face);
+  start.point = closestPointOnTriangle(placement.origin.point, t[0], t[1], t[2]);
+  start.distance = (start.point - placement.origin.point).norm();
+  return start;
 }
 
 }  // namespace
@@ -418,6 +425,7 @@ LastSide walkCorners(const TriMesh& target, const SurfacePoint& start,
 
 constexpr double kStretchWeight = 10;
 constexpr double kMaxStep = 0.25;
+constexpr double kClosingShare = 0.05;
 
 // The loop's shape that closes it: on a curved target the polygon's own turns do not add up to
 // a closed loop (Gauss-Bonnet: the heading comes back turned by the curvature enclosed), so the
@@ -450,7 +458,8 @@ LoopShape closingShape(const TriMesh& target, const SurfacePoint& start,
   LoopShape best, shape;
   Vector2d current = miss(best), bestMiss = current;
   loop.gap = current.norm();
-  const double tolerance = 1e-9 * loop.length, delta = 1e-4;
+  // Close enough for the last side's aim to finish the loop: a small share of a side.
+  const double tolerance = kClosingShare * loop.length / double(polygon.size()), delta = 1e-4;
   for (int i = 0; i < options.closingIterations && bestMiss.norm() > tolerance; ++i) {
     // A shape whose walk leaves the target or the stretch's range ends the search.
     try {
@@ -515,13 +524,8 @@ std::pair<std::vector<int>, std::vector<int>> loopFaces(const TriMesh& target,
     crossed[std::size_t(entry.first)] = 1;
     crossedFaces.push_back(entry.first);
   }
-  int count = 0;
-  const std::vector<int> component = uncrossedComponents(target, crossed, count);
-  const std::vector<char> inside =
-      innerComponents(sideVotes(target, loop, byFace, component, count), component, innerLeft);
-  std::vector<int> enclosed;
-  for (std::size_t f = 0; f < component.size(); ++f)
-    if (component[f] >= 0 && inside[std::size_t(component[f])]) enclosed.push_back(int(f));
+  const std::vector<int> enclosed =
+      enclosedFaces(target, crossed, sideMarks(target, loop, byFace, crossed), innerLeft);
   if (crossedFaces.size() + enclosed.size() == target.n_faces())
     throw GeodesicRegionError("placement",
                               "the walked region would cover the whole target: use a smaller "
@@ -538,14 +542,18 @@ GeodesicRegionResult geodesicRegion(const MeshPtr& target, const Parameterizatio
   const std::vector<Vector2d> polygon = basePolygon(base);
   requirePlacement(target, placement);
   const TriMesh& mesh = target->surface;
-  const SurfacePoint start = nearestSurfacePoint(mesh, placement.origin.point);
-  const double reach = options.originTolerance * boundingDiagonal(mesh);
+  const SurfacePoint start = startPoint(mesh, placement);
+  const double reach =
+      options.originTolerance * boundingDiagonal(placement.canvas->surface.n_vertices() > 0
+                                                     ? placement.canvas->surface
+                                                     : mesh);
   if (!(start.distance <= reach))
     throw GeodesicRegionError("placement", "the origin lies " + number(start.distance) +
                                                " from the target, farther than " + number(reach) +
                                                ": use the target DEM's output for this target");
   GeodesicRegionOptions walking = options;
-  if (!(walking.walk.meanEdge > 0)) walking.walk.meanEdge = meanEdgeLength(mesh);
+  if (!(walking.walk.meanEdge > 0))
+    walking.walk.meanEdge = meanEdgeLength(placement.canvas->surface);
   GeodesicRegionResult result;
   result.loop = walkLoop(mesh, start, placement.origin, placement.scale, polygon, walking);
   std::tie(result.crossed, result.enclosed) =

@@ -104,9 +104,10 @@ WalkedLoop walkLoop(const TriMesh& target, const SurfacePoint& start, const Fram
                     const GeodesicRegionOptions& options);
 
 // The faces the loop crosses, then those enclosed on its inner side (its left when `innerLeft`):
-// faces not crossed, grouped by edge adjacency, each group on the side of the loop its borders
-// with crossed faces show. Throws GeodesicRegionError("placement") where the loop crosses or
-// touches itself, or would take the whole target.
+// the faces not crossed reached from those bordering the loop on its inner side, through faces
+// not crossed (which must not reach one bordering it on the outer side). Throws
+// GeodesicRegionError("placement") where the loop crosses or touches itself, or would take the
+// whole target.
 std::pair<std::vector<int>, std::vector<int>> loopFaces(const TriMesh& target,
                                                         const WalkedLoop& loop, bool innerLeft);
 

@@ -45,6 +45,9 @@ class DetailEncoding final : public Value {
   std::vector<int> baseFace;                 // per F vertex: face of B
   std::vector<Eigen::Vector3d> barycentric;  // per F vertex, on that face's corners in fv order
   std::vector<Eigen::Vector3d> offset;       // per F vertex: (e1, e2, n) components of d
+  // Pairs of F's faces that meet (intersection.hpp) where it lies: a pasted copy with more has
+  // cut into itself.
+  std::size_t selfIntersections = 0;
 };
 using DetailEncodingPtr = std::shared_ptr<const DetailEncoding>;
 
