@@ -1,0 +1,108 @@
+// Moving the target point of a clone, topology-free cut and paste beside GeoBrush on the same
+// inputs: both method templates (graphs/methods) with a procedural source and target, the
+// source side computed once, the target origin moved a step per iteration through the evaluator.
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "geobrush/canvas.hpp"
+#include "geobrush/clone.hpp"
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
+#include "test_support.hpp"
+
+namespace geobrush {
+namespace {
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// A method's template with a 280^2 relief plane as the source (a painted feature of about 5k
+// vertices) and a geodesic sphere of `sphereResolution` (10 r^2 + 2 vertices) as the target.
+Graph methodGraph(const std::string& method, int sphereResolution) {
+  Graph graph = readMethod(method, defaultMethodDirs(), test::registry());
+  graph.nodes["source_mesh"] = GraphNode{"geobrush.primitive",
+                                         1,
+                                         {{"shape", std::string("plane")},
+                                          {"size", 2.0},
+                                          {"resolution", std::int64_t(280)},
+                                          {"relief", 0.02}}};
+  graph.nodes["target_mesh"] =
+      GraphNode{"geobrush.primitive",
+                1,
+                {{"shape", std::string("sphere")}, {"resolution", std::int64_t(sphereResolution)}}};
+  graph.nodes.at("source_canvas").params = {{"origin", Vec3{0, 0, 0}},
+                                            {"dabs", std::vector<double>{0, 0, 0, 0.45}}};
+  graph.nodes.at("strokes").params = {{"dabs", std::vector<double>{0, 0, 0.285, 1}}};
+  graph.nodes.at("target_map").params = {{"origin", Vec3{0, 0, 1}}, {"scale", 0.3}};
+  prepareGraph(graph, test::registry());
+  return graph;
+}
+
+// Argument 0: the method (0 geobrush, 1 cutpaste); argument 1: the sphere's resolution. 60 moves
+// of 0.004 rad along the sphere; counters: the median, 90th percentile and largest move, the
+// nodes' mean times, the feature's and the target's vertices.
+void BM_TargetMoveMethod(benchmark::State& state) {
+  const std::string method = state.range(0) == 0 ? "geobrush" : "cutpaste";
+  const std::string result = state.range(0) == 0 ? "stitch" : "gap";
+  Graph graph = methodGraph(method, int(state.range(1)));
+  Evaluator evaluator(test::registry());
+  EvalOptions options;
+  options.targets = {result};
+  auto moveTo = [&](int step) {
+    const double angle = 0.004 * step;
+    const Eigen::Vector3d origin =
+        Eigen::Vector3d(std::sin(angle), 0.3 * std::sin(angle), std::cos(angle)).normalized();
+    graph.nodes.at("target_map").params["origin"] = Vec3{origin.x(), origin.y(), origin.z()};
+  };
+  moveTo(0);
+  if (const EvalReport first = evaluator.evaluate(graph, options); !first.ok) {
+    state.SkipWithError(first.error.c_str());
+    return;
+  }
+  std::map<std::string, double> seconds;
+  std::vector<double> moveMs;
+  int step = 0;
+  for (auto _ : state) {
+    moveTo(++step);
+    const auto start = std::chrono::steady_clock::now();
+    const EvalReport report = evaluator.evaluate(graph, options);
+    moveMs.push_back(millisecondsSince(start));
+    if (!report.ok) {
+      state.SkipWithError(report.error.c_str());
+      return;
+    }
+    for (const NodeRun& run : report.runs)
+      if (!run.cacheHit) seconds[run.node] += run.seconds;
+  }
+  for (const auto& [node, total] : seconds)
+    state.counters[node + "_ms"] =
+        benchmark::Counter(1000 * total, benchmark::Counter::kAvgIterations);
+  std::sort(moveMs.begin(), moveMs.end());
+  state.counters["move_median_ms"] = moveMs[moveMs.size() / 2];
+  state.counters["move_p90_ms"] = moveMs[moveMs.size() * 9 / 10];
+  state.counters["move_max_ms"] = moveMs.back();
+  state.counters["target_vertices"] =
+      double(std::dynamic_pointer_cast<const Mesh>(evaluator.output("target_mesh", "mesh"))
+                 ->surface.n_vertices());
+  if (method == "cutpaste")
+    state.counters["feature_vertices"] =
+        double(std::dynamic_pointer_cast<const Canvas>(evaluator.output("feature", "feature"))
+                   ->surface.n_vertices());
+}
+
+}  // namespace
+}  // namespace geobrush
+
+BENCHMARK(geobrush::BM_TargetMoveMethod)
+    ->Args({0, 100})
+    ->Args({1, 100})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(60);
