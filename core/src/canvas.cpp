@@ -1,5 +1,7 @@
 #include "geobrush/canvas.hpp"
 
+#include <limits>
+
 namespace geobrush {
 namespace {
 
@@ -39,6 +41,35 @@ void hashTriMesh(Hasher& hasher, const TriMesh& mesh) {
 }
 
 }  // namespace
+
+void setBoundaryAndOrigin(Canvas& canvas, int originFace, const Eigen::Vector3d& originPoint) {
+  const TriMesh& surface = canvas.surface;
+  TriMesh::HalfedgeHandle start;
+  for (auto h : surface.halfedges())
+    if (surface.is_boundary(h) && (!start.is_valid() || surface.from_vertex_handle(h).idx() <
+                                                            surface.from_vertex_handle(start).idx()))
+      start = h;
+  canvas.boundary.clear();
+  if (start.is_valid()) {
+    auto h = start;
+    do {
+      canvas.boundary.push_back(surface.from_vertex_handle(h).idx());
+      h = surface.next_halfedge_handle(h);
+    } while (h != start && canvas.boundary.size() <= surface.n_halfedges());
+  }
+  canvas.originFace = originFace;
+  canvas.originPoint = originPoint;
+  canvas.originVertex = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (auto v : surface.fv_range(TriMesh::FaceHandle(originFace))) {
+    const auto& p = surface.point(v);
+    const double d = (Eigen::Vector3d(p[0], p[1], p[2]) - originPoint).norm();
+    if (d < best || (d == best && v.idx() < canvas.originVertex)) {
+      best = d;
+      canvas.originVertex = v.idx();
+    }
+  }
+}
 
 Hash Canvas::contentHash() const {
   Hasher hasher;

@@ -250,39 +250,25 @@ Canvas canvasFromFaces(const MeshPtr& source, std::vector<int> faces, int origin
   canvas.surface = std::move(sub.surface);
   canvas.sourceVertex = std::move(sub.sourceVertex);
   canvas.sourceFace = std::move(sub.sourceFace);
-  TriMesh::HalfedgeHandle start;
-  for (auto h : canvas.surface.halfedges())
-    if (canvas.surface.is_boundary(h) &&
-        (!start.is_valid() || canvas.surface.from_vertex_handle(h).idx() <
-                                  canvas.surface.from_vertex_handle(start).idx()))
-      start = h;
-  canvas.boundary = loopFrom(canvas.surface, start);
   const auto at = std::lower_bound(faces.begin(), faces.end(), originFace);
   if (at == faces.end() || *at != originFace)
     throw std::invalid_argument("the origin's face " + std::to_string(originFace) +
                                 " is not in the region");
-  canvas.originFace = int(at - faces.begin());
-  canvas.originPoint = originPoint;
-  double best = std::numeric_limits<double>::infinity();
-  for (auto v : canvas.surface.fv_range(TriMesh::FaceHandle(canvas.originFace))) {
-    const double d = (toEigen(canvas.surface.point(v)) - originPoint).norm();
-    if (d < best || (d == best && v.idx() < canvas.originVertex)) {
-      best = d;
-      canvas.originVertex = v.idx();
-    }
-  }
+  setBoundaryAndOrigin(canvas, int(at - faces.begin()), originPoint);
   return canvas;
 }
 
 Eigen::Matrix3d fitSimilarity2d(const std::vector<Eigen::Vector2d>& from,
-                                const std::vector<Eigen::Vector2d>& to) {
+                                const std::vector<Eigen::Vector2d>& to, bool withScale) {
   if (from.size() != to.size() || from.empty())
     throw std::invalid_argument("a similarity needs as many points to map as to map onto");
   Eigen::Vector2d meanFrom = Eigen::Vector2d::Zero(), meanTo = Eigen::Vector2d::Zero();
   for (std::size_t k = 0; k < from.size(); ++k) {
-    meanFrom += from[k] / double(from.size());
-    meanTo += to[k] / double(to.size());
+    meanFrom += from[k];
+    meanTo += to[k];
   }
+  meanFrom /= double(from.size());
+  meanTo /= double(to.size());
   double re = 0, im = 0, spread = 0;
   for (std::size_t k = 0; k < from.size(); ++k) {
     const Eigen::Vector2d p = from[k] - meanFrom, q = to[k] - meanTo;
@@ -291,7 +277,8 @@ Eigen::Matrix3d fitSimilarity2d(const std::vector<Eigen::Vector2d>& from,
     spread += p.squaredNorm();
   }
   Eigen::Matrix2d linear = Eigen::Matrix2d::Identity();
-  if (spread > 0) linear << re / spread, -im / spread, im / spread, re / spread;
+  const double size = withScale ? spread : std::hypot(re, im);
+  if (spread > 0 && size > 0) linear << re / size, -im / size, im / size, re / size;
   Eigen::Matrix3d similarity = Eigen::Matrix3d::Identity();
   similarity.topLeftCorner<2, 2>() = linear;
   similarity.topRightCorner<2, 1>() = meanTo - linear * meanFrom;

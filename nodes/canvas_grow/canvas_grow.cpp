@@ -377,25 +377,7 @@ Canvas growCanvas(const MeshPtr& source, const CanvasGrowOptions& options) {
 
   const std::vector<Loop> loops = boundaryLoops(canvas.surface, mesh, canvas.sourceVertex);
   requireOneLoop(canvas.surface, loops);
-  const auto& loop = loops.front().halfedges;
-  const auto first = std::min_element(loop.begin(), loop.end(), [&](auto a, auto b) {
-    return canvas.surface.from_vertex_handle(a).idx() < canvas.surface.from_vertex_handle(b).idx();
-  });
-  auto h = *first;
-  do {
-    canvas.boundary.push_back(canvas.surface.from_vertex_handle(h).idx());
-    h = canvas.surface.next_halfedge_handle(h);
-  } while (h != *first);
-
-  canvas.originPoint = originPoint;
-  double best = std::numeric_limits<double>::infinity();
-  for (auto v : canvas.surface.fv_range(TriMesh::FaceHandle(canvas.originFace))) {
-    const double d = (toEigen(canvas.surface.point(v)) - originPoint).norm();
-    if (d < best || (d == best && v.idx() < canvas.originVertex)) {
-      best = d;
-      canvas.originVertex = v.idx();
-    }
-  }
+  setBoundaryAndOrigin(canvas, canvas.originFace, originPoint);
   return canvas;
 }
 

@@ -8,6 +8,8 @@
 
 #include "intrinsic_param.hpp"
 
+#include "geobrush/cut_paste.hpp"
+
 namespace geobrush {
 namespace {
 
@@ -159,26 +161,6 @@ bool insidePolygon(const std::vector<Vector2d>& polygon, const Vector2d& p, doub
   return winding != 0 || nearest <= tolerance;
 }
 
-Eigen::Matrix3d similarity2d(const Eigen::Matrix2Xd& from, const Eigen::Matrix2Xd& to,
-                             bool withScale) {
-  // In 2D the optimal rotation has a closed form: the angle of sum(p . q, p x q) over the
-  // centred pairs.
-  const Vector2d fromMean = from.rowwise().mean(), toMean = to.rowwise().mean();
-  double dot = 0, cross = 0, spread = 0;
-  for (Eigen::Index k = 0; k < from.cols(); ++k) {
-    const Vector2d p = from.col(k) - fromMean, q = to.col(k) - toMean;
-    dot += p.dot(q);
-    cross += cross2(p, q);
-    spread += p.squaredNorm();
-  }
-  const double angle = std::atan2(cross, dot);
-  const double scale = withScale && spread > 0 ? std::hypot(dot, cross) / spread : 1.0;
-  Eigen::Matrix3d map = Eigen::Matrix3d::Identity();
-  map.topLeftCorner<2, 2>() = scale * Eigen::Rotation2Dd(angle).toRotationMatrix();
-  map.topRightCorner<2, 1>() = toMean - map.topLeftCorner<2, 2>() * fromMean;
-  return map;
-}
-
 Eigen::Matrix3d frameAlignment(const Canvas& feature, const std::vector<Vector2d>& featureUv,
                                const Parameterization& frame) {
   if (!frame.canvas || frame.uv.size() != frame.canvas->surface.n_vertices() ||
@@ -200,18 +182,21 @@ Eigen::Matrix3d frameAlignment(const Canvas& feature, const std::vector<Vector2d
     if (at != bySource.end() && at->first == feature.sourceVertex[v])
       matches.emplace_back(featureUv[v], frame.uv[at->second]);
   }
-  Eigen::Matrix2Xd from(2, matches.size()), to(2, matches.size());
-  for (std::size_t k = 0; k < matches.size(); ++k) {
-    from.col(Eigen::Index(k)) = matches[k].first;
-    to.col(Eigen::Index(k)) = matches[k].second;
+  std::vector<Vector2d> from, to;
+  for (const auto& [mine, theirs] : matches) {
+    from.push_back(mine);
+    to.push_back(theirs);
   }
-  const bool spread = matches.size() >= 3 && (from.colwise() - from.rowwise().mean()).norm() > 0 &&
-                      (to.colwise() - to.rowwise().mean()).norm() > 0;
+  const auto spreads = [](const std::vector<Vector2d>& points) {
+    return std::any_of(points.begin(), points.end(),
+                       [&](const Vector2d& p) { return p != points.front(); });
+  };
+  const bool spread = matches.size() >= 3 && spreads(from) && spreads(to);
   if (!spread)
     throw IntrinsicParamError("frame", "only " + std::to_string(matches.size()) +
                                            " of F's boundary vertices have distinct uv on the "
                                            "frame's canvas; 3 are needed");
-  return similarity2d(from, to, true);
+  return fitSimilarity2d(from, to);
 }
 
 }  // namespace geobrush

@@ -138,12 +138,9 @@ std::vector<Vector2d> originalBoundaryUv(BoundaryMode mode, const TriMesh& base,
     }
   const std::vector<Vector2d> free = leastSquaresConformalMap(base, pinA, pinB, "base");
   // Turned and moved onto the plane's projection, so that uv (0, 0) stays at its centroid.
-  Eigen::Matrix2Xd from(2, n), to(2, n);
-  for (int i = 0; i < n; ++i) {
-    from.col(i) = free[i];
-    to.col(i) = planeUv[i];
-  }
-  const Eigen::Matrix3d rigid = similarity2d(from, to, false);
+  const Eigen::Matrix3d rigid =
+      fitSimilarity2d(std::vector<Vector2d>(free.begin(), free.begin() + n),
+                      std::vector<Vector2d>(planeUv.begin(), planeUv.begin() + n), false);
   std::vector<Vector2d> natural(n);
   for (int i = 0; i < n; ++i)
     natural[i] = rigid.topLeftCorner<2, 2>() * free[i] + rigid.topRightCorner<2, 1>();
@@ -174,7 +171,12 @@ bool simpleOutline(const std::vector<int>& loop, const std::vector<Vector2d>& ba
   return firstSelfCrossing(polygon).first < 0;
 }
 
+// Faces clockwise beyond rounding (a face the convex hull lays flat is degenerate, not turned).
 std::vector<std::uint8_t> clockwiseFaces(const TriMesh& mesh, const std::vector<Vector2d>& uv) {
+  Eigen::AlignedBox2d box;
+  for (const auto& p : uv)
+    box.extend(p);
+  const double rounding = 1e-12 * box.diagonal().squaredNorm();
   std::vector<std::uint8_t> flipped(mesh.n_faces(), 0);
   for (auto f : mesh.faces()) {
     std::array<Vector2d, 3> c;
@@ -182,7 +184,7 @@ std::vector<std::uint8_t> clockwiseFaces(const TriMesh& mesh, const std::vector<
     for (auto v : mesh.fv_range(f))
       c[k++] = uv[v.idx()];
     const Vector2d a = c[1] - c[0], b = c[2] - c[0];
-    flipped[f.idx()] = a.x() * b.y() - a.y() * b.x() < 0 ? 1 : 0;
+    flipped[f.idx()] = a.x() * b.y() - a.y() * b.x() < -rounding ? 1 : 0;
   }
   return flipped;
 }

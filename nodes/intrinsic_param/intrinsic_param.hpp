@@ -111,7 +111,7 @@ std::vector<Eigen::Vector2d> leastSquaresConformalMap(const TriMesh& mesh, int p
 // at their share of the loop's length between those two (ours). The loop may run either way.
 std::vector<Eigen::Vector2d> placeOnConvexHull(const std::vector<Eigen::Vector2d>& loop);
 
-// Ours (spec 2.2, shared (u, v) domain): the similarity (similarity2d) from F's boundary uv to
+// Ours (spec 2.2, shared (u, v) domain): the similarity (core fitSimilarity2d) from F's boundary uv to
 // `frame`'s uv at the same source vertices. Throws IntrinsicParamError("frame", ...) with fewer
 // than 3 matches or a frame on another mesh.
 Eigen::Matrix3d frameAlignment(const Canvas& feature, const std::vector<Eigen::Vector2d>& featureUv,
@@ -120,10 +120,5 @@ Eigen::Matrix3d frameAlignment(const Canvas& feature, const std::vector<Eigen::V
 // Whether p lies inside the closed polygon or within `tolerance` of its outline.
 bool insidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p,
                    double tolerance);
-
-// The rotation, uniform scale (when withScale) and translation, no reflection, that best maps the
-// columns of `from` onto those of `to` (Umeyama 1991, Eq. 40-42), as a 3 x 3 homogeneous matrix.
-Eigen::Matrix3d similarity2d(const Eigen::Matrix2Xd& from, const Eigen::Matrix2Xd& to,
-                             bool withScale);
 
 }  // namespace geobrush

@@ -62,6 +62,8 @@ const Clone kEarOnCubeEdge{
     "armadillo.obj", "0.102853,0.375548,0.167421", "0.07", "cube.obj", "1,0.2,1", "6"};
 const Clone kBootLacesOnSphere{"boot.obj", "0.01837,0.11851,0.00119", "0.03", "sphere.obj", "0,0,1",
                                "8"};
+// The lower half of the lacing: five crossings and their eyelets, handles the region cuts.
+const Clone kBootLaceOnSphere{"boot.obj", "0.025,0.095,0.005", "0.025", "sphere.obj", "0,0,1", "8"};
 const Clone kNefertitiOnBunny{"nefertiti.obj",  "3.55,-8.28,181.24",     "20",
                               "bunny_scan.obj", "-0.0035,0.0761,0.0588", "0.001"};
 
@@ -177,7 +179,7 @@ TEST(Clone, BadArgumentsAreOneErrorLineAndWriteNothing) {
          args.insert(args.end(), {"--method", "nothing"});
          return args;
        }(),
-       2, "no clone method 'nothing' (methods: geobrush, variational"},
+       2, "no clone method 'nothing' (methods: cutpaste, geobrush, variational"},
       // A target point far off: the region covers none of the target canvas; a node fails.
       {with(base, "--radius", "1000"), 1, "node '"},
   };
@@ -209,6 +211,39 @@ TEST(Clone, TheBootLacingIsRefusedRatherThanWrittenFolded) {
       << refused.err;
   EXPECT_TRUE(test::contains(refused.err, "folded faces up to the source canvas' outline"))
       << refused.err;
+  EXPECT_TRUE(fs::is_empty(out));
+}
+
+// Topology-free cut and paste on the same clones: a valid closed paste of the mountain, the ear,
+// the relief and a lace of the boot (the source's detail over a minimal-area base, walked onto the
+// target; handles need no cage).
+TEST(Clone, TheCutPasteMethodGivesAManifoldPasteWithoutNewSelfIntersections) {
+  EXPECT_TRUE(test::contains(runCli({"clone", "--list-methods"}).out, "cutpaste "));
+  const auto out = test::tempDir("clone-cutpaste");
+  for (const Clone& clone :
+       {kMountainOnSphere, kEarOnCubeEdge, kNefertitiOnBunny, kBootLaceOnSphere}) {
+    auto args = cloneArgs(clone, out / (clone.source + ".obj"));
+    args.insert(args.end(), {"--method", "cutpaste"});
+    const auto result = runCli(args);
+    ASSERT_EQ(result.status, 0) << result.err;
+    EXPECT_EQ(metric(result.err, "metrics.manifold"), 1) << clone.source;
+    EXPECT_EQ(metric(result.err, "metrics.components"), 1) << clone.source;
+    EXPECT_EQ(metric(result.err, "metrics.boundary_loops"),
+              metric(result.err, "metrics.target_boundary_loops"))
+        << clone.source;
+    EXPECT_EQ(metric(result.err, "metrics.new_self_intersections"), 0) << clone.source;
+  }
+}
+
+// The whole lacing's handles survive cut and paste too, but its seam folds where the region cuts
+// the laces at the collar, as GeoBrush's does: the paste is refused, not written folded.
+TEST(Clone, TheCutPasteMethodRefusesTheFoldedBootLacingToo) {
+  const auto out = test::tempDir("clone-cutpaste-boot");
+  auto args = cloneArgs(kBootLacesOnSphere, out / "boot.obj");
+  args.insert(args.end(), {"--method", "cutpaste"});
+  const auto refused = runCli(args);
+  EXPECT_EQ(refused.status, 1) << refused.err;
+  EXPECT_TRUE(test::contains(refused.err, "new self-intersections")) << refused.err;
   EXPECT_TRUE(fs::is_empty(out));
 }
 

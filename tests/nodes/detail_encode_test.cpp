@@ -11,6 +11,7 @@
 #include <numeric>
 #include <vector>
 
+#include "base_fixtures.hpp"
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
 #include "geobrush/cut_paste.hpp"
@@ -23,6 +24,10 @@ namespace {
 
 using Eigen::Vector2d;
 using Eigen::Vector3d;
+using test::canvasOf;
+using test::centroidFan;
+using test::membraneBase;
+using test::nearestFace;
 
 Vector3d at(const TriMesh& mesh, int v) {
   const auto& p = mesh.point(TriMesh::VertexHandle(v));
@@ -53,89 +58,10 @@ double zero(double, double) {
   return 0.0;
 }
 
-CanvasPtr canvasOf(const MeshPtr& mesh, std::vector<int> faces) {
-  const int first = *std::min_element(faces.begin(), faces.end());
-  Vector3d centre = Vector3d::Zero();
-  for (auto v : mesh->surface.fv_range(TriMesh::FaceHandle(first)))
-    centre += at(mesh->surface, v.idx()) / 3;
-  return std::make_shared<const Canvas>(canvasFromFaces(mesh, std::move(faces), first, centre));
-}
-
 CanvasPtr wholeCanvas(const MeshPtr& mesh) {
   std::vector<int> faces(mesh->surface.n_faces());
   std::iota(faces.begin(), faces.end(), 0);
   return canvasOf(mesh, faces);
-}
-
-// A base over F's boundary loop (cut_paste.hpp's convention): the loop's vertices, then its
-// centroid joined to each boundary edge, faces holding the boundary edges as (i + 1) -> i.
-MeshPtr centroidFan(const Canvas& feature) {
-  const int n = int(feature.boundary.size());
-  TriMesh base;
-  Vector3d centroid = Vector3d::Zero();
-  for (int i = 0; i < n; ++i) {
-    const Vector3d p = at(feature.surface, feature.boundary[i]);
-    base.add_vertex({p.x(), p.y(), p.z()});
-    centroid += p / n;
-  }
-  const auto c = base.add_vertex({centroid.x(), centroid.y(), centroid.z()});
-  for (int i = 0; i < n; ++i)
-    base.add_face(c, TriMesh::VertexHandle((i + 1) % n), TriMesh::VertexHandle(i));
-  return std::make_shared<const Mesh>(base);
-}
-
-// F's own triangles as a base: its boundary vertices first, in F.boundary's order, then the
-// others, smoothed `iterations` times with the boundary fixed (the membrane the paper's base
-// approximates, with F's well-shaped triangles); then each boundary edge i -> i + 1 with i in
-// `split` split at its midpoint, the new vertices last.
-MeshPtr membraneBase(const Canvas& feature, int iterations, const std::vector<int>& split = {}) {
-  const TriMesh& f = feature.surface;
-  const int n = int(feature.boundary.size());
-  std::vector<int> index(f.n_vertices(), -1);
-  int next = 0;
-  for (int v : feature.boundary)
-    index[v] = next++;
-  for (auto v : f.vertices())
-    if (index[v.idx()] < 0) index[v.idx()] = next++;
-  std::vector<int> original(f.n_vertices());
-  for (auto v : f.vertices())
-    original[index[v.idx()]] = v.idx();
-  TriMesh smooth;
-  for (int v : original)
-    smooth.add_vertex(f.point(TriMesh::VertexHandle(v)));
-  std::vector<std::array<int, 3>> faces;
-  for (auto face : f.faces()) {
-    std::array<int, 3> c;
-    int k = 0;
-    for (auto v : f.fv_range(face))
-      c[k++] = index[v.idx()];
-    faces.push_back(c);
-    smooth.add_face(TriMesh::VertexHandle(c[0]), TriMesh::VertexHandle(c[1]),
-                    TriMesh::VertexHandle(c[2]));
-  }
-  std::vector<char> movable(smooth.n_vertices(), 0);
-  std::fill(movable.begin() + n, movable.end(), 1);
-  umbrellaSmooth(smooth, movable, iterations);
-  TriMesh base;
-  for (auto v : smooth.vertices())
-    base.add_vertex(smooth.point(v));
-  for (int i : split) {  // the face holding i + 1 -> i gets the midpoint m: (p, i+1, m), (p, m, i)
-    const int m = base.add_vertex(0.5 * (base.point(TriMesh::VertexHandle(i)) +
-                                         base.point(TriMesh::VertexHandle((i + 1) % n))))
-                      .idx();
-    for (std::size_t k = 0, count = faces.size(); k < count; ++k)
-      for (int r = 0; r < 3; ++r) {
-        const std::array<int, 3> c = faces[k];
-        if (c[(r + 1) % 3] != (i + 1) % n || c[(r + 2) % 3] != i) continue;
-        faces[k][(r + 2) % 3] = m;
-        faces.push_back({c[r], m, i});
-        break;
-      }
-  }
-  for (const auto& c : faces)
-    base.add_face(TriMesh::VertexHandle(c[0]), TriMesh::VertexHandle(c[1]),
-                  TriMesh::VertexHandle(c[2]));
-  return std::make_shared<const Mesh>(base);
 }
 
 // uv = (x, y) of each vertex, normals +z: the parameterization of a height field over z = 0.
@@ -294,19 +220,6 @@ TEST(DetailEncode, AGenusOneFeatureDecodesToItself) {
     EXPECT_LT(relativeDecodeError(e), 1e-9);
     expectBoundaryOnBaseVertices(e);
   }
-}
-
-int nearestFace(const TriMesh& mesh, const Vector3d& p) {
-  int best = 0;
-  double bestDistance = INFINITY;
-  for (auto f : mesh.faces()) {
-    Vector3d c = Vector3d::Zero();
-    for (auto v : mesh.fv_range(f))
-      c += at(mesh, v.idx()) / 3;
-    if ((c - p).norm() < bestDistance)
-      std::tie(bestDistance, best) = std::tuple((c - p).norm(), f.idx());
-  }
-  return best;
 }
 
 TEST(DetailEncode, BumpyRealFeaturesDecodeToThemselves) {

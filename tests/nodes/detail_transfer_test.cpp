@@ -5,12 +5,16 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <functional>
+#include <map>
 
+#include "base_fixtures.hpp"
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
 #include "geobrush/domain_locator.hpp"
+#include "geobrush/mesh_io.hpp"
 #include "geobrush/surface_point.hpp"
 #include "geobrush/values.hpp"
+#include "mesh_checks.hpp"
 #include "test_support.hpp"
 
 namespace geobrush {
@@ -196,6 +200,51 @@ TEST(DetailTransfer, AConvexFeatureInAConcaveValleyCutsIntoItselfAndSaysSo) {
     else
       EXPECT_GT(result.newSelfIntersections, 0u);
   }
+}
+
+// Runs a node type on `inputs` and returns its output `port`.
+template <typename T>
+std::shared_ptr<const T> nodeOutput(const std::string& type,
+                                    std::map<std::string, ValuePtr, std::less<>> inputs,
+                                    const std::string& port) {
+  const NodeType* node = test::registry().find(type);
+  EXPECT_NE(node, nullptr) << type;
+  test::DirectContext ctx(*node, std::move(inputs));
+  test::run(node->create(), ctx);
+  return std::dynamic_pointer_cast<const T>(ctx.outputs.at(port));
+}
+
+// A genus-1 feature of a real mesh (torus.obj without one vertex's faces), encoded and
+// parameterized by the pipeline's own nodes, transferred onto its own base: it comes back.
+TEST(DetailTransfer, AGenusOneFeatureOfTheTorusComesBackOverItsOwnBase) {
+  const MeshPtr torus = readMesh(test::meshPath("torus.obj")).mesh;
+  std::vector<char> removed(torus->surface.n_faces(), 0);
+  for (auto f : torus->surface.vf_range(TriMesh::VertexHandle(0)))
+    removed[std::size_t(f.idx())] = 1;
+  std::vector<int> kept;
+  for (std::size_t f = 0; f < removed.size(); ++f)
+    if (!removed[f]) kept.push_back(int(f));
+  const CanvasPtr feature = test::canvasOf(torus, kept);
+  ASSERT_EQ(test::topology(feature->surface).eulerCharacteristic, -1);  // genus 1, one loop
+  const MeshPtr base = test::centroidFan(*feature);
+  const auto featureUv = nodeOutput<Parameterization>(
+      "geobrush.intrinsic_param", {{"feature", feature}, {"base", base}}, "feature");
+  const auto baseUv = nodeOutput<Parameterization>("geobrush.intrinsic_param",
+                                                   {{"feature", feature}, {"base", base}}, "base");
+  const auto encoding = nodeOutput<DetailEncoding>(
+      "geobrush.detail_encode", {{"feature", featureUv}, {"base", baseUv}}, "encoding");
+  const SurfacePath walk = walkTo(
+      torus, *baseUv,
+      [&](const Eigen::Vector2d& u) { return DomainLocator(*featureUv).locate(u).point; }, 1.0);
+  const DetailTransferResult result = transferDetail(*encoding, *featureUv, *baseUv, walk);
+  EXPECT_EQ(result.shrink, 1.0);
+  const double diagonal = boundingDiagonal(feature->surface);
+  double worst = 0;
+  for (auto v : result.pasted.vertices())
+    worst = std::max(worst,
+                     (point3(result.pasted, v.idx()) - point3(feature->surface, v.idx())).norm());
+  EXPECT_LT(worst, 1e-9 * diagonal);
+  EXPECT_EQ(result.newSelfIntersections, 0u);
 }
 
 TEST(DetailTransferNode, RefusesAWalkOfAnotherLoop) {

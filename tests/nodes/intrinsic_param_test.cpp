@@ -10,6 +10,7 @@
 #include <numeric>
 #include <vector>
 
+#include "base_fixtures.hpp"
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
 #include "geobrush/cut_paste.hpp"
@@ -21,6 +22,10 @@ namespace {
 
 using Eigen::Vector2d;
 using Eigen::Vector3d;
+using test::canvasOf;
+using test::centroidFan;
+using test::membraneBase;
+using test::nearestFace;
 
 Vector3d at(const TriMesh& mesh, int v) {
   const auto& p = mesh.point(TriMesh::VertexHandle(v));
@@ -57,94 +62,6 @@ std::vector<int> allFaces(const TriMesh& mesh) {
   return faces;
 }
 
-CanvasPtr canvasOf(const MeshPtr& mesh, std::vector<int> faces) {
-  const int first = *std::min_element(faces.begin(), faces.end());
-  Vector3d centre = Vector3d::Zero();
-  for (auto v : mesh->surface.fv_range(TriMesh::FaceHandle(first)))
-    centre += at(mesh->surface, v.idx()) / 3;
-  return std::make_shared<const Canvas>(canvasFromFaces(mesh, std::move(faces), first, centre));
-}
-
-// A base over F's boundary loop (cut_paste.hpp's convention): the loop's vertices, a split point
-// at the middle of each edge i -> i + 1 with i in `split`, then the loop's centroid joined to all.
-MeshPtr centroidFan(const Canvas& feature, const std::vector<int>& split = {}) {
-  const int n = int(feature.boundary.size());
-  TriMesh base;
-  Vector3d centroid = Vector3d::Zero();
-  for (int i = 0; i < n; ++i) {
-    const Vector3d p = at(feature.surface, feature.boundary[i]);
-    base.add_vertex({p.x(), p.y(), p.z()});
-    centroid += p / n;
-  }
-  std::vector<int> loop;
-  for (int i = 0; i < n; ++i) {
-    loop.push_back(i);
-    if (std::find(split.begin(), split.end(), i) == split.end()) continue;
-    const Vector3d p = 0.5 * (at(base, i) + at(base, (i + 1) % n));
-    loop.push_back(int(base.n_vertices()));
-    base.add_vertex({p.x(), p.y(), p.z()});
-  }
-  const auto c = base.add_vertex({centroid.x(), centroid.y(), centroid.z()});
-  for (std::size_t k = 0; k < loop.size(); ++k)  // faces hold the boundary edges as next -> current
-    base.add_face(c, TriMesh::VertexHandle(loop[(k + 1) % loop.size()]),
-                  TriMesh::VertexHandle(loop[k]));
-  return std::make_shared<const Mesh>(base);
-}
-
-// F's own triangles as a base: its boundary vertices first, in F.boundary's order, then the
-// others, smoothed `iterations` times with the boundary fixed (the membrane the paper's base
-// approximates, with F's well-shaped triangles); then each boundary edge i -> i + 1 with i in
-// `split` split at its midpoint, the new vertices last.
-MeshPtr membraneBase(const Canvas& feature, int iterations, const std::vector<int>& split = {}) {
-  const TriMesh& f = feature.surface;
-  const int n = int(feature.boundary.size());
-  std::vector<int> index(f.n_vertices(), -1);
-  int next = 0;
-  for (int v : feature.boundary)
-    index[v] = next++;
-  for (auto v : f.vertices())
-    if (index[v.idx()] < 0) index[v.idx()] = next++;
-  std::vector<int> original(f.n_vertices());
-  for (auto v : f.vertices())
-    original[index[v.idx()]] = v.idx();
-  TriMesh smooth;
-  for (int v : original)
-    smooth.add_vertex(f.point(TriMesh::VertexHandle(v)));
-  std::vector<std::array<int, 3>> faces;
-  for (auto face : f.faces()) {
-    std::array<int, 3> c;
-    int k = 0;
-    for (auto v : f.fv_range(face))
-      c[k++] = index[v.idx()];
-    faces.push_back(c);
-    smooth.add_face(TriMesh::VertexHandle(c[0]), TriMesh::VertexHandle(c[1]),
-                    TriMesh::VertexHandle(c[2]));
-  }
-  std::vector<char> movable(smooth.n_vertices(), 0);
-  std::fill(movable.begin() + n, movable.end(), 1);
-  umbrellaSmooth(smooth, movable, iterations);
-  TriMesh base;
-  for (auto v : smooth.vertices())
-    base.add_vertex(smooth.point(v));
-  for (int i : split) {  // the face holding i + 1 -> i gets the midpoint m: (p, i+1, m), (p, m, i)
-    const int m = base.add_vertex(0.5 * (base.point(TriMesh::VertexHandle(i)) +
-                                         base.point(TriMesh::VertexHandle((i + 1) % n))))
-                      .idx();
-    for (std::size_t k = 0, count = faces.size(); k < count; ++k)
-      for (int r = 0; r < 3; ++r) {
-        const std::array<int, 3> c = faces[k];
-        if (c[(r + 1) % 3] != (i + 1) % n || c[(r + 2) % 3] != i) continue;
-        faces[k][(r + 2) % 3] = m;
-        faces.push_back({c[r], m, i});
-        break;
-      }
-  }
-  for (const auto& c : faces)
-    base.add_face(TriMesh::VertexHandle(c[0]), TriMesh::VertexHandle(c[1]),
-                  TriMesh::VertexHandle(c[2]));
-  return std::make_shared<const Mesh>(base);
-}
-
 // The largest distance between `uv` and `expected` after the best rigid (or similarity) motion.
 double fitResidual(const std::vector<Vector2d>& uv, const std::vector<Vector2d>& expected,
                    bool withScale, double* scale = nullptr) {
@@ -153,7 +70,7 @@ double fitResidual(const std::vector<Vector2d>& uv, const std::vector<Vector2d>&
     from.col(Eigen::Index(k)) = uv[k];
     to.col(Eigen::Index(k)) = expected[k];
   }
-  const Eigen::Matrix3d map = similarity2d(from, to, withScale);
+  const Eigen::Matrix3d map = fitSimilarity2d(uv, expected, withScale);
   if (scale) *scale = std::sqrt(map.topLeftCorner<2, 2>().determinant());
   return ((map.topLeftCorner<2, 2>() * from).colwise() + map.topRightCorner<2, 1>().eval() - to)
       .colwise()
@@ -169,10 +86,22 @@ double signedArea(const std::vector<Vector2d>& uv, const TriMesh& mesh, TriMesh:
   return 0.5 * (a.x() * b.y() - a.y() * b.x());
 }
 
+// Faces turned over, or degenerate (zero area to rounding) with a corner off the boundary: the
+// convex hull lays a face whose three corners are boundary vertices on one side of the hull flat,
+// and only such a face may be.
 int clockwiseFaces(const std::vector<Vector2d>& uv, const TriMesh& mesh) {
+  Eigen::AlignedBox2d box;
+  for (const auto& p : uv)
+    box.extend(p);
+  const double rounding = 1e-12 * box.diagonal().squaredNorm();
   int count = 0;
-  for (auto f : mesh.faces())
-    count += signedArea(uv, mesh, f) <= 0 ? 1 : 0;
+  for (auto f : mesh.faces()) {
+    bool onBoundary = true;
+    for (auto v : mesh.fv_range(f))
+      onBoundary = onBoundary && mesh.is_boundary(v);
+    const double area = signedArea(uv, mesh, f);
+    count += area < -rounding || (area <= rounding && !onBoundary) ? 1 : 0;
+  }
   return count;
 }
 
@@ -343,19 +272,6 @@ void expectSharedBoundary(const Canvas& feature, const TriMesh& base,
 
 MeshPtr readShared(const std::string& name) {
   return readMesh(test::meshPath(name)).mesh;
-}
-
-int nearestFace(const TriMesh& mesh, const Vector3d& p) {
-  int best = 0;
-  double bestDistance = INFINITY;
-  for (auto f : mesh.faces()) {
-    Vector3d c = Vector3d::Zero();
-    for (auto v : mesh.fv_range(f))
-      c += at(mesh, v.idx()) / 3;
-    if ((c - p).norm() < bestDistance)
-      std::tie(bestDistance, best) = std::tuple((c - p).norm(), f.idx());
-  }
-  return best;
 }
 
 TEST(IntrinsicParam, BunnyDiscHasNoFlippedBaseFacesAndOneBoundaryInEveryMode) {

@@ -33,6 +33,11 @@ class Canvas final : public Value {
 };
 using CanvasPtr = std::shared_ptr<const Canvas>;
 
+// Sets `boundary` to the surface's boundary loop from its lowest vertex, in the direction of its
+// boundary halfedges (the surface has one loop), and the origin: originFace (a surface face),
+// originPoint, and originVertex, the corner of that face nearest originPoint (ties: the lowest).
+void setBoundaryAndOrigin(Canvas& canvas, int originFace, const Eigen::Vector3d& originPoint);
+
 // G = 0 (the paper's Fig. 10a-b; hole filling): the canvas surface with every vertex at the
 // origin, standing in for the draft G(P_s) where nothing is warped in.
 MeshPtr zeroDraft(const Canvas& canvas);

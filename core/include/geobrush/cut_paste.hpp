@@ -121,9 +121,10 @@ Canvas canvasFromFaces(const MeshPtr& source, std::vector<int> faces, int origin
 // The similarity (rotation, uniform scale, translation; no reflection) that best maps `from` onto
 // `to` in the least-squares sense, as a homogeneous 3x3 matrix: in complex numbers,
 // q = mean(to) + z (p - mean(from)) with z = sum conj(p - mean) (q - mean) / sum |p - mean|^2
-// (Umeyama 1991 in the plane). The identity translation-free map when `from` has no spread.
+// (Umeyama 1991 in the plane); without `withScale`, z made unit (the best rigid motion). The
+// translation alone when `from` has no spread.
 Eigen::Matrix3d fitSimilarity2d(const std::vector<Eigen::Vector2d>& from,
-                                const std::vector<Eigen::Vector2d>& to);
+                                const std::vector<Eigen::Vector2d>& to, bool withScale = true);
 
 // The limit of umbrella smoothing: every vertex with movable[v] at the mean of its neighbours, the
 // others fixed (the uniform-weight harmonic surface over them), by one sparse Cholesky solve.
