@@ -62,6 +62,15 @@ std::vector<std::pair<int, int>> cornerFaces(const TriMesh& base, int n) {
   return corner;
 }
 
+// The nearest barycentric coordinates of the triangle itself: negative ones raised to 0, the rest
+// scaled to sum to 1 (the centroid where none is finite and positive).
+Vector3d clampedToTriangle(const Vector3d& b) {
+  if (!b.allFinite()) return Vector3d::Constant(1.0 / 3);
+  const Vector3d positive = b.cwiseMax(0.0);
+  const double sum = positive.sum();
+  return sum > 0 ? Vector3d(positive / sum) : Vector3d::Constant(1.0 / 3);
+}
+
 }  // namespace
 
 DetailEncoding encodeDetail(const ParameterizationPtr& feature, const ParameterizationPtr& base,
@@ -93,13 +102,16 @@ DetailEncoding encodeDetail(const ParameterizationPtr& feature, const Parameteri
       encoding.offset[v] = Vector3d::Zero();
       continue;
     }
-    // Outside every triangle the locator extrapolates from the nearest outline triangle: kept,
-    // so that decoding still returns the vertex.
+    // Outside every triangle the locator extrapolates from the nearest outline triangle, and on a
+    // triangle the domain lays nearly flat its coordinates are huge: clamped onto the triangle,
+    // the offset takes up the rest, so decoding over this base still returns the vertex and over
+    // a moved base stays near it.
     const DomainHit hit = locator.locate(feature->uv[v]);
+    const Vector3d onFace = clampedToTriangle(hit.barycentric);
     encoding.baseFace[v] = hit.face;
-    encoding.barycentric[v] = hit.barycentric;
-    encoding.offset[v] = encodeOffset(baseFace(b, field, hit.face), hit.barycentric,
-                                      pointOf(f.surface, int(v)), method);
+    encoding.barycentric[v] = onFace;
+    encoding.offset[v] =
+        encodeOffset(baseFace(b, field, hit.face), onFace, pointOf(f.surface, int(v)), method);
   }
   std::vector<int> faces(f.surface.n_faces());
   for (std::size_t k = 0; k < faces.size(); ++k)

@@ -41,9 +41,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .category("Cut and Paste")
             .doc("Encodes a feature F over its base B (topology-free cut and paste, Sec. 6.2): "
                  "each F vertex's uv is located in P^B, giving a face of B and barycentric "
-                 "coordinates (extrapolated from the nearest outline face where it falls "
-                 "outside), and its offset from that base point is kept in the method's "
-                 "components. F.boundary[i] sits on B's vertex i with offset 0.")
+                 "coordinates (clamped onto that face: where the uv falls outside every face, "
+                 "or on a face the domain lays nearly flat, the offset takes up the rest), and "
+                 "its offset from that base point is kept in the method's components. "
+                 "F.boundary[i] sits on B's vertex i with offset 0.")
             .input<Parameterization>("feature", "P^F: uv per vertex of F (intrinsic_param).")
             .input<Parameterization>(
                 "base", "P^B: uv per vertex of B over canvasOfMesh(B), in P^F's domain.")

@@ -198,6 +198,26 @@ TEST(DetailEncode, ATangentialOffsetIsKeptByFramesAndLostByNormalDisplacement) {
   EXPECT_NEAR(relativeDecodeError(normal) * boundingDiagonal(feature->surface), lost, 1e-12);
 }
 
+// A feature vertex whose uv falls outside the base (or onto a face the domain lays flat) is not
+// extrapolated: its coordinates are clamped onto its face and the offset takes up the rest, so it
+// still decodes to itself and stays bounded over a moved base.
+TEST(DetailEncode, AVertexOutsideTheBaseIsClampedOntoItsFaceAndStillDecodes) {
+  const MeshPtr field = grid(10, bump, zero);
+  const CanvasPtr feature = wholeCanvas(field);
+  auto pf = std::make_shared<Parameterization>(*projection(feature));
+  const int inside = feature->sourceVertex[5 * 11 + 5];  // the grid's middle vertex
+  pf->uv[std::size_t(inside)] = Vector2d(3.0, 0.2);      // far outside the base's square
+  const ParameterizationPtr pb = baseProjection(centroidFan(*feature));
+  for (DetailMethod method : {DetailMethod::FaceFrame, DetailMethod::SmoothFrame}) {
+    const DetailEncoding e = encodeDetail(pf, pb, method);
+    for (const Vector3d& b : e.barycentric) {
+      EXPECT_GE(b.minCoeff(), 0.0);
+      EXPECT_NEAR(b.sum(), 1.0, 1e-15);
+    }
+    EXPECT_LT(relativeDecodeError(e), 1e-9);
+  }
+}
+
 MeshPtr readShared(const std::string& name) {
   return readMesh(test::meshPath(name)).mesh;
 }
