@@ -46,8 +46,9 @@ void setBoundaryAndOrigin(Canvas& canvas, int originFace, const Eigen::Vector3d&
   const TriMesh& surface = canvas.surface;
   TriMesh::HalfedgeHandle start;
   for (auto h : surface.halfedges())
-    if (surface.is_boundary(h) && (!start.is_valid() || surface.from_vertex_handle(h).idx() <
-                                                            surface.from_vertex_handle(start).idx()))
+    if (surface.is_boundary(h) &&
+        (!start.is_valid() ||
+         surface.from_vertex_handle(h).idx() < surface.from_vertex_handle(start).idx()))
       start = h;
   canvas.boundary.clear();
   if (start.is_valid()) {

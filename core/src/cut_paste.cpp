@@ -319,6 +319,24 @@ std::pair<int, int> firstSelfCrossing(const std::vector<Eigen::Vector2d>& p) {
   return {-1, -1};
 }
 
+bool insidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p,
+                   double tolerance) {
+  int winding = 0;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+    const Eigen::Vector2d ab = b - a;
+    const double t =
+        ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+    nearest = std::min(nearest, (a + t * ab - p).norm());
+    const double side = cross2(ab, p - a);
+    if (a.y() <= p.y() && b.y() > p.y() && side > 0) ++winding;
+    if (a.y() > p.y() && b.y() <= p.y() && side < 0) --winding;
+  }
+  return winding != 0 || nearest <= tolerance;
+}
+
 void umbrellaSmoothToRest(TriMesh& mesh, const std::vector<char>& movable) {
   std::vector<int> unknown(mesh.n_vertices(), -1);
   int count = 0;

@@ -322,14 +322,6 @@ bool Walker::stop(WalkStop why) {
 
 }  // namespace
 
-double meanEdgeLength(const TriMesh& mesh) {
-  if (mesh.n_edges() == 0) return 0;
-  double sum = 0;
-  for (auto e : mesh.edges())
-    sum += mesh.calc_edge_length(e);
-  return sum / double(mesh.n_edges());
-}
-
 int walkFaceBudget(const TriMesh& mesh, double length, const GeodesicWalkOptions& options) {
   const double edge = options.meanEdge > 0 ? options.meanEdge : meanEdgeLength(mesh);
   const double crossings = edge > 0 ? 16 * std::ceil(length / edge) : 0;

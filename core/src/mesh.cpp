@@ -40,4 +40,12 @@ double boundingDiagonal(const TriMesh& mesh) {
   return box.isEmpty() ? 0.0 : box.diagonal().norm();
 }
 
+double meanEdgeLength(const TriMesh& mesh) {
+  if (mesh.n_edges() == 0) return 0;
+  double sum = 0;
+  for (auto e : mesh.edges())
+    sum += mesh.calc_edge_length(e);
+  return sum / double(mesh.n_edges());
+}
+
 }  // namespace geobrush

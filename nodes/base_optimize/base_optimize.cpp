@@ -68,16 +68,6 @@ double minimumEdgeLength(const TriMesh& mesh) {
   return shortest;
 }
 
-double meanEdgeLength(const TriMesh& mesh) {
-  double sum = 0.0;
-  std::size_t count = 0;
-  for (auto e : mesh.edges()) {
-    sum += edgeLength(mesh, e);
-    ++count;
-  }
-  return count == 0 ? 0.0 : sum / double(count);
-}
-
 int checkedLoopLength(const TriMesh& base) {
   if (base.n_vertices() < 3 || base.n_faces() == 0)
     throw std::invalid_argument("a base needs at least one face");

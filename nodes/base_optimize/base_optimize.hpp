@@ -55,9 +55,6 @@ double aspectRatio(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eig
 // The length of the shortest edge of `mesh` (l_min of Eq. 2 for B0); 0 without edges.
 double minimumEdgeLength(const TriMesh& mesh);
 
-// The mean edge length of `mesh` (the reference for a target base, Sec. 7.1); 0 without edges.
-double meanEdgeLength(const TriMesh& mesh);
-
 // The length of B0's boundary loop through vertex 0, after checking that it runs 0, 1, ..., n-1
 // along boundary halfedges and is the only loop. Throws std::invalid_argument otherwise.
 int checkedLoopLength(const TriMesh& base);

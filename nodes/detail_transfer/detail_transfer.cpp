@@ -46,34 +46,6 @@ std::vector<Eigen::Vector2d> walkedDomainPoints(const Parameterization& targetFe
   return uv;
 }
 
-bool insidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p) {
-  bool inside = false;
-  for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
-    const Eigen::Vector2d& a = polygon[i];
-    const Eigen::Vector2d& b = polygon[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
-      inside = !inside;
-  }
-  return inside;
-}
-
-double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                         const Eigen::Vector2d& b) {
-  const Eigen::Vector2d e = b - a;
-  const double t = e.squaredNorm() > 0 ? std::clamp((p - a).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0;
-  return (a + t * e - p).norm();
-}
-
-// Inside, or on the outline to rounding (a source base laid onto an identical target base).
-bool covered(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p,
-             double tolerance) {
-  if (insidePolygon(polygon, p)) return true;
-  for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++)
-    if (distanceToSegment(p, polygon[j], polygon[i]) <= tolerance) return true;
-  return false;
-}
-
 std::vector<Eigen::Vector2d> outline(const Parameterization& base) {
   std::vector<Eigen::Vector2d> polygon;
   for (int v : base.canvas->boundary)
@@ -116,7 +88,7 @@ Alignment alignBases(const Parameterization& sourceBase, const std::vector<Eigen
   auto uncovered = [&](double s) {
     std::size_t count = 0;
     for (const auto& uv : sourceBase.uv)
-      count += !covered(target, centre + s * (apply(a.similarity, uv) - centre), tolerance);
+      count += !insidePolygon(target, centre + s * (apply(a.similarity, uv) - centre), tolerance);
     return count;
   };
   a.uncovered = uncovered(1);

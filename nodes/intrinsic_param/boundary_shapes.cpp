@@ -144,23 +144,6 @@ std::vector<Vector2d> placeOnConvexHull(const std::vector<Vector2d>& loop) {
   return placed;
 }
 
-bool insidePolygon(const std::vector<Vector2d>& polygon, const Vector2d& p, double tolerance) {
-  int winding = 0;
-  double nearest = INFINITY;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Vector2d& a = polygon[i];
-    const Vector2d& b = polygon[(i + 1) % polygon.size()];
-    const Vector2d ab = b - a;
-    const double t =
-        ab.squaredNorm() > 0 ? std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-    nearest = std::min(nearest, (a + t * ab - p).norm());
-    const double side = cross2(ab, p - a);
-    if (a.y() <= p.y() && b.y() > p.y() && side > 0) ++winding;
-    if (a.y() > p.y() && b.y() <= p.y() && side < 0) --winding;
-  }
-  return winding != 0 || nearest <= tolerance;
-}
-
 Eigen::Matrix3d frameAlignment(const Canvas& feature, const std::vector<Vector2d>& featureUv,
                                const Parameterization& frame) {
   if (!frame.canvas || frame.uv.size() != frame.canvas->surface.n_vertices() ||

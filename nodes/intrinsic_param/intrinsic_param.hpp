@@ -111,14 +111,10 @@ std::vector<Eigen::Vector2d> leastSquaresConformalMap(const TriMesh& mesh, int p
 // at their share of the loop's length between those two (ours). The loop may run either way.
 std::vector<Eigen::Vector2d> placeOnConvexHull(const std::vector<Eigen::Vector2d>& loop);
 
-// Ours (spec 2.2, shared (u, v) domain): the similarity (core fitSimilarity2d) from F's boundary uv to
-// `frame`'s uv at the same source vertices. Throws IntrinsicParamError("frame", ...) with fewer
+// Ours (spec 2.2, shared (u, v) domain): the similarity (core fitSimilarity2d) from F's boundary uv
+// to `frame`'s uv at the same source vertices. Throws IntrinsicParamError("frame", ...) with fewer
 // than 3 matches or a frame on another mesh.
 Eigen::Matrix3d frameAlignment(const Canvas& feature, const std::vector<Eigen::Vector2d>& featureUv,
                                const Parameterization& frame);
-
-// Whether p lies inside the closed polygon or within `tolerance` of its outline.
-bool insidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p,
-                   double tolerance);
 
 }  // namespace geobrush

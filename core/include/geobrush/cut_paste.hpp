@@ -136,6 +136,10 @@ void umbrellaSmoothToRest(TriMesh& mesh, const std::vector<char>& movable);
 // O(m^2) in the polygon's corners.
 std::pair<int, int> firstSelfCrossing(const std::vector<Eigen::Vector2d>& polygon);
 
+// Whether p lies inside the closed polygon (nonzero winding) or within `tolerance` of its outline.
+bool insidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p,
+                   double tolerance);
+
 // Umbrella smoothing (Jacobi): each vertex with movable[v] moves to the mean of its neighbours,
 // `iterations` times.
 void umbrellaSmooth(TriMesh& mesh, const std::vector<char>& movable, int iterations);

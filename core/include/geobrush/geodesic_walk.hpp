@@ -48,9 +48,6 @@ struct GeodesicWalkResult {
   std::vector<Eigen::Vector3d> points;
 };
 
-// The mean length of the mesh's edges (0 without edges).
-double meanEdgeLength(const TriMesh& mesh);
-
 // How many faces a walk of `length` may enter: a straight segment of length L crosses about
 // 2 L / e faces of a regular triangulation with mean edge e; the budget allows eight times that,
 // plus every face of the mesh once (a walk may sweep through fans of slivers), plus 16, and never

@@ -51,4 +51,7 @@ using MeshPtr = std::shared_ptr<const Mesh>;
 // vertices. What tolerances relative to a mesh's size are measured in.
 double boundingDiagonal(const TriMesh& mesh);
 
+// The mean length of the mesh's edges; 0 without edges.
+double meanEdgeLength(const TriMesh& mesh);
+
 }  // namespace geobrush
