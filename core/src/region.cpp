@@ -4,6 +4,10 @@
 
 #include <cmath>
 #include <span>
+#include <stdexcept>
+#include <string>
+
+#include "geobrush/canvas.hpp"
 
 namespace geobrush {
 namespace {
@@ -122,6 +126,21 @@ bool Field2D::sample(const Eigen::Vector2d& u, Eigen::Vector3d& value) const {
   value = (1 - t) * ((1 - s) * values[corners[0]] + s * values[corners[1]]) +
           t * ((1 - s) * values[corners[2]] + s * values[corners[3]]);
   return true;
+}
+
+std::vector<int> targetMeshVertices(const Region2D& region, const Parameterization& target) {
+  const std::vector<int>& toMesh = target.canvas->sourceVertex;
+  std::vector<int> vertices;
+  vertices.reserve(region.targetVertices.size());
+  for (int v : region.targetVertices) {
+    if (v < 0 || std::size_t(v) >= toMesh.size())
+      throw std::invalid_argument("the region covers target canvas vertex " + std::to_string(v) +
+                                  ", which the target's canvas (" + std::to_string(toMesh.size()) +
+                                  " vertices) does not have");
+    vertices.push_back(toMesh[std::size_t(v)]);
+  }
+  std::sort(vertices.begin(), vertices.end());
+  return vertices;
 }
 
 }  // namespace geobrush

@@ -10,6 +10,8 @@
 
 namespace geobrush {
 
+class Parameterization;
+
 // One brush dab in the parameter domain: a disc that adds to Q or, subtracting, removes from it.
 struct Dab {
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
@@ -104,5 +106,10 @@ class PasteMap final : public Value {
   std::vector<int> seamFaces;     // result faces of the strips between the two outlines
 };
 using PasteMapPtr = std::shared_ptr<const PasteMap>;
+
+// The vertices of the target canvas' mesh that Q covers (region.targetVertices through the
+// canvas' sourceVertex), ascending. Throws std::invalid_argument when the region names a vertex
+// the target's canvas does not have (a region painted over another target).
+std::vector<int> targetMeshVertices(const Region2D& region, const Parameterization& target);
 
 }  // namespace geobrush

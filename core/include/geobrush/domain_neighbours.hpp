@@ -1,0 +1,31 @@
+// The k nearest of a set of points of the parameter domain (a kd-tree, nanoflann): which source
+// canvas vertices a target vertex corresponds to when both are mapped into the shared (u, v)
+// domain (EMD detail transfer Sec. 3.3).
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+namespace geobrush {
+
+class DomainNeighbours {
+ public:
+  // Indexes `points` (copied); they must be finite.
+  explicit DomainNeighbours(std::vector<Eigen::Vector2d> points);
+  ~DomainNeighbours();
+  DomainNeighbours(const DomainNeighbours&) = delete;
+  DomainNeighbours& operator=(const DomainNeighbours&) = delete;
+
+  // The indices of the min(k, size) points nearest to `query`, nearest first; equal distances in
+  // index order.
+  std::vector<int> nearest(const Eigen::Vector2d& query, int k) const;
+  std::size_t size() const { return points_.size(); }
+
+ private:
+  struct Tree;
+  std::vector<Eigen::Vector2d> points_;
+  std::unique_ptr<Tree> tree_;
+};
+
+}  // namespace geobrush

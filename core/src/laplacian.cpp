@@ -1,0 +1,139 @@
+#include "geobrush/laplacian.hpp"
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace geobrush {
+namespace {
+
+Eigen::Vector3d pointAt(const TriMesh& mesh, TriMesh::VertexHandle v) {
+  const auto& p = mesh.point(v);
+  return {p[0], p[1], p[2]};
+}
+
+// cot of the angle at `apex` between the edges to a and b; 0 for a degenerate corner.
+double cotangent(const Eigen::Vector3d& apex, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d u = a - apex, w = b - apex;
+  const double sine = u.cross(w).norm();
+  if (!(sine > std::numeric_limits<double>::min() * 1e4 * u.norm() * w.norm())) return 0.0;
+  return u.dot(w) / sine;
+}
+
+// The share of triangle (a, b, c) that belongs to corner a in the mixed Voronoi areas of Meyer et
+// al. 2003: its Voronoi region where the triangle is not obtuse, else half the triangle where
+// the obtuse angle is a's and a quarter where it is another's. The shares of the three corners
+// sum to the triangle's area.
+double mixedArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const double area = 0.5 * (b - a).cross(c - a).norm();
+  if ((b - a).dot(c - a) < 0.0) return area / 2;
+  if ((a - b).dot(c - b) < 0.0 || (a - c).dot(b - c) < 0.0) return area / 4;
+  return ((b - a).squaredNorm() * cotangent(c, a, b) + (c - a).squaredNorm() * cotangent(b, a, c)) /
+         8.0;
+}
+
+struct Corners {
+  std::array<int, 3> id;
+  std::array<Eigen::Vector3d, 3> point;
+};
+
+Corners cornersOf(const TriMesh& mesh, TriMesh::FaceHandle face) {
+  Corners corners;
+  int k = 0;
+  for (auto v : mesh.fv_range(face)) {
+    corners.id[k] = v.idx();
+    corners.point[k++] = pointAt(mesh, v);
+  }
+  return corners;
+}
+
+}  // namespace
+
+Eigen::SparseMatrix<double> cotangentLaplacian(const TriMesh& mesh) {
+  std::vector<int> faces(mesh.n_faces());
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    faces[f] = int(f);
+  return cotangentLaplacian(mesh, faces);
+}
+
+Eigen::SparseMatrix<double> cotangentLaplacian(const TriMesh& mesh, const std::vector<int>& faces) {
+  const int n = int(mesh.n_vertices());
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(faces.size() * 12);
+  for (int face : faces) {
+    const auto [id, p] = cornersOf(mesh, TriMesh::FaceHandle(face));
+    for (int c = 0; c < 3; ++c) {
+      const int i = id[(c + 1) % 3], j = id[(c + 2) % 3];
+      const double w = cotangent(p[c], p[(c + 1) % 3], p[(c + 2) % 3]);
+      entries.emplace_back(i, j, -w);
+      entries.emplace_back(j, i, -w);
+      entries.emplace_back(i, i, w);
+      entries.emplace_back(j, j, w);
+    }
+  }
+  Eigen::SparseMatrix<double> laplacian(n, n);
+  laplacian.setFromTriplets(entries.begin(), entries.end());
+  return laplacian;
+}
+
+Eigen::VectorXd vertexAreas(const TriMesh& mesh) {
+  Eigen::VectorXd areas(Eigen::Index(mesh.n_vertices()));
+  for (auto v : mesh.vertices())
+    areas[v.idx()] = vertexArea(mesh, v.idx());
+  return areas;
+}
+
+std::vector<Eigen::Vector3d> areaWeightedNormals(const TriMesh& mesh) {
+  std::vector<Eigen::Vector3d> normals(mesh.n_vertices());
+  for (auto v : mesh.vertices())
+    normals[std::size_t(v.idx())] = areaWeightedNormal(mesh, v.idx());
+  return normals;
+}
+
+Eigen::Vector3d cotangentLaplace(const TriMesh& mesh, int vertex) {
+  Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+  for (auto face : mesh.vf_range(TriMesh::VertexHandle(vertex))) {
+    const auto [id, p] = cornersOf(mesh, face);
+    const int c = id[0] == vertex ? 0 : id[1] == vertex ? 1 : 2;
+    const int j = (c + 1) % 3, k = (c + 2) % 3;
+    delta +=
+        cotangent(p[k], p[c], p[j]) * (p[j] - p[c]) + cotangent(p[j], p[c], p[k]) * (p[k] - p[c]);
+  }
+  return delta;
+}
+
+double vertexArea(const TriMesh& mesh, int vertex) {
+  double area = 0.0;
+  for (auto face : mesh.vf_range(TriMesh::VertexHandle(vertex))) {
+    const auto [id, p] = cornersOf(mesh, face);
+    const int c = id[0] == vertex ? 0 : id[1] == vertex ? 1 : 2;
+    area += mixedArea(p[c], p[(c + 1) % 3], p[(c + 2) % 3]);
+  }
+  return area;
+}
+
+Eigen::Vector3d areaWeightedNormal(const TriMesh& mesh, int vertex) {
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (auto face : mesh.vf_range(TriMesh::VertexHandle(vertex))) {
+    const auto [id, p] = cornersOf(mesh, face);
+    normal += (p[1] - p[0]).cross(p[2] - p[0]);
+  }
+  const double length = normal.norm();
+  return length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
+}
+
+std::string LaplacianSystem::summary() const {
+  return "Laplacian system: " + std::to_string(vertices.size()) + " unknowns, " +
+         std::to_string(boundary.size()) + " on the border";
+}
+
+Eigen::MatrixX3d pointMatrix(const TriMesh& mesh) {
+  Eigen::MatrixX3d points(Eigen::Index(mesh.n_vertices()), 3);
+  for (auto v : mesh.vertices())
+    points.row(v.idx()) = pointAt(mesh, v).transpose();
+  return points;
+}
+
+}  // namespace geobrush

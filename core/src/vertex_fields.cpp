@@ -1,0 +1,80 @@
+#include "geobrush/vertex_fields.hpp"
+
+#include <stdexcept>
+
+namespace geobrush {
+
+Hash geometryHash(const TriMesh& mesh) {
+  Hasher hasher;
+  hasher.str("geometry").u64(mesh.n_vertices());
+  for (auto vertex : mesh.vertices()) {
+    const auto& point = mesh.point(vertex);
+    hasher.f64(point[0]).f64(point[1]).f64(point[2]);
+  }
+  hasher.u64(mesh.n_faces());
+  for (auto face : mesh.faces())
+    for (auto vertex : mesh.fv_range(face))
+      hasher.u64(std::uint64_t(vertex.idx()));
+  return hasher.digest();
+}
+
+VertexFields::VertexFields(const TriMesh& mesh)
+    : meshHash(geometryHash(mesh)), vertexCount(mesh.n_vertices()) {}
+
+Hash VertexFields::contentHash() const {
+  Hasher hasher;
+  hasher.str(kTypeId).u64(meshHash).u64(vertexCount).u64(columns.size());
+  for (const auto& [name, values] : columns)
+    hasher.str(name).span(std::span<const double>(values));
+  return hasher.digest();
+}
+
+std::string VertexFields::summary() const {
+  std::string text =
+      std::to_string(columns.size()) + " fields on " + std::to_string(vertexCount) + " vertices";
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    text += (k == 0 ? ": " : ", ") + columns[k].first;
+  return text;
+}
+
+void VertexFields::add(std::string name, std::vector<double> values) {
+  if (name.empty()) throw std::invalid_argument("a field needs a name");
+  if (find(name)) throw std::invalid_argument("a field named '" + name + "' is already there");
+  if (values.size() != vertexCount)
+    throw std::invalid_argument("field '" + name + "' has " + std::to_string(values.size()) +
+                                " values for " + std::to_string(vertexCount) + " vertices");
+  columns.emplace_back(std::move(name), std::move(values));
+}
+
+const std::vector<double>* VertexFields::find(std::string_view name) const {
+  for (const auto& [columnName, values] : columns)
+    if (columnName == name) return &values;
+  return nullptr;
+}
+
+const std::vector<double>& VertexFields::column(std::string_view name) const {
+  if (const auto* values = find(name)) return *values;
+  std::string there;
+  for (const auto& [columnName, values] : columns)
+    there += (there.empty() ? "" : ", ") + columnName;
+  throw std::out_of_range("no field named '" + std::string(name) +
+                          "' (there are: " + (there.empty() ? std::string("none") : there) + ")");
+}
+
+std::vector<std::string> VertexFields::names() const {
+  std::vector<std::string> result;
+  for (const auto& column : columns)
+    result.push_back(column.first);
+  return result;
+}
+
+std::string VertexFields::mismatch(const TriMesh& mesh) const {
+  if (mesh.n_vertices() != vertexCount)
+    return "the fields were computed on a mesh of " + std::to_string(vertexCount) +
+           " vertices, this one has " + std::to_string(mesh.n_vertices());
+  if (geometryHash(mesh) != meshHash)
+    return "the fields were computed on another mesh with the same vertex count";
+  return {};
+}
+
+}  // namespace geobrush

@@ -1,0 +1,113 @@
+#include "geobrush/laplacian.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "canvas_fixtures.hpp"
+#include "geobrush/mesh_io.hpp"
+#include "geobrush/vertex_fields.hpp"
+#include "mesh_checks.hpp"
+#include "test_support.hpp"
+
+namespace geobrush {
+namespace {
+
+bool onBorder(const TriMesh& mesh, int v) {
+  return mesh.is_boundary(TriMesh::VertexHandle(v));
+}
+
+// Cotangent weights reproduce linear functions: L x = 0 away from the border of a flat grid,
+// however the grid lies in space.
+TEST(CotangentLaplacian, IsZeroOnLinearFunctionsOfAPlaneAndSymmetricWithZeroRows) {
+  const Eigen::Isometry3d rigid =
+      Eigen::Translation3d(1, 2, 3) * Eigen::AngleAxisd(0.6, Eigen::Vector3d(1, 1, 0).normalized());
+  const MeshPtr grid = test::heightGrid(
+      12, [](double, double) { return 0.0; }, rigid);
+  const TriMesh& mesh = grid->surface;
+  const Eigen::SparseMatrix<double> laplacian = cotangentLaplacian(mesh);
+  EXPECT_LT((Eigen::SparseMatrix<double>(laplacian.transpose()) - laplacian).norm(), 1e-12);
+  const Eigen::VectorXd rowSums = laplacian * Eigen::VectorXd::Ones(laplacian.cols());
+  EXPECT_LT(rowSums.cwiseAbs().maxCoeff(), 1e-12);
+  const Eigen::MatrixX3d moved = laplacian * pointMatrix(mesh);
+  for (int v = 0; v < int(mesh.n_vertices()); ++v)
+    if (!onBorder(mesh, v)) {
+      EXPECT_LT(moved.row(v).norm(), 1e-12) << v;
+    }
+}
+
+// On a sphere of radius R the umbrella sum (cot a + cot b)(v_j - v_i) is 2 A_i times the
+// Laplace-Beltrami operator of the position, -2 n / R: -4 A_i n / R.
+TEST(CotangentLaplacian, GivesFourAreasOverRadiusAlongTheNormalOnASphere) {
+  const double radius = 2.5;
+  TriMesh sphere = test::icosphere(4);
+  for (auto v : sphere.vertices())
+    sphere.set_point(v, sphere.point(v) * radius);
+  const Eigen::MatrixX3d delta = -(cotangentLaplacian(sphere) * pointMatrix(sphere));
+  const Eigen::VectorXd areas = vertexAreas(sphere);
+  const auto normals = areaWeightedNormals(sphere);
+  EXPECT_NEAR(areas.sum(), test::surfaceArea(sphere), 1e-12 * areas.sum());
+  for (auto v : sphere.vertices()) {
+    const int i = v.idx();
+    const Eigen::Vector3d outward =
+        Eigen::Vector3d(sphere.point(v)[0], sphere.point(v)[1], sphere.point(v)[2]).normalized();
+    EXPECT_GT(normals[i].dot(outward), 0.999) << i;
+    EXPECT_NEAR(delta.row(i).dot(normals[i]), -4 * areas[i] / radius, 0.05 * 4 * areas[i] / radius)
+        << i;
+  }
+}
+
+TEST(VertexFields, KeepColumnsInOrderAndRefuseWhatDoesNotFit) {
+  const MeshPtr grid = test::heightGrid(2, [](double, double) { return 0.0; });
+  VertexFields fields(grid->surface);
+  EXPECT_EQ(fields.vertexCount, 9u);
+  fields.add("g", std::vector<double>(9, 1.0));
+  fields.add("area", std::vector<double>(9, 2.0));
+  EXPECT_EQ(fields.names(), (std::vector<std::string>{"g", "area"}));
+  EXPECT_EQ(fields.column("area")[3], 2.0);
+  EXPECT_EQ(fields.find("h1"), nullptr);
+  EXPECT_THROW(fields.add("g", std::vector<double>(9)), std::invalid_argument);
+  EXPECT_THROW(fields.add("h1", std::vector<double>(8)), std::invalid_argument);
+  EXPECT_THROW(fields.add("", std::vector<double>(9)), std::invalid_argument);
+  try {
+    fields.column("h1");
+    FAIL();
+  } catch (const std::out_of_range& e) {
+    EXPECT_TRUE(test::contains(e.what(), "no field named 'h1' (there are: g, area)"));
+  }
+  const Hash before = fields.contentHash();
+  fields.columns[0].second[4] = 1.5;
+  EXPECT_NE(fields.contentHash(), before);
+}
+
+TEST(VertexFields, BelongToTheirMeshWhateverItsColours) {
+  const MeshPtr grid = test::heightGrid(3, [](double x, double) { return x; });
+  const VertexFields fields(grid->surface);
+  EXPECT_EQ(fields.mismatch(grid->surface), "");
+  const Mesh coloured(grid->surface, std::vector<Rgb>(grid->surface.n_vertices(), {1, 0, 0}));
+  EXPECT_EQ(fields.mismatch(coloured.surface), "");
+  EXPECT_NE(geometryHash(coloured.surface), 0u);
+
+  TriMesh moved = grid->surface;
+  moved.set_point(TriMesh::VertexHandle(5), moved.point(TriMesh::VertexHandle(5)) * 1.5);
+  EXPECT_TRUE(test::contains(fields.mismatch(moved), "another mesh with the same vertex count"));
+  const MeshPtr other = test::heightGrid(4, [](double, double) { return 0.0; });
+  EXPECT_TRUE(test::contains(fields.mismatch(other->surface),
+                             "computed on a mesh of 16 vertices, this one has 25"));
+}
+
+// A real mesh: the areas sum to its surface area and the normals are unit.
+TEST(CotangentLaplacian, QuantitiesOfARealMeshAreConsistent) {
+  const MeshPtr bunny = readMesh(test::meshPath("bunny_small.obj")).mesh;
+  const TriMesh& mesh = bunny->surface;
+  const Eigen::VectorXd areas = vertexAreas(mesh);
+  EXPECT_NEAR(areas.sum(), test::surfaceArea(mesh), 1e-12 * areas.sum());
+  for (const auto& normal : areaWeightedNormals(mesh))
+    EXPECT_NEAR(normal.norm(), 1.0, 1e-12);
+  const Eigen::SparseMatrix<double> laplacian = cotangentLaplacian(mesh);
+  EXPECT_LT((laplacian * Eigen::VectorXd::Ones(laplacian.cols())).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+}  // namespace
+}  // namespace geobrush
