@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "test_support.hpp"
+
 namespace geobrush::test {
 
 DirectContext::DirectContext(const NodeType& type,
@@ -32,6 +34,15 @@ const ParamValue& DirectContext::paramValue(std::string_view name) const {
   const auto it = params_.find(name);
   if (it == params_.end()) throw NodeError::param(name, "is not declared");
   return it->second;
+}
+
+NodeRun runNode(const std::string& id, std::map<std::string, ValuePtr, std::less<>> inputs,
+                const ParamMap& params) {
+  const NodeType* type = registry().find(id);
+  if (!type) throw std::logic_error("no node type " + id + " is registered");
+  DirectContext ctx(*type, std::move(inputs), params);
+  run(type->create(), ctx);
+  return {std::move(ctx.outputs), std::move(ctx.warnings)};
 }
 
 }  // namespace geobrush::test

@@ -46,4 +46,21 @@ inline void run(std::unique_ptr<Node> node, Context& ctx) {
   run(*node, ctx);
 }
 
+// What one run of a registered node type left: its outputs and warnings.
+struct NodeRun {
+  std::map<std::string, ValuePtr, std::less<>> outputs;
+  std::vector<std::string> warnings;
+  // The output on `port` as a T; null when it is missing or of another type.
+  template <ValueType T>
+  std::shared_ptr<const T> get(std::string_view port) const {
+    const auto it = outputs.find(port);
+    return it == outputs.end() ? nullptr : std::dynamic_pointer_cast<const T>(it->second);
+  }
+};
+
+// Runs the node type `id` of registry() (every plugin of the build) once on a fresh instance, as
+// the evaluator does; what it throws passes through.
+NodeRun runNode(const std::string& id, std::map<std::string, ValuePtr, std::less<>> inputs,
+                const ParamMap& params = {});
+
 }  // namespace geobrush::test
