@@ -1,0 +1,95 @@
+#include "belt_smooth.hpp"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace geobrush {
+namespace {
+
+void checkInputs(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
+                 const BeltSmoothOptions& options) {
+  if (inRegion.size() != mesh.n_vertices())
+    throw std::invalid_argument("the region has " + std::to_string(inRegion.size()) +
+                                " entries for " + std::to_string(mesh.n_vertices()) + " vertices");
+  if (options.rings < 1 || options.rings > 16) throw std::out_of_range("rings must be in 1..16");
+  if (options.iterations < 0 || options.iterations > 1000)
+    throw std::out_of_range("iterations must be in 0..1000");
+  if (!(options.lambda > 0.0 && options.lambda <= 1.0))
+    throw std::out_of_range("lambda must be in (0, 1]");
+}
+
+// The vertices fewer than `rings` rings from an edge across the border, by breadth-first search.
+std::vector<int> beltAround(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
+                            int rings) {
+  std::vector<int> depth(mesh.n_vertices(), -1);
+  std::vector<int> frontier;
+  for (auto e : mesh.edges()) {
+    const auto h = mesh.halfedge_handle(e, 0);
+    const int a = mesh.from_vertex_handle(h).idx(), b = mesh.to_vertex_handle(h).idx();
+    if (inRegion[std::size_t(a)] == inRegion[std::size_t(b)]) continue;
+    for (int v : {a, b})
+      if (depth[std::size_t(v)] < 0) {
+        depth[std::size_t(v)] = 0;
+        frontier.push_back(v);
+      }
+  }
+  std::vector<int> belt = frontier;
+  for (int ring = 1; ring < rings; ++ring) {
+    std::vector<int> next;
+    for (int v : frontier)
+      for (auto w : mesh.vv_range(TriMesh::VertexHandle(v)))
+        if (depth[std::size_t(w.idx())] < 0) {
+          depth[std::size_t(w.idx())] = ring;
+          next.push_back(w.idx());
+        }
+    belt.insert(belt.end(), next.begin(), next.end());
+    frontier = std::move(next);
+  }
+  std::sort(belt.begin(), belt.end());
+  return belt;
+}
+
+Eigen::Vector3d pointAt(const TriMesh& mesh, int v) {
+  const auto& p = mesh.point(TriMesh::VertexHandle(v));
+  return {p[0], p[1], p[2]};
+}
+
+}  // namespace
+
+BeltSmoothResult smoothBelt(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
+                            const BeltSmoothOptions& options) {
+  checkInputs(mesh, inRegion, options);
+  BeltSmoothResult result;
+  result.mesh = mesh;
+  result.belt = beltAround(mesh, inRegion, options.rings);
+  std::vector<int> moving;
+  for (int v : result.belt)
+    if (!mesh.is_boundary(TriMesh::VertexHandle(v))) moving.push_back(v);
+  std::vector<Eigen::Vector3d> next(moving.size());
+  for (int pass = 0; pass < options.iterations; ++pass) {
+    for (std::size_t i = 0; i < moving.size(); ++i) {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      int count = 0;
+      for (auto w : result.mesh.vv_range(TriMesh::VertexHandle(moving[i]))) {
+        mean += pointAt(result.mesh, w.idx());
+        ++count;
+      }
+      const Eigen::Vector3d p = pointAt(result.mesh, moving[i]);
+      next[i] = count > 0 ? Eigen::Vector3d(p + options.lambda * (mean / count - p)) : p;
+    }
+    for (std::size_t i = 0; i < moving.size(); ++i)
+      result.mesh.set_point(TriMesh::VertexHandle(moving[i]),
+                            {next[i].x(), next[i].y(), next[i].z()});
+  }
+  for (auto f : mesh.faces()) {
+    int inside = 0;
+    for (auto v : mesh.fv_range(f))
+      inside += inRegion[std::size_t(v.idx())] ? 1 : 0;
+    if (inside == 1 || inside == 2) result.seamFaces.push_back(f.idx());
+  }
+  return result;
+}
+
+}  // namespace geobrush

@@ -1,0 +1,80 @@
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "belt_smooth.hpp"
+#include "geobrush/node.hpp"
+#include "geobrush/region.hpp"
+#include "geobrush/registry.hpp"
+#include "geobrush/vertex_fields.hpp"
+
+namespace {
+
+using geobrush::Mesh;
+using geobrush::NodeError;
+using geobrush::VertexFields;
+
+class BeltSmoothNode final : public geobrush::Node {
+ public:
+  void compute(geobrush::Context& ctx) override {
+    const auto mesh = ctx.in<Mesh>("mesh");
+    const auto target = ctx.in<Mesh>("target");
+    const auto sampled = ctx.in<VertexFields>("sampled");
+    if (const std::string why = sampled->mismatch(target->surface); !why.empty())
+      throw NodeError::input("sampled", why + " (input 'target')");
+    if (mesh->surface.n_vertices() != target->surface.n_vertices() ||
+        mesh->surface.n_faces() != target->surface.n_faces())
+      throw NodeError::input("mesh", "it is not the target rebuilt (other vertex or face count)");
+    const auto* region = sampled->find("region");
+    const auto* nearest = sampled->find("nearest");
+    if (!region || !nearest)
+      throw NodeError::input("sampled", "it has no fields region and nearest (emd_correspond's)");
+    std::vector<std::uint8_t> inRegion(region->size());
+    for (std::size_t v = 0; v < inRegion.size(); ++v)
+      inRegion[v] = (*region)[v] != 0.0;
+    geobrush::BeltSmoothOptions options;
+    options.rings = ctx.param<int>("rings");
+    options.iterations = ctx.param<int>("iterations");
+    options.lambda = ctx.param<double>("lambda");
+    geobrush::BeltSmoothResult result = geobrush::smoothBelt(mesh->surface, inRegion, options);
+    auto map = std::make_shared<geobrush::PasteMap>();
+    map->sourceVertex.resize(nearest->size());
+    map->targetVertex.resize(nearest->size());
+    for (std::size_t v = 0; v < nearest->size(); ++v) {
+      map->targetVertex[v] = int(v);
+      map->sourceVertex[v] = int((*nearest)[v]);
+    }
+    map->seamFaces = std::move(result.seamFaces);
+    ctx.out("mesh", std::make_shared<const Mesh>(result.mesh));
+    ctx.out("map", map);
+  }
+};
+
+void registerNodes(geobrush::PluginRegistrar& r) {
+  r.add(geobrush::NodeTypeBuilder("geobrush.belt_smooth", 1)
+            .label("Belt Smooth")
+            .category("EMD Transfer")
+            .doc("The belt of EMD detail transfer (Sec. 3.5, Fig. 4d): the vertices fewer than "
+                 "`rings` rings from the region's border, on both sides, moved `iterations` "
+                 "times lambda of the way to their neighbours' mean (uniform weights, Jacobi), "
+                 "everything else fixed, the mesh's own boundary too. Also the paste map that "
+                 "metrics reads: every vertex its own target vertex, the region's its nearest "
+                 "source vertex, the seam the faces across the border.")
+            .input<Mesh>("mesh", "The target rebuilt (laplacian_reconstruct's).")
+            .input<Mesh>("target", "The target before: what the region was painted on.")
+            .input<VertexFields>("sampled", "emd_correspond's output: region and nearest.")
+            .output<Mesh>("mesh", "The rebuilt target with its belt smoothed.")
+            .output<geobrush::PasteMap>("map", "For metrics and compare.")
+            .paramInt("rings", 2, "The belt's width in rings on each side of the border.")
+            .range(1, 16)
+            .paramInt("iterations", 3, "Smoothing passes; 0 leaves the mesh as it is.")
+            .range(0, 1000)
+            .paramDouble("lambda", 0.5, "The share of the way to the neighbours' mean per pass.")
+            .range(1e-6, 1.0)
+            .node<BeltSmoothNode>()
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)

@@ -1,0 +1,47 @@
+#include "emd_correspond.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "geobrush/domain_neighbours.hpp"
+
+namespace geobrush {
+
+EmdCorrespondence correspondInDomain(const Parameterization& source, const Parameterization& target,
+                                     const std::vector<int>& targetVertices,
+                                     const std::vector<const std::vector<double>*>& sourceFields,
+                                     const EmdCorrespondOptions& options) {
+  if (options.neighbours < 1 || options.neighbours > 64)
+    throw std::out_of_range("neighbours must be in 1..64");
+  if (!std::isfinite(options.factor)) throw std::out_of_range("the factor is not finite");
+  if (source.uv.empty()) throw std::invalid_argument("the source canvas has no vertices");
+  const std::vector<int>& sourceMeshVertex = source.canvas->sourceVertex;
+  const std::size_t sourceMeshSize = source.canvas->source->surface.n_vertices();
+  for (const auto* field : sourceFields)
+    if (field->size() != sourceMeshSize)
+      throw std::invalid_argument("a source field has " + std::to_string(field->size()) +
+                                  " values for " + std::to_string(sourceMeshSize) + " vertices");
+  const std::size_t targetMeshSize = target.canvas->source->surface.n_vertices();
+  EmdCorrespondence result;
+  result.sampled.assign(sourceFields.size(), std::vector<double>(targetMeshSize, 0.0));
+  result.nearest.assign(targetMeshSize, -1);
+
+  const DomainNeighbours neighbours(source.uv);
+  for (int t : targetVertices) {
+    if (t < 0 || std::size_t(t) >= target.uv.size())
+      throw std::invalid_argument("target canvas vertex " + std::to_string(t) + " is not there");
+    const std::vector<int> near = neighbours.nearest(target.uv[std::size_t(t)], options.neighbours);
+    const std::size_t meshVertex = std::size_t(target.canvas->sourceVertex[std::size_t(t)]);
+    result.nearest[meshVertex] = near.front();
+    for (std::size_t k = 0; k < sourceFields.size(); ++k) {
+      double sum = 0.0;
+      for (int s : near)
+        sum += (*sourceFields[k])[std::size_t(sourceMeshVertex[std::size_t(s)])];
+      result.sampled[k][meshVertex] = options.factor * sum / double(near.size());
+    }
+  }
+  return result;
+}
+
+}  // namespace geobrush

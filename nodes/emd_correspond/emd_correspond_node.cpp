@@ -1,0 +1,105 @@
+#include <algorithm>
+#include <cctype>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "emd_correspond.hpp"
+#include "geobrush/node.hpp"
+#include "geobrush/region.hpp"
+#include "geobrush/registry.hpp"
+#include "geobrush/vertex_fields.hpp"
+
+namespace {
+
+using geobrush::NodeError;
+using geobrush::Parameterization;
+using geobrush::Region2D;
+using geobrush::VertexFields;
+
+// The intrinsic modes h1, h2, ... of `fields`: what transfers (never the residue).
+std::vector<std::string> modeNames(const VertexFields& fields) {
+  const auto isMode = [](const std::string& name) {
+    return name.size() >= 2 && name[0] == 'h' && name[1] != '0' &&
+           std::all_of(name.begin() + 1, name.end(),
+                       [](unsigned char c) { return std::isdigit(c); });
+  };
+  std::vector<std::string> names;
+  for (const auto& name : fields.names())
+    if (isMode(name)) names.push_back(name);
+  return names;
+}
+
+class EmdCorrespondNode final : public geobrush::Node {
+ public:
+  void compute(geobrush::Context& ctx) override {
+    const auto region = ctx.in<Region2D>("region");
+    const auto source = ctx.in<Parameterization>("source");
+    const auto target = ctx.in<Parameterization>("target");
+    const auto modes = ctx.in<VertexFields>("source_modes");
+    if (const std::string why = modes->mismatch(source->canvas->source->surface); !why.empty())
+      throw NodeError::input("source_modes", why + " (the mesh of input 'source')");
+    const std::vector<std::string> names = modeNames(*modes);
+    if (names.empty())
+      throw NodeError::input("source_modes", "it has no intrinsic modes (fields h1, h2, ...)");
+    std::vector<const std::vector<double>*> columns;
+    for (const auto& name : names)
+      columns.push_back(&modes->column(name));
+    geobrush::EmdCorrespondOptions options;
+    options.neighbours = ctx.param<int>("neighbours");
+    if (ctx.param<std::string>("signal") == "per_area") options.factor = 1.0 / target->scale;
+    geobrush::EmdCorrespondence result;
+    try {
+      result =
+          geobrush::correspondInDomain(*source, *target, region->targetVertices, columns, options);
+    } catch (const std::out_of_range& e) {
+      throw NodeError::param("neighbours", e.what());
+    } catch (const std::invalid_argument& e) {
+      throw NodeError::input("region", e.what());
+    }
+    auto sampled = std::make_shared<VertexFields>(target->canvas->source->surface);
+    for (std::size_t k = 0; k < names.size(); ++k)
+      sampled->add(names[k], std::move(result.sampled[k]));
+    std::vector<double> inside(sampled->vertexCount, 0.0), nearest(sampled->vertexCount);
+    for (std::size_t v = 0; v < nearest.size(); ++v) {
+      nearest[v] = result.nearest[v];
+      inside[v] = result.nearest[v] >= 0 ? 1.0 : 0.0;
+    }
+    sampled->add("region", std::move(inside));
+    sampled->add("nearest", std::move(nearest));
+    ctx.out("sampled", sampled);
+  }
+};
+
+void registerNodes(geobrush::PluginRegistrar& r) {
+  r.add(geobrush::NodeTypeBuilder("geobrush.emd_correspond", 1)
+            .label("EMD Correspond")
+            .category("EMD Transfer")
+            .doc("The correspondence of EMD detail transfer (Sec. 3.3) and the source half of "
+                 "Eq. 4: each target vertex in Q_t takes the k source canvas vertices nearest to "
+                 "it in the shared (u, v) domain (a kd-tree) and the mean of each source mode "
+                 "over them, H_k^s. A node of its own so that the gains of emd_transfer change "
+                 "without searching again.")
+            .input<Region2D>("region", "Q: its target vertices are the ones that receive detail.")
+            .input<Parameterization>("source", "E_s, the source canvas' parameterization.")
+            .input<Parameterization>("target", "E_t, the target canvas' parameterization.")
+            .input<VertexFields>("source_modes",
+                                 "emd's output on the source mesh: h1..hm transfer, r does not.")
+            .output<VertexFields>(
+                "sampled",
+                "Fields on the target mesh: h1..hm (H_k^s on Q_t, 0 elsewhere), region (1 on "
+                "Q_t), nearest (the source canvas vertex nearest in the domain, -1 off Q_t).")
+            .paramInt("neighbours", 4, "k: source vertices averaged per target vertex.")
+            .range(1, 64)
+            .paramEnum("signal", "raw", {"raw", "per_area"},
+                       "raw: the modes as they are (the paper's; right for meshes of one "
+                       "density pasted at scale 1); per_area: modes of a signal per unit area "
+                       "(emd_signal's area_normalize), divided by the paste's scale lambda, so "
+                       "that the detail keeps its shape when the paste scales it.")
+            .node<EmdCorrespondNode>()
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)

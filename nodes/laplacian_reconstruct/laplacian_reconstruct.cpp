@@ -1,0 +1,62 @@
+#include "laplacian_reconstruct.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace geobrush {
+
+ReconstructResult reconstructRegion(const LaplacianSystem& system,
+                                    const std::vector<double>& signal,
+                                    const ReconstructOptions& options) {
+  if (signal.size() != system.mesh->surface.n_vertices())
+    throw std::invalid_argument("the signal has " + std::to_string(signal.size()) + " values for " +
+                                std::to_string(system.mesh->surface.n_vertices()) + " vertices");
+  const Eigen::Index n = Eigen::Index(system.vertices.size());
+  Eigen::MatrixX3d target(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double g = signal[std::size_t(system.vertices[std::size_t(i)])];
+    if (!std::isfinite(g)) throw std::invalid_argument("the signal is not finite on the region");
+    if (options.perArea) g *= system.area[i];
+    target.row(i) = -g * system.normals.row(i) - system.fixedShare.row(i);
+    if (options.keepTangential) target.row(i) += system.tangential.row(i);
+  }
+  const Eigen::VectorXd pull = system.mu.cwiseProduct(system.mu);
+  const Eigen::MatrixX3d rhs =
+      system.laplacian.transpose() * target + pull.asDiagonal() * system.points;
+  ReconstructResult result;
+  result.points = system.factor->solve(rhs);
+  result.maxMove = (result.points - system.points).rowwise().norm().maxCoeff();
+  return result;
+}
+
+TriMesh withRegionMoved(const LaplacianSystem& system, const Eigen::MatrixX3d& points) {
+  TriMesh moved = system.mesh->surface;
+  for (std::size_t i = 0; i < system.vertices.size(); ++i) {
+    const Eigen::Index row = Eigen::Index(i);
+    moved.set_point(TriMesh::VertexHandle(system.vertices[i]),
+                    {points(row, 0), points(row, 1), points(row, 2)});
+  }
+  return moved;
+}
+
+double signalFidelity(const LaplacianSystem& system, const TriMesh& moved,
+                      const std::vector<double>& signal, const ReconstructOptions& options) {
+  std::vector<std::uint8_t> border(system.vertices.size(), 0);
+  for (int i : system.boundary)
+    border[std::size_t(i)] = 1;
+  double error = 0.0, norm = 0.0;
+  for (std::size_t i = 0; i < system.vertices.size(); ++i) {
+    if (border[i]) continue;
+    const TriMesh::VertexHandle v(system.vertices[i]);
+    const Eigen::Vector3d delta = cotangentLaplace(moved, v.idx());
+    double g = delta.dot(areaWeightedNormal(moved, v.idx()));
+    if (options.perArea) g /= vertexArea(moved, v.idx());
+    const double wanted = signal[std::size_t(v.idx())];
+    error += (g - wanted) * (g - wanted);
+    norm += wanted * wanted;
+  }
+  return norm > 0.0 ? std::sqrt(error / norm) : 0.0;
+}
+
+}  // namespace geobrush

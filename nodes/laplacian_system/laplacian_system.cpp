@@ -1,0 +1,134 @@
+#include "laplacian_system.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "geobrush/vertex_fields.hpp"
+
+namespace geobrush {
+namespace {
+
+using Sparse = LaplacianSystem::Sparse;
+
+void checkInputs(const TriMesh& mesh, const std::vector<int>& vertices,
+                 const LaplacianSystemOptions& options) {
+  if (!(options.mu > 0.0 && options.mu <= 1e6) ||
+      !(options.muBoundary > 0.0 && options.muBoundary <= 1e6))
+    throw std::out_of_range("mu and mu_boundary must be in (0, 1e6]");
+  if (vertices.empty()) throw std::invalid_argument("the region is empty");
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    if (vertices[i] < 0 || std::size_t(vertices[i]) >= mesh.n_vertices())
+      throw std::invalid_argument("the region names vertex " + std::to_string(vertices[i]) +
+                                  ", which the mesh lacks");
+    if (i > 0 && vertices[i] <= vertices[i - 1])
+      throw std::invalid_argument("the region's vertices are not ascending and distinct");
+  }
+}
+
+// The faces the operator reads: around the region (anchor) or within it (drop).
+std::vector<int> operatorFaces(const TriMesh& mesh, const std::vector<int>& unknown,
+                               const std::vector<int>& vertices, OutsideNeighbours outside) {
+  std::vector<int> faces;
+  for (int v : vertices)
+    for (auto f : mesh.vf_range(TriMesh::VertexHandle(v))) {
+      bool within = true;
+      for (auto c : mesh.fv_range(f))
+        within = within && unknown[std::size_t(c.idx())] >= 0;
+      if (within || outside == OutsideNeighbours::anchor) faces.push_back(f.idx());
+    }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+// L restricted to the unknowns, and what the fixed vertices add to their rows of L V.
+void restrictOperator(const TriMesh& mesh, const Sparse& full, const std::vector<int>& unknown,
+                      LaplacianSystem& system) {
+  const int n = int(system.vertices.size());
+  std::vector<Eigen::Triplet<double>> entries;
+  system.fixedShare = Eigen::MatrixX3d::Zero(n, 3);
+  for (int col = 0; col < full.outerSize(); ++col)
+    for (Sparse::InnerIterator it(full, col); it; ++it) {
+      const int row = unknown[std::size_t(it.row())];
+      if (row < 0) continue;
+      if (const int c = unknown[std::size_t(col)]; c >= 0) {
+        entries.emplace_back(row, c, it.value());
+      } else {
+        const auto& p = mesh.point(TriMesh::VertexHandle(col));
+        system.fixedShare.row(row) += it.value() * Eigen::RowVector3d(p[0], p[1], p[2]);
+      }
+    }
+  system.laplacian.resize(n, n);
+  system.laplacian.setFromTriplets(entries.begin(), entries.end());
+}
+
+Hash systemKey(const TriMesh& mesh, const std::vector<int>& vertices, const std::vector<int>& faces,
+               const LaplacianSystemOptions& options) {
+  Hasher hasher;
+  hasher.str(LaplacianSystem::kTypeId).u64(mesh.n_vertices());
+  hasher.span(std::span<const int>(vertices)).span(std::span<const int>(faces));
+  for (int f : faces)
+    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f))) {
+      const auto& p = mesh.point(v);
+      hasher.u64(std::uint64_t(v.idx())).f64(p[0]).f64(p[1]).f64(p[2]);
+    }
+  return hasher.f64(options.mu)
+      .f64(options.muBoundary)
+      .u64(std::uint64_t(options.outside))
+      .digest();
+}
+
+}  // namespace
+
+LaplacianSystem buildLaplacianSystem(const MeshPtr& mesh, const std::vector<int>& vertices,
+                                     const LaplacianSystemOptions& options) {
+  const TriMesh& surface = mesh->surface;
+  checkInputs(surface, vertices, options);
+  LaplacianSystem system;
+  system.mesh = mesh;
+  system.meshHash = geometryHash(surface);
+  system.vertices = vertices;
+  const int n = int(vertices.size());
+  std::vector<int> unknown(surface.n_vertices(), -1);
+  for (int i = 0; i < n; ++i)
+    unknown[std::size_t(vertices[std::size_t(i)])] = i;
+
+  const std::vector<int> faces = operatorFaces(surface, unknown, vertices, options.outside);
+  restrictOperator(surface, cotangentLaplacian(surface, faces), unknown, system);
+  system.normals.resize(n, 3);
+  system.points.resize(n, 3);
+  system.area.resize(n);
+  system.mu = Eigen::VectorXd::Constant(n, options.mu);
+  for (int i = 0; i < n; ++i) {
+    const TriMesh::VertexHandle v(vertices[std::size_t(i)]);
+    system.normals.row(i) = areaWeightedNormal(surface, v.idx()).transpose();
+    const auto& p = surface.point(v);
+    system.points.row(i) = Eigen::RowVector3d(p[0], p[1], p[2]);
+    system.area[i] = vertexArea(surface, v.idx());
+    bool border = surface.is_boundary(v);
+    for (auto w : surface.vv_range(v))
+      border = border || unknown[std::size_t(w.idx())] < 0;
+    if (border) {
+      system.boundary.push_back(i);
+      system.mu[i] = options.muBoundary;
+    }
+  }
+  const Eigen::MatrixX3d delta = system.laplacian * system.points + system.fixedShare;
+  const Eigen::VectorXd along = delta.cwiseProduct(system.normals).rowwise().sum();
+  system.tangential = delta - along.asDiagonal() * system.normals;
+  Sparse normal = system.laplacian.transpose() * system.laplacian;
+  Sparse pull(n, n);
+  pull.reserve(Eigen::VectorXi::Constant(n, 1));
+  for (int i = 0; i < n; ++i)
+    pull.insert(i, i) = system.mu[i] * system.mu[i];
+  normal += pull;
+  auto factor = std::make_shared<Eigen::SimplicialLDLT<Sparse>>(normal);
+  if (factor->info() != Eigen::Success)
+    throw std::runtime_error("the region's system (L^T L + M^2) could not be factored");
+  system.factor = std::move(factor);
+  system.key = systemKey(surface, vertices, faces, options);
+  return system;
+}
+
+}  // namespace geobrush

@@ -1,0 +1,25 @@
+// Parameterized meshes and regions for the EMD detail transfer suites.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <memory>
+
+#include "geobrush/canvas.hpp"
+#include "geobrush/region.hpp"
+
+namespace geobrush::test {
+
+// A canvas over the whole of `mesh` (its source `mesh`, vertices in the mesh's order),
+// parameterized by projection onto the two axes: uv = (p . u, p . v), normals u x v.
+std::shared_ptr<const Parameterization> projectedParameterization(const MeshPtr& mesh,
+                                                                  const Eigen::Vector3d& u,
+                                                                  const Eigen::Vector3d& v);
+
+// A region whose target and source vertices are the canvas vertices of `target` and `source`
+// with uv inside `inside` (no grid: what the EMD nodes read).
+std::shared_ptr<const Region2D> regionWhere(
+    const Parameterization& source, const Parameterization& target,
+    const std::function<bool(const Eigen::Vector2d&)>& inside);
+
+}  // namespace geobrush::test
