@@ -20,35 +20,58 @@ void checkInputs(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
     throw std::out_of_range("lambda must be in (0, 1]");
 }
 
-// The vertices fewer than `rings` rings from an edge across the border, by breadth-first search.
+// The region's vertices, ascending.
+std::vector<int> regionVertices(const std::vector<std::uint8_t>& inRegion) {
+  std::vector<int> vertices;
+  for (std::size_t v = 0; v < inRegion.size(); ++v)
+    if (inRegion[v]) vertices.push_back(int(v));
+  return vertices;
+}
+
+// The vertices fewer than `rings` rings from an edge across the border, by breadth-first search
+// from the region's vertices, so that the cost follows the region rather than the mesh.
 std::vector<int> beltAround(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
-                            int rings) {
-  std::vector<int> depth(mesh.n_vertices(), -1);
+                            const std::vector<int>& region, int rings) {
+  std::vector<std::uint8_t> reached(mesh.n_vertices(), 0);
   std::vector<int> frontier;
-  for (auto e : mesh.edges()) {
-    const auto h = mesh.halfedge_handle(e, 0);
-    const int a = mesh.from_vertex_handle(h).idx(), b = mesh.to_vertex_handle(h).idx();
-    if (inRegion[std::size_t(a)] == inRegion[std::size_t(b)]) continue;
-    for (int v : {a, b})
-      if (depth[std::size_t(v)] < 0) {
-        depth[std::size_t(v)] = 0;
-        frontier.push_back(v);
+  const auto reach = [&](int v, std::vector<int>& into) {
+    if (reached[std::size_t(v)]) return;
+    reached[std::size_t(v)] = 1;
+    into.push_back(v);
+  };
+  for (int v : region)
+    for (auto w : mesh.vv_range(TriMesh::VertexHandle(v)))
+      if (!inRegion[std::size_t(w.idx())]) {
+        reach(v, frontier);
+        reach(w.idx(), frontier);
       }
-  }
   std::vector<int> belt = frontier;
   for (int ring = 1; ring < rings; ++ring) {
     std::vector<int> next;
     for (int v : frontier)
       for (auto w : mesh.vv_range(TriMesh::VertexHandle(v)))
-        if (depth[std::size_t(w.idx())] < 0) {
-          depth[std::size_t(w.idx())] = ring;
-          next.push_back(w.idx());
-        }
+        reach(w.idx(), next);
     belt.insert(belt.end(), next.begin(), next.end());
     frontier = std::move(next);
   }
   std::sort(belt.begin(), belt.end());
   return belt;
+}
+
+// The faces with corners on both sides of the border, ascending.
+std::vector<int> seamFacesAround(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
+                                 const std::vector<int>& region) {
+  std::vector<int> faces;
+  for (int v : region)
+    for (auto f : mesh.vf_range(TriMesh::VertexHandle(v))) {
+      int inside = 0;
+      for (auto c : mesh.fv_range(f))
+        inside += inRegion[std::size_t(c.idx())] ? 1 : 0;
+      if (inside < 3) faces.push_back(f.idx());
+    }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
 }
 
 Eigen::Vector3d pointAt(const TriMesh& mesh, int v) {
@@ -63,7 +86,8 @@ BeltSmoothResult smoothBelt(const TriMesh& mesh, const std::vector<std::uint8_t>
   checkInputs(mesh, inRegion, options);
   BeltSmoothResult result;
   result.mesh = mesh;
-  result.belt = beltAround(mesh, inRegion, options.rings);
+  const std::vector<int> region = regionVertices(inRegion);
+  result.belt = beltAround(mesh, inRegion, region, options.rings);
   std::vector<int> moving;
   for (int v : result.belt)
     if (!mesh.is_boundary(TriMesh::VertexHandle(v))) moving.push_back(v);
@@ -83,12 +107,7 @@ BeltSmoothResult smoothBelt(const TriMesh& mesh, const std::vector<std::uint8_t>
       result.mesh.set_point(TriMesh::VertexHandle(moving[i]),
                             {next[i].x(), next[i].y(), next[i].z()});
   }
-  for (auto f : mesh.faces()) {
-    int inside = 0;
-    for (auto v : mesh.fv_range(f))
-      inside += inRegion[std::size_t(v.idx())] ? 1 : 0;
-    if (inside == 1 || inside == 2) result.seamFaces.push_back(f.idx());
-  }
+  result.seamFaces = seamFacesAround(mesh, inRegion, region);
   return result;
 }
 

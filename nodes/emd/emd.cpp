@@ -2,11 +2,13 @@
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "geobrush/laplacian.hpp"
+#include "geobrush/parallel.hpp"
 
 namespace geobrush {
 namespace {
@@ -35,7 +37,8 @@ std::vector<int> extrema(const TriMesh& mesh, const std::vector<double>& values,
 }
 
 // The envelope operator (L or L M^-1 L) with every diagonal entry stored, factored symbolically
-// once: each envelope then only refactors it numerically with its own fixed vertices.
+// once per side: each envelope then only refactors it numerically with its own fixed vertices, the
+// upper and the lower one at once on two threads.
 class EnvelopeSolver {
  public:
   EnvelopeSolver(const TriMesh& mesh, Envelope kind) {
@@ -57,12 +60,27 @@ class EnvelopeSolver {
     for (int j = 0; j < n; ++j)
       for (Sparse::InnerIterator it(operator_, j); it; ++it)
         if (it.row() == j && it.value() != 0.0) isolated_[std::size_t(j)] = 0;
-    solver_.analyzePattern(operator_);
+    for (auto& solver : solvers_)
+      solver.analyzePattern(operator_);
   }
 
-  // The field equal to `values` at `fixed` (and at isolated vertices) with the operator zero
-  // elsewhere.
-  Eigen::VectorXd through(const std::vector<int>& fixed, const std::vector<double>& values) {
+  // The fields equal to `values` at upper's and lower's fixed vertices (and at isolated vertices)
+  // with the operator zero elsewhere.
+  std::array<Eigen::VectorXd, 2> through(const std::vector<int>& upper,
+                                         const std::vector<int>& lower,
+                                         const std::vector<double>& values) {
+    std::array<Eigen::VectorXd, 2> fields;
+    const std::array<const std::vector<int>*, 2> fixed = {&upper, &lower};
+    parallelBlocks(2, 1, 2, [&](std::size_t first, std::size_t last) {
+      for (std::size_t side = first; side < last; ++side)
+        fields[side] = solve(solvers_[side], *fixed[side], values);
+    });
+    return fields;
+  }
+
+ private:
+  Eigen::VectorXd solve(Eigen::SimplicialLDLT<Sparse>& solver, const std::vector<int>& fixed,
+                        const std::vector<double>& values) const {
     std::vector<std::uint8_t> isFixed = isolated_;
     for (int i : fixed)
       isFixed[std::size_t(i)] = 1;
@@ -76,16 +94,15 @@ class EnvelopeSolver {
       }
     for (int i = 0; i < int(rhs.size()); ++i)
       if (isFixed[std::size_t(i)]) rhs[i] = values[std::size_t(i)];
-    solver_.factorize(system);
-    if (solver_.info() != Eigen::Success)
+    solver.factorize(system);
+    if (solver.info() != Eigen::Success)
       throw std::runtime_error("an envelope's system could not be factored");
-    return solver_.solve(rhs);
+    return solver.solve(rhs);
   }
 
- private:
   Sparse operator_;
   std::vector<std::uint8_t> isolated_;
-  Eigen::SimplicialLDLT<Sparse> solver_;
+  std::array<Eigen::SimplicialLDLT<Sparse>, 2> solvers_;
 };
 
 struct SiftResult {
@@ -95,8 +112,7 @@ struct SiftResult {
 
 SiftResult envelopeMean(EnvelopeSolver& solver, const std::vector<double>& s,
                         const std::vector<int>& maxima, const std::vector<int>& minima) {
-  const Eigen::VectorXd upper = solver.through(maxima, s);
-  const Eigen::VectorXd lower = solver.through(minima, s);
+  const auto [upper, lower] = solver.through(maxima, minima, s);
   const auto [lo, hi] = std::minmax_element(s.begin(), s.end());
   const double range = *hi - *lo;
   SiftResult result;

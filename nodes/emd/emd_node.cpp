@@ -21,9 +21,9 @@ geobrush::EmdOptions optionsOf(const geobrush::Context& ctx) {
   options.modes = ctx.param<int>("modes");
   options.maxSift = ctx.param<int>("max_sift");
   options.sdStop = ctx.param<double>("sd_stop");
-  options.envelope = ctx.param<std::string>("envelope") == "harmonic"
-                         ? geobrush::Envelope::harmonic
-                         : geobrush::Envelope::biharmonic;
+  options.envelope = ctx.param<std::string>("envelope") == "biharmonic"
+                         ? geobrush::Envelope::biharmonic
+                         : geobrush::Envelope::harmonic;
   return options;
 }
 
@@ -132,9 +132,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
           .paramDouble("sd_stop", 0.2,
                        "A mode ends when sum (s_prev - s)^2 / sum s_prev^2 falls below this.")
           .range(1e-6, 1.0)
-          .paramEnum("envelope", "biharmonic", {"biharmonic", "harmonic"},
-                     "biharmonic: L M^-1 L e = 0 between the extrema (smooth; may overshoot "
-                     "them); harmonic: L e = 0 (bounded by them, kinked at them, faster).")
+          .paramEnum("envelope", "harmonic", {"harmonic", "biharmonic"},
+                     "harmonic: L e = 0 between the extrema (bounded by them, kinked at them); "
+                     "biharmonic: L M^-1 L e = 0 (smooth, may overshoot them; a wider stencil, "
+                     "about 7 times slower: 15 s instead of 2 s for 100k vertices).")
           .node<EmdNode>()
           .build());
 }

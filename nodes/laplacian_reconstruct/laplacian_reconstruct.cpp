@@ -21,9 +21,11 @@ ReconstructResult reconstructRegion(const LaplacianSystem& system,
     target.row(i) = -g * system.normals.row(i) - system.fixedShare.row(i);
     if (options.keepTangential) target.row(i) += system.tangential.row(i);
   }
-  const Eigen::VectorXd pull = system.mu.cwiseProduct(system.mu);
   const Eigen::MatrixX3d rhs =
-      system.laplacian.transpose() * target + pull.asDiagonal() * system.points;
+      system.form == LaplacianForm::screened
+          ? Eigen::MatrixX3d(target + system.mu.asDiagonal() * system.points)
+          : Eigen::MatrixX3d(system.laplacian.transpose() * target +
+                             system.mu.cwiseProduct(system.mu).asDiagonal() * system.points);
   ReconstructResult result;
   result.points = system.factor->solve(rhs);
   result.maxMove = (result.points - system.points).rowwise().norm().maxCoeff();

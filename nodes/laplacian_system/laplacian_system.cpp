@@ -76,6 +76,7 @@ Hash systemKey(const TriMesh& mesh, const std::vector<int>& vertices, const std:
   return hasher.f64(options.mu)
       .f64(options.muBoundary)
       .u64(std::uint64_t(options.outside))
+      .u64(std::uint64_t(options.form))
       .digest();
 }
 
@@ -117,15 +118,19 @@ LaplacianSystem buildLaplacianSystem(const MeshPtr& mesh, const std::vector<int>
   const Eigen::MatrixX3d delta = system.laplacian * system.points + system.fixedShare;
   const Eigen::VectorXd along = delta.cwiseProduct(system.normals).rowwise().sum();
   system.tangential = delta - along.asDiagonal() * system.normals;
-  Sparse normal = system.laplacian.transpose() * system.laplacian;
+  system.form = options.form;
   Sparse pull(n, n);
   pull.reserve(Eigen::VectorXi::Constant(n, 1));
   for (int i = 0; i < n; ++i)
-    pull.insert(i, i) = system.mu[i] * system.mu[i];
-  normal += pull;
-  auto factor = std::make_shared<Eigen::SimplicialLDLT<Sparse>>(normal);
+    pull.insert(i, i) =
+        options.form == LaplacianForm::screened ? system.mu[i] : system.mu[i] * system.mu[i];
+  const Sparse matrix =
+      options.form == LaplacianForm::screened
+          ? Sparse(system.laplacian + pull)
+          : Sparse(Sparse(system.laplacian.transpose() * system.laplacian) + pull);
+  auto factor = std::make_shared<Eigen::SimplicialLDLT<Sparse>>(matrix);
   if (factor->info() != Eigen::Success)
-    throw std::runtime_error("the region's system (L^T L + M^2) could not be factored");
+    throw std::runtime_error("the region's system could not be factored");
   system.factor = std::move(factor);
   system.key = systemKey(surface, vertices, faces, options);
   return system;

@@ -18,6 +18,7 @@ struct LaplacianSystemOptions {
   double mu = 0.1;          // the pull towards the original points inside the region
   double muBoundary = 1.0;  // on its border, against the boundary degeneration
   OutsideNeighbours outside = OutsideNeighbours::anchor;
+  LaplacianForm form = LaplacianForm::screened;
 };
 
 // `vertices`: the region's mesh vertices, ascending and distinct. Throws std::invalid_argument

@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "geobrush/image.hpp"
+#include "geobrush/mesh_io.hpp"
+#include "mesh_checks.hpp"
 #include "process.hpp"
 #include "test_support.hpp"
 
@@ -179,7 +181,7 @@ TEST(Clone, BadArgumentsAreOneErrorLineAndWriteNothing) {
          args.insert(args.end(), {"--method", "nothing"});
          return args;
        }(),
-       2, "no clone method 'nothing' (methods: cutpaste, geobrush, variational"},
+       2, "no clone method 'nothing' (methods: cutpaste, emd, geobrush, variational"},
       // A target point far off: the region covers none of the target canvas; a node fails.
       {with(base, "--radius", "1000"), 1, "node '"},
   };
@@ -245,6 +247,26 @@ TEST(Clone, TheCutPasteMethodRefusesTheFoldedBootLacingToo) {
   EXPECT_EQ(refused.status, 1) << refused.err;
   EXPECT_TRUE(test::contains(refused.err, "new self-intersections")) << refused.err;
   EXPECT_TRUE(fs::is_empty(out));
+}
+
+// EMD detail transfer on the same clones moves the target's own vertices: the result keeps the
+// target's connectivity, valid and closed, whatever the detail the target's density can carry.
+TEST(Clone, TheEmdMethodMovesTheTargetsOwnVerticesIntoAValidPaste) {
+  EXPECT_TRUE(test::contains(runCli({"clone", "--list-methods"}).out, "emd "));
+  const auto out = test::tempDir("clone-emd");
+  for (const Clone& clone : {kMountainOnSphere, kEarOnCubeEdge, kNefertitiOnBunny}) {
+    auto args = cloneArgs(clone, out / (clone.source + ".obj"));
+    args.insert(args.end(), {"--method", "emd"});
+    const auto result = runCli(args);
+    ASSERT_EQ(result.status, 0) << result.err;
+    EXPECT_EQ(metric(result.err, "metrics.manifold"), 1) << clone.source;
+    EXPECT_EQ(metric(result.err, "metrics.new_self_intersections"), 0) << clone.source;
+    EXPECT_GT(metric(result.err, "rebuild.unknowns"), 0) << clone.source;
+    const MeshPtr target = readMesh(test::meshPath(clone.target)).mesh;
+    const MeshPtr pasted = readMesh(out / (clone.source + ".obj")).mesh;
+    EXPECT_EQ(test::faceIndices(pasted->surface), test::faceIndices(target->surface))
+        << clone.source;
+  }
 }
 
 TEST(Clone, AnInvalidPasteFailsAndWritesNothingUnlessAskedTo) {

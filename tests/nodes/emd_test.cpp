@@ -86,18 +86,21 @@ void expectSumsBack(const EmdResult& result, const std::vector<double>& signal) 
 TEST(Emd, SeparatesTwoScales) {
   const GridSignal s = twoScales(100, 0.2, 1.0);
   const std::vector<double> signal = sum(s.fine, s.coarse);
-  const EmdResult result = empiricalModeDecomposition(s.grid->surface, signal, {});
-  ASSERT_EQ(result.modes.size(), 3u);
-  expectSumsBack(result, signal);
-  EXPECT_GT(correlation(result.modes[0], s.fine, s.interior), 0.95);
-  const auto extremaOf = [&](const std::vector<double>& mode) {
-    return localMaxima(s.grid->surface, mode).size() + localMinima(s.grid->surface, mode).size();
-  };
-  EXPECT_GT(extremaOf(result.modes[0]), extremaOf(result.modes[1]));
-  // What is left after h1 is the coarse wave.
-  EXPECT_GT(
-      correlation(sum(sum(result.modes[1], result.modes[2]), result.residue), s.coarse, s.interior),
-      0.95);
+  for (const Envelope envelope : {Envelope::harmonic, Envelope::biharmonic}) {
+    const EmdResult result =
+        empiricalModeDecomposition(s.grid->surface, signal, {.envelope = envelope});
+    ASSERT_EQ(result.modes.size(), 3u);
+    expectSumsBack(result, signal);
+    EXPECT_GT(correlation(result.modes[0], s.fine, s.interior), 0.95);
+    const auto extremaOf = [&](const std::vector<double>& mode) {
+      return localMaxima(s.grid->surface, mode).size() + localMinima(s.grid->surface, mode).size();
+    };
+    EXPECT_GT(extremaOf(result.modes[0]), extremaOf(result.modes[1]));
+    // What is left after h1 is the coarse wave.
+    EXPECT_GT(correlation(sum(sum(result.modes[1], result.modes[2]), result.residue), s.coarse,
+                          s.interior),
+              0.95);
+  }
 }
 
 // T3: one scale is one mode: h1 is the wave and nothing is left of it in the interior. Both

@@ -37,6 +37,8 @@ std::vector<int> centralDisc(const TriMesh& mesh, double radius) {
   return vertices;
 }
 
+const LaplacianForm kForms[] = {LaplacianForm::screened, LaplacianForm::leastSquares};
+
 double height(const TriMesh& mesh, int v) {
   return mesh.point(TriMesh::VertexHandle(v))[2];
 }
@@ -50,14 +52,17 @@ TEST(LaplacianReconstruct, RebuildsASurfaceFromItsOwnSignal) {
   const std::vector<double> g = signalOf(bump->surface);
   const double size = boundingDiagonal(bump->surface);
   const std::vector<int> region = centralDisc(bump->surface, 0.7);
-  const auto move = [&](OutsideNeighbours outside, bool keep) {
-    const LaplacianSystem system = buildLaplacianSystem(bump, region, {.outside = outside});
-    return reconstructRegion(system, g, {.keepTangential = keep}).maxMove;
-  };
-  EXPECT_LT(move(OutsideNeighbours::anchor, true), 1e-12 * size);
-  EXPECT_LT(move(OutsideNeighbours::anchor, false), 1e-3 * size);
-  EXPECT_GT(move(OutsideNeighbours::drop, false), move(OutsideNeighbours::anchor, false));
-  EXPECT_GT(move(OutsideNeighbours::drop, true), move(OutsideNeighbours::anchor, true));
+  for (const auto form : {LaplacianForm::screened, LaplacianForm::leastSquares}) {
+    const auto move = [&](OutsideNeighbours outside, bool keep) {
+      const LaplacianSystem system =
+          buildLaplacianSystem(bump, region, {.outside = outside, .form = form});
+      return reconstructRegion(system, g, {.keepTangential = keep}).maxMove;
+    };
+    EXPECT_LT(move(OutsideNeighbours::anchor, true), 1e-12 * size);
+    EXPECT_LT(move(OutsideNeighbours::anchor, false), 1e-3 * size);
+    EXPECT_GT(move(OutsideNeighbours::drop, false), move(OutsideNeighbours::anchor, false));
+    EXPECT_GT(move(OutsideNeighbours::drop, true), move(OutsideNeighbours::anchor, true));
+  }
 }
 
 // T5: the bump's signal on a plane raises a bump on the same side (the erratum's sign), about as
@@ -67,33 +72,38 @@ TEST(LaplacianReconstruct, RaisesTheSourcesBumpOnAPlaneOnTheSameSide) {
   const MeshPtr bump = test::heightGrid(30, shape);
   const MeshPtr plane = test::heightGrid(30, [](double, double) { return 0.0; });
   const std::vector<int> region = centralDisc(plane->surface, 0.8);
-  const LaplacianSystem system = buildLaplacianSystem(plane, region, {});
-  const ReconstructResult flat =
-      reconstructRegion(system, std::vector<double>(plane->surface.n_vertices(), 0.0), {});
-  EXPECT_LT(flat.maxMove, 1e-12);
-  const TriMesh raised =
-      withRegionMoved(system, reconstructRegion(system, signalOf(bump->surface), {}).points);
-  const int centre = 15 * 31 + 15;
-  EXPECT_GT(height(raised, centre), 0.5 * shape(0, 0));
-  EXPECT_LT(height(raised, centre), 1.2 * shape(0, 0));
+  for (const auto form : kForms) {
+    const LaplacianSystem system = buildLaplacianSystem(plane, region, {.form = form});
+    const ReconstructResult flat =
+        reconstructRegion(system, std::vector<double>(plane->surface.n_vertices(), 0.0), {});
+    EXPECT_LT(flat.maxMove, 1e-12);
+    const TriMesh raised =
+        withRegionMoved(system, reconstructRegion(system, signalOf(bump->surface), {}).points);
+    const int centre = 15 * 31 + 15;
+    EXPECT_GT(height(raised, centre), 0.5 * shape(0, 0));
+    EXPECT_LT(height(raised, centre), 1.2 * shape(0, 0));
+  }
 }
 
 // T6: the result is affine in the signal, so in the gains: V(2a) - V(0) = 2 (V(a) - V(0)).
 TEST(LaplacianReconstruct, IsAffineInTheSignal) {
   const MeshPtr wavy =
       test::heightGrid(16, [](double x, double y) { return 0.1 * std::sin(2 * x + y); });
-  const LaplacianSystem system = buildLaplacianSystem(wavy, centralDisc(wavy->surface, 0.6), {});
   std::vector<double> base = signalOf(wavy->surface), once = base, twice = base;
   for (std::size_t v = 0; v < base.size(); ++v) {
     const double d = 0.01 * std::cos(3.0 * double(v));
     once[v] += d;
     twice[v] += 2 * d;
   }
-  const auto v0 = reconstructRegion(system, base, {}).points;
-  const auto v1 = reconstructRegion(system, once, {}).points;
-  const auto v2 = reconstructRegion(system, twice, {}).points;
-  EXPECT_LT(((v2 - v0) - 2 * (v1 - v0)).cwiseAbs().maxCoeff(), 1e-12);
-  EXPECT_GT((v1 - v0).cwiseAbs().maxCoeff(), 1e-6);
+  for (const auto form : kForms) {
+    const LaplacianSystem system =
+        buildLaplacianSystem(wavy, centralDisc(wavy->surface, 0.6), {.form = form});
+    const auto v0 = reconstructRegion(system, base, {}).points;
+    const auto v1 = reconstructRegion(system, once, {}).points;
+    const auto v2 = reconstructRegion(system, twice, {}).points;
+    EXPECT_LT(((v2 - v0) - 2 * (v1 - v0)).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_GT((v1 - v0).cwiseAbs().maxCoeff(), 1e-6);
+  }
 }
 
 // T7: off the region every point keeps its bits; a huge mu keeps the region too.
@@ -103,18 +113,22 @@ TEST(LaplacianReconstruct, MovesNothingOffTheRegionAndNothingUnderAHugePull) {
   std::vector<double> signal(plane->surface.n_vertices(), 0.0);
   for (int v : region)
     signal[std::size_t(v)] = -0.01;
-  const LaplacianSystem system = buildLaplacianSystem(plane, region, {});
-  const TriMesh moved = withRegionMoved(system, reconstructRegion(system, signal, {}).points);
-  std::vector<std::uint8_t> inside(moved.n_vertices(), 0);
+  std::vector<std::uint8_t> inside(plane->surface.n_vertices(), 0);
   for (int v : region)
     inside[std::size_t(v)] = 1;
-  for (auto v : moved.vertices())
-    if (!inside[std::size_t(v.idx())]) {
-      EXPECT_EQ(moved.point(v), plane->surface.point(v));
-    }
-  EXPECT_GT(height(moved, 6 * 13 + 6), 1e-4);
-  const LaplacianSystem stiff = buildLaplacianSystem(plane, region, {.mu = 1e6, .muBoundary = 1e6});
-  EXPECT_LT(reconstructRegion(stiff, signal, {}).maxMove, 1e-6 * boundingDiagonal(plane->surface));
+  for (const auto form : kForms) {
+    const LaplacianSystem system = buildLaplacianSystem(plane, region, {.form = form});
+    const TriMesh moved = withRegionMoved(system, reconstructRegion(system, signal, {}).points);
+    for (auto v : moved.vertices())
+      if (!inside[std::size_t(v.idx())]) {
+        EXPECT_EQ(moved.point(v), plane->surface.point(v));
+      }
+    EXPECT_GT(height(moved, 6 * 13 + 6), 1e-4);
+    const LaplacianSystem stiff =
+        buildLaplacianSystem(plane, region, {.mu = 1e6, .muBoundary = 1e6, .form = form});
+    EXPECT_LT(reconstructRegion(stiff, signal, {}).maxMove,
+              1e-6 * boundingDiagonal(plane->surface));
+  }
 }
 
 // A per-area signal rebuilds the same surface as the raw one it came from.

@@ -69,15 +69,26 @@ TEST(LaplacianSystem, RestrictsTheOperatorToTheRegion) {
   EXPECT_FALSE(border.empty());
 }
 
-// The factor solves the normal equations: with the original's own L V as the target, V comes back.
-TEST(LaplacianSystem, FactorsTheNormalEquations) {
+// The factor solves the system of its form: with the original's own L V as the target, V comes
+// back.
+TEST(LaplacianSystem, FactorsEitherForm) {
   const MeshPtr bump =
       test::heightGrid(8, [](double x, double y) { return 0.3 * std::sin(3 * x) * y; });
-  const LaplacianSystem system = buildLaplacianSystem(bump, disc(bump->surface, 0, 0, 0.6), {});
-  const Eigen::VectorXd pull = system.mu.cwiseProduct(system.mu);
-  const Eigen::MatrixX3d rhs = system.laplacian.transpose() * (system.laplacian * system.points) +
-                               pull.asDiagonal() * system.points;
-  EXPECT_LT((system.factor->solve(rhs) - system.points).norm(), 1e-10);
+  const std::vector<int> region = disc(bump->surface, 0, 0, 0.6);
+  const LaplacianSystem screened = buildLaplacianSystem(bump, region, {});
+  EXPECT_EQ(screened.form, LaplacianForm::screened);
+  const Eigen::MatrixX3d screenedRhs =
+      screened.laplacian * screened.points + screened.mu.asDiagonal() * screened.points;
+  EXPECT_LT((screened.factor->solve(screenedRhs) - screened.points).norm(), 1e-10);
+
+  const LaplacianSystem squares =
+      buildLaplacianSystem(bump, region, {.form = LaplacianForm::leastSquares});
+  const Eigen::VectorXd pull = squares.mu.cwiseProduct(squares.mu);
+  const Eigen::MatrixX3d rhs =
+      squares.laplacian.transpose() * (squares.laplacian * squares.points) +
+      pull.asDiagonal() * squares.points;
+  EXPECT_LT((squares.factor->solve(rhs) - squares.points).norm(), 1e-10);
+  EXPECT_NE(squares.key, screened.key);
 }
 
 TEST(LaplacianSystem, KeysOnTheRegionItsGeometryAndMu) {

@@ -37,12 +37,17 @@ Eigen::Vector3d areaWeightedNormal(const TriMesh& mesh, int vertex);
 // The mesh's points as an n x 3 matrix, one row per vertex.
 Eigen::MatrixX3d pointMatrix(const TriMesh& mesh);
 
-// The least-squares system of EMD detail transfer Eqs. 6-8 over a region Q of a mesh, factored:
-// the region's points V^ minimize |L V^ - T|^2 + sum_i mu_i^2 |v^_i - v_i|^2 for a target T that
-// the signal g^ sets, T = -diag(g^) N - C. L is Eq. 7's cotangent Laplacian restricted to Q, N the
-// original normals, C the fixed outside neighbours' share of L V. The normal equations'
-// matrix (L^T L + M^2) is factored once per region and mu: a new signal only changes the
-// right-hand side, so moving a gain costs one back-substitution.
+// How the rebuilt points V^ of a region follow a target T for its Laplacian coordinates, pulled
+// towards the original points V by M = diag(mu):
+enum class LaplacianForm {
+  screened,      // (L + M) V^ = T + M V: L V^ - T = -M (V^ - V), one 1-ring factor (ours)
+  leastSquares,  // (L^T L + M^2) V^ = L^T T + M^2 V: min |L V^ - T|^2 + |M (V^ - V)|^2 (Eq. 8)
+};
+
+// The system of EMD detail transfer Eqs. 6-8 over a region Q of a mesh, factored. L is Eq. 7's
+// cotangent Laplacian restricted to Q, N the original normals, C the fixed outside neighbours'
+// share of L V; the signal g^ sets T = -diag(g^) N - C. The matrix is factored once per region and
+// mu: a new signal only changes the right-hand side, so moving a gain costs one back-substitution.
 class LaplacianSystem final : public Value {
  public:
   static constexpr std::string_view kTypeId = "geobrush.LaplacianSystem";
@@ -64,7 +69,8 @@ class LaplacianSystem final : public Value {
   Eigen::MatrixX3d points;   // V: per unknown, the original point
   Eigen::VectorXd mu;        // per unknown
   Eigen::VectorXd area;      // A_i per unknown, for signals given per unit area
-  std::shared_ptr<const Eigen::SimplicialLDLT<Sparse>> factor;  // of L^T L + M^2
+  LaplacianForm form = LaplacianForm::screened;
+  std::shared_ptr<const Eigen::SimplicialLDLT<Sparse>> factor;  // of L + M or L^T L + M^2
   Hash key = 0;  // of the mesh's geometry, the region and the options
 };
 using LaplacianSystemPtr = std::shared_ptr<const LaplacianSystem>;

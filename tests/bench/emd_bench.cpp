@@ -1,0 +1,145 @@
+// EMD detail transfer at interactive rates: the decomposition of a large mesh (offline, cached),
+// and through the emd method's graph the two edits an artist makes: moving a gain of the
+// equalizer (the factored system re-used: transfer, back-substitution, belt) and painting a dab
+// (the region's system refactored).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+#include "emd.hpp"
+#include "geobrush/clone.hpp"
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
+#include "geobrush/laplacian.hpp"
+#include "geobrush/registry.hpp"
+#include "test_support.hpp"
+
+namespace geobrush {
+namespace {
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+MeshPtr primitive(const ParamMap& params) {
+  const NodeType* type = test::registry().find("geobrush.primitive");
+  Graph graph;
+  graph.nodes["mesh"] = GraphNode{"geobrush.primitive", 1, params};
+  Evaluator evaluator(test::registry());
+  if (!evaluator.evaluate(graph).ok || !type) return nullptr;
+  return std::dynamic_pointer_cast<const Mesh>(evaluator.output("mesh", "mesh"));
+}
+
+// Argument 0: the relief plane's quads per side ((r + 1)^2 vertices); argument 1: the envelope
+// (0 biharmonic, 1 harmonic). One whole-mesh decomposition of Eq. 1's signal per iteration, three
+// modes.
+void BM_EmdDecomposition(benchmark::State& state) {
+  const MeshPtr plane = primitive({{"shape", std::string("plane")},
+                                   {"size", 2.0},
+                                   {"resolution", std::int64_t(state.range(0))},
+                                   {"relief", 0.02}});
+  const TriMesh& mesh = plane->surface;
+  const Eigen::MatrixX3d delta = -(cotangentLaplacian(mesh) * pointMatrix(mesh));
+  const auto normals = areaWeightedNormals(mesh);
+  std::vector<double> g(mesh.n_vertices());
+  for (std::size_t i = 0; i < g.size(); ++i)
+    g[i] = delta.row(Eigen::Index(i)).dot(normals[i]);
+  int sifts = 0;
+  for (auto _ : state) {
+    const EmdResult result = empiricalModeDecomposition(
+        mesh, g, {.envelope = state.range(1) == 0 ? Envelope::biharmonic : Envelope::harmonic});
+    sifts = 0;
+    for (const auto& mode : result.reports)
+      sifts += mode.sifts;
+  }
+  state.counters["vertices"] = double(mesh.n_vertices());
+  state.counters["sifts"] = sifts;
+}
+
+// The emd method with a relief plane as the source and a geodesic sphere of resolution 150
+// (225,002 vertices) as the target, the painted region about 20k of its vertices.
+Graph emdGraph() {
+  Graph graph = readMethod("emd", defaultMethodDirs(), test::registry());
+  graph.nodes["source_mesh"] = GraphNode{"geobrush.primitive",
+                                         1,
+                                         {{"shape", std::string("plane")},
+                                          {"size", 2.0},
+                                          {"resolution", std::int64_t(280)},
+                                          {"relief", 0.02}}};
+  graph.nodes["target_mesh"] =
+      GraphNode{"geobrush.primitive",
+                1,
+                {{"shape", std::string("sphere")}, {"resolution", std::int64_t(150)}}};
+  graph.nodes.at("source_canvas").params = {{"origin", Vec3{0, 0, 0}},
+                                            {"dabs", std::vector<double>{0, 0, 0, 0.45}}};
+  graph.nodes.at("strokes").params = {{"dabs", std::vector<double>{0, 0, 0.4, 1}}};
+  graph.nodes.at("target_map").params = {{"origin", Vec3{0, 0, 1}}, {"scale", 1.5}};
+  prepareGraph(graph, test::registry());
+  return graph;
+}
+
+// Argument 0: the edit (0: a gain of the equalizer moved, 1: a dab painted, moving along the
+// region's edge). Counters: the median and 90th percentile edit, the nodes' mean times, the
+// region's target vertices.
+void BM_EmdEdit(benchmark::State& state) {
+  Graph graph = emdGraph();
+  Evaluator evaluator(test::registry());
+  EvalOptions options;
+  options.targets = {"belt"};
+  if (const EvalReport first = evaluator.evaluate(graph, options); !first.ok) {
+    state.SkipWithError(first.error.c_str());
+    return;
+  }
+  std::map<std::string, double> seconds;
+  std::vector<double> editMs;
+  int step = 0;
+  for (auto _ : state) {
+    ++step;
+    if (state.range(0) == 0) {
+      graph.nodes.at("transfer").params["gains"] =
+          std::vector<double>{1.0 + 0.1 * (step % 7), 1.0, 1.0 - 0.05 * (step % 5)};
+    } else {
+      const double angle = 0.3 * step;
+      graph.nodes.at("strokes").params["dabs"] =
+          std::vector<double>{0, 0, 0.4, 1, 0.4 * std::cos(angle), 0.4 * std::sin(angle), 0.05, 1};
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const EvalReport report = evaluator.evaluate(graph, options);
+    editMs.push_back(millisecondsSince(start));
+    if (!report.ok) {
+      state.SkipWithError(report.error.c_str());
+      return;
+    }
+    for (const NodeRun& run : report.runs)
+      if (!run.cacheHit) seconds[run.node] += run.seconds;
+  }
+  for (const auto& [node, total] : seconds)
+    state.counters[node + "_ms"] =
+        benchmark::Counter(1000 * total, benchmark::Counter::kAvgIterations);
+  std::sort(editMs.begin(), editMs.end());
+  state.counters["edit_median_ms"] = editMs[editMs.size() / 2];
+  state.counters["edit_p90_ms"] = editMs[editMs.size() * 9 / 10];
+  const auto system =
+      std::dynamic_pointer_cast<const LaplacianSystem>(evaluator.output("system", "system"));
+  state.counters["region_vertices"] = system ? double(system->vertices.size()) : 0.0;
+  state.counters["target_vertices"] = double(system ? system->mesh->surface.n_vertices() : 0);
+}
+
+}  // namespace
+}  // namespace geobrush
+
+BENCHMARK(geobrush::BM_EmdDecomposition)
+    ->Args({316, 0})
+    ->Args({316, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
+BENCHMARK(geobrush::BM_EmdEdit)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(20);
