@@ -181,7 +181,7 @@ TEST(Clone, BadArgumentsAreOneErrorLineAndWriteNothing) {
          args.insert(args.end(), {"--method", "nothing"});
          return args;
        }(),
-       2, "no clone method 'nothing' (methods: cutpaste, emd, geobrush, variational"},
+       2, "no clone method 'nothing' (methods: additive, cutpaste, emd, geobrush, variational"},
       // A target point far off: the region covers none of the target canvas; a node fails.
       {with(base, "--radius", "1000"), 1, "node '"},
   };
