@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "atomic_file.hpp"
+#include "gui_application.hpp"
 
 namespace geobrush {
 namespace {
@@ -59,10 +60,6 @@ Image readPng(const std::filesystem::path& path) {
   return image;
 }
 
-namespace {
-
-// Fonts need a QGuiApplication; a program without one (the command line, a Python interpreter)
-// gets an offscreen one, kept until the process exits.
 bool ensureGuiApplication() {
   static std::once_flag once;
   std::call_once(once, [] {
@@ -79,8 +76,6 @@ bool ensureGuiApplication() {
   });
   return qobject_cast<QGuiApplication*>(QCoreApplication::instance()) != nullptr;
 }
-
-}  // namespace
 
 bool drawLabel(Image& image, const std::string& text, int pixelSize) {
   if (image.width <= 0 || image.height <= 0 || !ensureGuiApplication()) return false;

@@ -1,8 +1,12 @@
 // geobrush.render: draws a mesh (and an optional overlay mesh) into an image
 // and a PNG file, with core's offscreen renderer.
+#include <optional>
+
+#include "geobrush/field_colors.hpp"
 #include "geobrush/image.hpp"
 #include "geobrush/registry.hpp"
 #include "geobrush/render.hpp"
+#include "geobrush/vertex_fields.hpp"
 
 namespace geobrush {
 namespace {
@@ -17,12 +21,39 @@ RenderBackend backendNamed(const std::string& name) {
   return RenderBackend::Auto;
 }
 
+struct ColoredByField {
+  MeshPtr mesh;
+  std::string name;
+  FieldRange range;
+};
+
+// The mesh with its vertices coloured by the chosen field of `fields` (the first when none is).
+ColoredByField colorByField(const MeshPtr& mesh, const VertexFields& fields, std::string name) {
+  if (const std::string why = fields.mismatch(mesh->surface); !why.empty())
+    throw NodeError::input("fields", why + " (input 'mesh')");
+  if (name.empty()) {
+    if (fields.columns.empty()) throw NodeError::input("fields", "it holds no field");
+    name = fields.columns.front().first;
+  }
+  const auto* values = fields.find(name);
+  if (!values) throw NodeError::param("field", "input 'fields' has no field '" + name + "'");
+  ColoredByField colored{nullptr, name, fieldRange(*values)};
+  colored.mesh = std::make_shared<const Mesh>(mesh->surface, fieldColors(*values, colored.range));
+  return colored;
+}
+
 class RenderNode final : public Node {
  public:
   void compute(Context& ctx) override {
     std::vector<RenderItem> items;
     RenderItem main;
     main.mesh = ctx.in<Mesh>("mesh");
+    std::optional<ColoredByField> colored;
+    if (ctx.hasInput("fields")) {
+      colored =
+          colorByField(main.mesh, *ctx.in<VertexFields>("fields"), ctx.param<std::string>("field"));
+      main.mesh = colored->mesh;
+    }
     main.color = toRgb(ctx.param<Vec3>("color"));
     main.wireframe = ctx.param<bool>("wireframe");
     items.push_back(main);
@@ -47,6 +78,9 @@ class RenderNode final : public Node {
       options.frame = RenderFrame{ctx.param<Vec3>("focus"), radius};
 
     RenderResult result = renderMeshes(items, options);
+    if (colored && ctx.param<bool>("legend") &&
+        !drawFieldLegend(result.image, colored->name, colored->range))
+      ctx.warn("no font was found to draw the legend");
     auto image = std::make_shared<const Image>(std::move(result.image));
     if (!ctx.param<std::string>("path").empty())
       ctx.writeFile(ctx.path("path"),
@@ -64,6 +98,11 @@ void registerNodes(PluginRegistrar& registrar) {
                "or the CPU rasterizer).")
           .input<Mesh>("mesh", "The mesh to draw; its vertex colours are used if it has them.")
           .optionalInput<Mesh>("overlay", "A second mesh drawn in the same view.")
+          .optionalInput<VertexFields>(
+              "fields",
+              "Fields on the mesh (emd_signal's, emd's, ...): the mesh is coloured by one of "
+              "them, blue below zero, white at zero, red above (a dark-to-light ramp for a field "
+              "of one sign), and the legend drawn.")
           .output<Image>("image", "The rendered picture.")
           .paramOutputPath("path", "render.png", "PNG file to write; empty writes no file.")
           .paramInt("width", 800, "Image width in pixels.")
@@ -84,6 +123,8 @@ void registerNodes(PluginRegistrar& registrar) {
                        "(what lies outside is still drawn); 0 frames everything.")
           .range(0, kRenderFocusRadiusMax)
           .paramBool("wireframe", false, "Draw the triangle edges over the shading.")
+          .paramString("field", "", "The field of 'fields' to colour by; empty: its first.")
+          .paramBool("legend", true, "With 'fields': draw the colour bar and its range.")
           .paramVec3("color", {0.78, 0.78, 0.80}, "Colour of a mesh without vertex colours.")
           .range(0, 1)
           .paramVec3("overlay_color", {0.90, 0.60, 0.00}, "Colour of the overlay mesh.")

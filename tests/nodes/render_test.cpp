@@ -130,6 +130,48 @@ TEST(RenderNode, OverlayAndWireframeChangeThePicture) {
   EXPECT_NE(plain.image->rgba, wired.image->rgba);
 }
 
+// A mesh coloured by a field: emd_signal's g of the bunny, whose convex and concave parts show
+// in red and blue, with the legend; a field the input lacks is refused naming the param.
+TEST(RenderNode, ColoursTheMeshByAField) {
+  const auto dir = test::tempDir("render-node-fields");
+  const auto render = [&](const std::string& field) {
+    Graph graph;
+    graph.file = dir / "graph.json";
+    graph.nodes["load"] = {
+        "geobrush.load_mesh", 1, {{"path", test::meshPath("bunny_small.obj").string()}}};
+    graph.nodes["signal"] = {"geobrush.emd_signal", 1, {{"area_normalize", true}}};
+    graph.nodes["render"] = {"geobrush.render",
+                             1,
+                             {{"width", std::int64_t(240)},
+                              {"height", std::int64_t(180)},
+                              {"path", std::string()},
+                              {"field", field}}};
+    graph.connections.push_back({{"load", "mesh"}, {"signal", "mesh"}});
+    graph.connections.push_back({{"load", "mesh"}, {"render", "mesh"}});
+    graph.connections.push_back({{"signal", "signal"}, {"render", "fields"}});
+    prepareGraph(graph, test::registry());
+    Evaluator evaluator(test::registry());
+    Rendered result{evaluator.evaluate(graph), nullptr};
+    result.image = std::dynamic_pointer_cast<const Image>(evaluator.output("render", "image"));
+    return result;
+  };
+  const Rendered colored = render("g");
+  ASSERT_TRUE(colored.report.ok) << colored.report.error;
+  int reddish = 0, bluish = 0;
+  for (int y = 0; y < colored.image->height; ++y)
+    for (int x = 0; x < colored.image->width; ++x) {
+      const std::uint8_t* p = colored.image->pixel(x, y);
+      if (p[0] > p[2] + 40) ++reddish;
+      if (p[2] > p[0] + 40) ++bluish;
+    }
+  EXPECT_GT(reddish, 100);
+  EXPECT_GT(bluish, 100);
+  const Rendered missing = render("curvature");
+  EXPECT_FALSE(missing.report.ok);
+  EXPECT_TRUE(test::contains(missing.report.error, "param 'field'"));
+  EXPECT_TRUE(test::contains(missing.report.error, "no field 'curvature'"));
+}
+
 TEST(RenderNode, CpuAndVulkanBackendsAgree) {
   const auto dir = test::tempDir("render-node-backends");
   auto cpu = renderFile(dir, test::meshPath("bunny_small.obj").string(),
