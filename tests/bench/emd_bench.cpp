@@ -82,10 +82,12 @@ Graph emdGraph() {
 }
 
 // Argument 0: the edit (0: a gain of the equalizer moved, 1: a dab painted, moving along the
-// region's edge). Counters: the median and 90th percentile edit, the nodes' mean times, the
-// region's target vertices.
+// region's edge); argument 1: the system's form (0 screened, 1 Eq. 8's least squares). Counters:
+// the median and 90th percentile edit, the nodes' mean times, the region's target vertices.
 void BM_EmdEdit(benchmark::State& state) {
   Graph graph = emdGraph();
+  graph.nodes.at("system").params["form"] =
+      std::string(state.range(1) == 0 ? "screened" : "least_squares");
   Evaluator evaluator(test::registry());
   EvalOptions options;
   options.targets = {"belt"};
@@ -138,8 +140,10 @@ BENCHMARK(geobrush::BM_EmdDecomposition)
     ->UseRealTime()
     ->Iterations(3);
 BENCHMARK(geobrush::BM_EmdEdit)
-    ->Arg(0)
-    ->Arg(1)
+    ->Args({0, 0})
+    ->Args({1, 0})
+    ->Args({0, 1})
+    ->Args({1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(20);
