@@ -10,6 +10,7 @@
 #include "evaluation.hpp"
 #include "geobrush/image.hpp"
 #include "geobrush/values.hpp"
+#include "geobrush/vertex_fields.hpp"
 
 namespace geobrush::python {
 namespace {
@@ -24,6 +25,17 @@ py::object imageToPython(const Image& image) {
       {py::ssize_t(image.height), py::ssize_t(image.width), py::ssize_t(4)});
   std::copy(image.rgba.begin(), image.rgba.end(), array.mutable_data());
   return array;
+}
+
+// Fields as {name: array of one float per vertex}, in their order.
+py::object fieldsToPython(const VertexFields& fields) {
+  py::dict columns;
+  for (const auto& [name, values] : fields.columns) {
+    py::array_t<double> array(py::ssize_t(values.size()));
+    std::copy(values.begin(), values.end(), array.mutable_data());
+    columns[py::str(name)] = array;
+  }
+  return columns;
 }
 
 void bindTypes(py::module_& module) {
@@ -104,7 +116,8 @@ void bindEvaluator(py::module_& module) {
           },
           py::arg("node"), py::arg("port"),
           "An output of the last evaluation: a Mesh, a dict of metrics, a float, a tuple, an "
-          "(h, w, 4) uint8 image array, a Value, or None.")
+          "(h, w, 4) uint8 image array, per-vertex fields as a dict of float arrays by name, a "
+          "Value, or None.")
       .def_property_readonly(
           "compute_count",
           [](PyEvaluator& self) {
@@ -138,6 +151,8 @@ py::object valueToPython(const ValuePtr& value) {
   if (auto vector = std::dynamic_pointer_cast<const Vector3>(value))
     return py::make_tuple(vector->value[0], vector->value[1], vector->value[2]);
   if (auto image = std::dynamic_pointer_cast<const Image>(value)) return imageToPython(*image);
+  if (auto fields = std::dynamic_pointer_cast<const VertexFields>(value))
+    return fieldsToPython(*fields);
   return py::cast(PyValue{value});
 }
 

@@ -197,3 +197,23 @@ def test_one_evaluator_serves_several_threads(tmp_path):
     for index in range(4):
         centre = geobrush.read_mesh(tmp_path / f"sphere{index}.obj").vertices.mean(axis=0)
         np.testing.assert_allclose(centre, (index, 0, 0), atol=1e-12)
+
+
+def test_vertex_fields_come_as_arrays_by_name(tmp_path):
+    """emd_signal and emd on a relief plane: the modes as NumPy arrays that sum back to g."""
+    graph = geobrush.Graph()
+    graph.add_node("plane", "geobrush.primitive", shape="plane", resolution=40, relief=0.05)
+    graph.add_node("signal", "geobrush.emd_signal")
+    graph.add_node("modes", "geobrush.emd")
+    graph.connect("plane.mesh", "signal.mesh")
+    graph.connect("plane.mesh", "modes.mesh")
+    graph.connect("signal.signal", "modes.signal")
+    evaluator = geobrush.Evaluator()
+    assert evaluator.evaluate(graph, out_dir=tmp_path).ok
+    signal = evaluator.output("signal", "signal")
+    modes = evaluator.output("modes", "modes")
+    assert list(signal) == ["g", "area"]
+    assert list(modes) == ["h1", "h2", "h3", "r"]
+    vertices = evaluator.output("plane", "mesh").vertices.shape[0]
+    assert all(column.shape == (vertices,) and column.dtype == np.float64 for column in modes.values())
+    np.testing.assert_allclose(sum(modes.values()), signal["g"], rtol=0, atol=1e-12)
