@@ -3,8 +3,10 @@
 #include <Eigen/Geometry>
 #include <QAction>
 #include <QActionGroup>
+#include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QLabel>
+#include <QSignalBlocker>
 #include <QSplitter>
 #include <QToolBar>
 #include <QVBoxLayout>
@@ -47,8 +49,10 @@ Outline tangentCircle(const SurfaceHit& hit, double radius, const QColor& color)
 
 }  // namespace
 
-LiveView makeLiveView(const Evaluator& evaluator, const CloneRoles& roles) {
+LiveView makeLiveView(const Evaluator& evaluator, const CloneRoles& roles, const Graph& graph,
+                      const NodeRegistry& registry) {
   LiveView view;
+  view.fields = fieldLayers(graph, registry, evaluator);
   view.values = fetchClone(evaluator, roles);
   view.source = showSource(view.values);
   view.target = showTarget(view.values);
@@ -69,7 +73,9 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
       target_(new Viewport("Target", this)),
       toolBar_(new QToolBar("Brush", this)),
       tools_(new QActionGroup(this)),
-      radius_(new QDoubleSpinBox(this)) {
+      radius_(new QDoubleSpinBox(this)),
+      sourceColour_(new QComboBox(this)),
+      targetColour_(new QComboBox(this)) {
   auto* splitter = new QSplitter(Qt::Horizontal, this);
   splitter->addWidget(source_);
   splitter->addWidget(target_);
@@ -111,6 +117,20 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
     source_->resetView();
     target_->resetView();
   });
+  toolBar_->addSeparator();
+  const std::pair<QComboBox*, const char*> colours[] = {{sourceColour_, " Source colour "},
+                                                        {targetColour_, " Target colour "}};
+  for (const auto& [box, label] : colours) {
+    box->setObjectName(box == sourceColour_ ? "sourceColour" : "targetColour");
+    box->setToolTip(
+        "Colour the surface by its canvas or by a per-vertex field the graph computed "
+        "(emd_signal's, emd's: blue below zero, red above)");
+    box->setSizeAdjustPolicy(QComboBox::AdjustToContents);
+    box->addItem("Canvas");
+    toolBar_->addWidget(new QLabel(label, this));
+    toolBar_->addWidget(box);
+    connect(box, &QComboBox::currentIndexChanged, this, [this] { showColours(); });
+  }
   setTool(tool_);
 
   source_->onPointer = [this](const PointerEvent& event) { sourcePointer(event); };
@@ -138,8 +158,12 @@ void ClonePanel::clear() {
   source_->setLines({});
   target_->setLines({});
   view_ = {};
+  refillColourChoices(sourceColour_, view_.source);
+  refillColourChoices(targetColour_, view_.target);
   source_->setSurface({});
   target_->setSurface({});
+  source_->setLegend(std::nullopt);
+  target_->setLegend(std::nullopt);
   source_->resetView();
   target_->resetView();
   updateOutlines();
@@ -147,11 +171,58 @@ void ClonePanel::clear() {
 
 void ClonePanel::showView(LiveView view) {
   view_ = std::move(view);
-  source_->setSurface(view_.source);
-  target_->setSurface(view_.target);
+  refillColourChoices(sourceColour_, view_.source);
+  refillColourChoices(targetColour_, view_.target);
+  showColours();
   source_->setLines({{&view_.sourceLines.u, kULine}, {&view_.sourceLines.v, kVLine}});
   target_->setLines({{&view_.targetLines.u, kULine}, {&view_.targetLines.v, kVLine}});
   updateOutlines();
+}
+
+void ClonePanel::refillColourChoices(QComboBox* box, const ShownSurface& surface) {
+  const QSignalBlocker quiet(box);
+  const QString chosen = box->currentText();
+  box->clear();
+  box->addItem("Canvas");
+  const std::size_t count = surface.mesh ? surface.mesh->surface.n_vertices() : 0;
+  for (const FieldLayer& layer : view_.fields)
+    if (layer.fields->vertexCount == count) box->addItem(QString::fromStdString(layer.label()));
+  box->setCurrentIndex(std::max(box->findText(chosen), 0));
+}
+
+void ClonePanel::showColours() {
+  const auto show = [this](Viewport* view, const ShownSurface& surface, const QComboBox* box) {
+    const std::string label = box->currentIndex() > 0 ? box->currentText().toStdString() : "";
+    for (const FieldLayer& layer : view_.fields) {
+      if (label.empty() || layer.label() != label) continue;
+      FieldRange range;
+      if (auto coloured = colouredBy(surface, layer, &range)) {
+        view->setSurface(*coloured);
+        view->setLegend(Legend{layer.column, range});
+        return;
+      }
+    }
+    view->setSurface(surface);
+    view->setLegend(std::nullopt);
+  };
+  show(source_, view_.source, sourceColour_);
+  show(target_, view_.target, targetColour_);
+}
+
+bool ClonePanel::colourSourceBy(const std::string& label) {
+  const int index = label.empty() ? 0 : sourceColour_->findText(QString::fromStdString(label));
+  if (index < 0) return false;
+  sourceColour_->setCurrentIndex(index);
+  showColours();
+  return true;
+}
+
+bool ClonePanel::colourTargetBy(const std::string& label) {
+  const int index = label.empty() ? 0 : targetColour_->findText(QString::fromStdString(label));
+  if (index < 0) return false;
+  targetColour_->setCurrentIndex(index);
+  showColours();
+  return true;
 }
 
 void ClonePanel::message(const QString& text) {

@@ -18,6 +18,7 @@
 class QActionGroup;
 class QDoubleSpinBox;
 class QToolBar;
+class QComboBox;
 
 namespace geobrush::studio {
 
@@ -32,11 +33,13 @@ struct LiveView {
   CoordinateLines targetLines;
   std::shared_ptr<const DomainLocator> sourceLocator;
   std::shared_ptr<const DomainLocator> targetLocator;
+  std::vector<FieldLayer> fields;  // what the surfaces can be coloured by
 };
 
 // Reads the roles' values from the evaluator and prepares the surfaces (call on the thread that
 // evaluated).
-LiveView makeLiveView(const Evaluator& evaluator, const CloneRoles& roles);
+LiveView makeLiveView(const Evaluator& evaluator, const CloneRoles& roles, const Graph& graph,
+                      const NodeRegistry& registry);
 
 class ClonePanel : public QWidget {
   Q_OBJECT
@@ -56,6 +59,11 @@ class ClonePanel : public QWidget {
   // In the units of the source mesh, which the shared domain keeps.
   void setBrushRadius(double radius);
   double brushRadius() const;
+
+  // Colours a viewport's surface by one of the live view's fields (its label), or by its canvas
+  // (an empty label); false where the field does not fit the surface shown.
+  bool colourSourceBy(const std::string& label);
+  bool colourTargetBy(const std::string& label);
 
   Viewport& sourceView() { return *source_; }
   Viewport& targetView() { return *target_; }
@@ -80,6 +88,9 @@ class ClonePanel : public QWidget {
   std::optional<Eigen::Vector3d> onTargetSurface(const SurfaceHit& hit) const;
   void hover(const std::optional<Eigen::Vector2d>& uv, const std::optional<SurfaceHit>& canvasHit);
   void updateOutlines();
+  // The surfaces shown again with the chosen colours; the choices refilled from the live view.
+  void showColours();
+  void refillColourChoices(QComboBox* box, const ShownSurface& surface);
 
   StudioDocument& document_;
   CloneRoles roles_;
@@ -89,6 +100,8 @@ class ClonePanel : public QWidget {
   QToolBar* toolBar_;
   QActionGroup* tools_;
   QDoubleSpinBox* radius_;
+  QComboBox* sourceColour_;
+  QComboBox* targetColour_;
   CloneTool tool_ = CloneTool::PaintRegion;
 
   // The brush under the pointer: the domain point (region tool), or the source hit (canvas).

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <set>
 
 namespace geobrush::studio {
 namespace {
@@ -70,6 +71,37 @@ Eigen::AlignedBox3d boundsOf(const TriMesh& mesh) {
   return box;
 }
 
+namespace {
+
+// The first node downstream of `start` (breadth first, names in order) whose outputs "mesh" and
+// "map" are both used: a paste that does not read the region itself, such as EMD detail
+// transfer's belt smoothing at the end of its chain.
+std::string pasteDownstreamOf(const Graph& graph, const std::string& start) {
+  std::vector<std::string> frontier{start};
+  std::set<std::string> seen{start};
+  while (!frontier.empty()) {
+    std::vector<std::string> next;
+    for (const auto& c : graph.connections)
+      if (std::find(frontier.begin(), frontier.end(), c.from.node) != frontier.end() &&
+          seen.insert(c.to.node).second)
+        next.push_back(c.to.node);
+    std::sort(next.begin(), next.end());
+    for (const std::string& node : next) {
+      bool mesh = false, map = false;
+      for (const auto& c : graph.connections)
+        if (c.from.node == node) {
+          mesh = mesh || c.from.port == "mesh";
+          map = map || c.from.port == "map";
+        }
+      if (mesh && map) return node;
+    }
+    frontier = std::move(next);
+  }
+  return {};
+}
+
+}  // namespace
+
 std::vector<std::string> CloneRoles::liveTargets() const {
   std::vector<std::string> targets;
   for (const std::string* node : {&paste, &roi, &sourceMap, &targetMap})
@@ -116,6 +148,7 @@ CloneRoles findClone(const Graph& graph, const std::string& preferredRoi) {
       break;
     }
   }
+  if (roles.paste.empty()) roles.paste = pasteDownstreamOf(graph, roles.roi);
   return roles;
 }
 
@@ -305,6 +338,35 @@ std::vector<Eigen::Vector3d> domainCircle(const DomainLocator& locator,
     points.push_back(hit.inside ? hit.point : kOffCanvas3);
   }
   return points;
+}
+
+std::vector<FieldLayer> fieldLayers(const Graph& graph, const NodeRegistry& registry,
+                                    const Evaluator& evaluator) {
+  std::vector<FieldLayer> layers;
+  for (const auto& [name, node] : graph.nodes) {
+    const NodeType* type = registry.find(node.type);
+    if (!type) continue;
+    for (const PortDecl& port : type->outputs) {
+      if (port.typeId != VertexFields::kTypeId) continue;
+      const auto fields =
+          std::dynamic_pointer_cast<const VertexFields>(evaluator.output(name, port.name));
+      if (!fields) continue;
+      for (const auto& column : fields->names())
+        layers.push_back({name, port.name, column, fields});
+    }
+  }
+  return layers;
+}
+
+std::optional<ShownSurface> colouredBy(const ShownSurface& surface, const FieldLayer& layer,
+                                       FieldRange* range) {
+  const auto* values = layer.fields ? layer.fields->find(layer.column) : nullptr;
+  if (!surface.mesh || !values || values->size() != surface.mesh->surface.n_vertices())
+    return std::nullopt;
+  *range = fieldRange(*values);
+  ShownSurface coloured = surface;
+  coloured.mesh = std::make_shared<const Mesh>(surface.mesh->surface, fieldColors(*values, *range));
+  return coloured;
 }
 
 }  // namespace geobrush::studio

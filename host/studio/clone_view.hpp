@@ -12,9 +12,11 @@
 #include "geobrush/canvas.hpp"
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/evaluator.hpp"
+#include "geobrush/field_colors.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/region.hpp"
 #include "geobrush/registry.hpp"
+#include "geobrush/vertex_fields.hpp"
 
 namespace geobrush::studio {
 
@@ -28,7 +30,9 @@ struct CloneRoles {
   Endpoint sourceMesh;       // feeds the canvas's mesh
   Endpoint targetMesh;       // feeds the target map's mesh
   Endpoint roiStrokes;       // feeds roi.strokes (after ROI correction, where there is one)
-  std::string paste;         // consumes roi.region and outputs a mesh and its paste map
+  // Consumes roi.region and outputs a mesh and its paste map (stitch, variational_paste), or
+  // else the first node downstream of the ROI whose mesh and map outputs are both used.
+  std::string paste;
 
   bool found() const { return !roi.empty(); }
   // What a live evaluation asks for: the paste, and the maps where there is none.
@@ -70,6 +74,26 @@ ShownSurface showSource(const CloneValues& values);
 // pasted part carries the source canvas's (u, v), so lines run on through it. Null mesh
 // without either.
 ShownSurface showTarget(const CloneValues& values);
+
+// A per-vertex field a viewport can colour its surface by: one column of a
+// geobrush.VertexFields output of the last evaluation (emd_signal's g, emd's modes, ...).
+struct FieldLayer {
+  std::string node;
+  std::string port;
+  std::string column;
+  std::shared_ptr<const VertexFields> fields;
+  std::string label() const { return node + "." + port + ": " + column; }
+};
+
+// Every column of every VertexFields output the evaluator holds for the graph's nodes, in the
+// order of the nodes' names and their ports (call on the thread that evaluated).
+std::vector<FieldLayer> fieldLayers(const Graph& graph, const NodeRegistry& registry,
+                                    const Evaluator& evaluator);
+
+// The surface with its vertices coloured by the layer's field (diverging around zero for a
+// signed field), its range in `range`; none when the field has not one value per vertex of it.
+std::optional<ShownSurface> colouredBy(const ShownSurface& surface, const FieldLayer& layer,
+                                       FieldRange* range);
 
 // The canvases' (u, v) coordinate lines (paper Fig. 3) as segments on the faces, the level sets
 // u = k s and v = k s of the piecewise linear uv: sharp at any mesh resolution.

@@ -244,7 +244,8 @@ void StudioWindow::startEvaluation(EvalMode mode) {
                          options = std::move(options), graph = std::move(graph)] {
     EvalReport report = evaluator_->evaluate(graph, options);
     LiveView view;
-    if (roles.found() && !report.cancelled) view = makeLiveView(*evaluator_, roles);
+    if (roles.found() && !report.cancelled)
+      view = makeLiveView(*evaluator_, roles, graph, registry_);
     QMetaObject::invokeMethod(
         this,
         [this, generation, mode, report = std::move(report), view = std::move(view)]() mutable {

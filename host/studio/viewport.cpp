@@ -101,6 +101,11 @@ std::optional<SurfaceHit> Viewport::pick(const QPointF& position) const {
   return castRay(surface_.mesh->surface, origin, direction);
 }
 
+void Viewport::setLegend(std::optional<Legend> legend) {
+  legend_ = std::move(legend);
+  changed();
+}
+
 void Viewport::changed() {
   stale_ = true;
   cameraKnown_ = false;
@@ -111,7 +116,8 @@ void Viewport::paintEvent(QPaintEvent*) {
   QPainter painter(this);
   if (stale_ && surface_.mesh && surface_.mesh->surface.n_faces() > 0) {
     try {
-      const Image rendered = renderMeshes({{surface_.mesh}}, renderOptions()).image;
+      Image rendered = renderMeshes({{surface_.mesh}}, renderOptions()).image;
+      if (legend_) drawFieldLegend(rendered, legend_->name, legend_->range);
       image_ =
           QImage(rendered.rgba.data(), rendered.width, rendered.height, QImage::Format_RGBA8888)
               .copy();

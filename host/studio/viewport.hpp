@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "clone_view.hpp"
+#include "geobrush/field_colors.hpp"
 #include "geobrush/render.hpp"
 
 namespace geobrush::studio {
@@ -35,6 +36,12 @@ struct SurfaceLines {
   QColor color;
 };
 
+// A colour bar drawn at the bottom left: what the surface's colours mean.
+struct Legend {
+  std::string name;
+  FieldRange range;
+};
+
 class Viewport : public QWidget {
   Q_OBJECT
 
@@ -47,6 +54,8 @@ class Viewport : public QWidget {
   const ShownSurface& surface() const { return surface_; }
   void setOutlines(std::vector<Outline> outlines);
   void setLines(std::vector<SurfaceLines> lines);
+  void setLegend(std::optional<Legend> legend);
+  const std::optional<Legend>& legend() const { return legend_; }
   // Frames the shown surface again, from the default direction.
   void resetView();
   const RenderView& view() const { return view_; }
@@ -76,6 +85,7 @@ class Viewport : public QWidget {
 
   QString title_;
   ShownSurface surface_;
+  std::optional<Legend> legend_;
   std::optional<RenderFrame> frame_;
   RenderView view_;
   std::vector<Outline> outlines_;

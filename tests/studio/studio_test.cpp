@@ -307,7 +307,10 @@ TEST(StudioWindow, MouseAndKeysEditTheGraph) {
   ASSERT_TRUE(shapeOut);
   QTest::mouseClick(viewport, Qt::LeftButton, {}, *shapeOut + QPoint(-60, -20));
   QTest::qWait(50);
-  auto* choice = window.findChild<QComboBox*>();
+  // The parameter panel's choice (the clone panel's colour choices aside).
+  QComboBox* choice = nullptr;
+  for (QComboBox* box : window.findChildren<QComboBox*>())
+    if (box->objectName() != "sourceColour" && box->objectName() != "targetColour") choice = box;
   ASSERT_NE(choice, nullptr);
   EXPECT_EQ(choice->currentText(), "rounded_cube");
   choice->setCurrentText("torus");
@@ -695,4 +698,43 @@ int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   QApplication app(argc, argv);
   return RUN_ALL_TESTS();
+}
+
+// The EMD comparison graph: the source can be coloured by its modes and the target by the
+// transferred signal, each with its legend; back to the canvas colours on asking.
+TEST(StudioWindow, ColoursTheSurfacesByTheFieldsTheGraphComputed) {
+  const auto dir = test::tempDir("studio-fields");
+  StudioWindow window(test::registry());
+  window.setOutputDir(dir);
+  ASSERT_TRUE(window.openFile(
+      QString::fromStdString(graphFile("compare_mountain_sphere_emd.json").string())));
+  window.resize(1200, 700);
+  window.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+  auto& panel = window.clonePanel();
+  // EMD's paste (the belt at the end of its chain) is the target view's result.
+  EXPECT_EQ(panel.roles().paste, "belt");
+  ASSERT_TRUE(panel.liveView().values.result);
+  EXPECT_FALSE(panel.colourTargetBy("source_modes.modes: h1"));  // another mesh's field
+  ASSERT_TRUE(panel.colourSourceBy("source_modes.modes: h1"));
+  ASSERT_TRUE(panel.colourTargetBy("transfer.signal: detail"));
+  ASSERT_TRUE(panel.targetView().legend());
+  EXPECT_EQ(panel.targetView().legend()->name, "detail");
+  EXPECT_TRUE(panel.targetView().legend()->range.diverging);
+  QTest::qWait(50);
+  const QImage source = panel.sourceView().grab().toImage();
+  int red = 0, blue = 0;
+  for (int y = 0; y < source.height(); ++y)
+    for (int x = 0; x < source.width(); ++x) {
+      const QColor c = source.pixelColor(x, y);
+      red += c.red() > c.blue() + 60;
+      blue += c.blue() > c.red() + 60;
+    }
+  EXPECT_GT(red, 50);
+  EXPECT_GT(blue, 50);
+  screenshot(window, "studio_fields.png");
+  ASSERT_TRUE(panel.colourTargetBy(""));
+  EXPECT_FALSE(panel.targetView().legend());
 }
