@@ -1,8 +1,6 @@
 #include "geobrush/field_colors.hpp"
 
-#include <QtGui/QFont>
-#include <QtGui/QFontDatabase>
-#include <QtGui/QImage>
+#include <QtGui/QColor>
 #include <QtGui/QPainter>
 #include <algorithm>
 #include <cmath>
@@ -78,31 +76,24 @@ std::vector<Rgb> fieldColors(const std::vector<double>& values, const FieldRange
 
 bool drawFieldLegend(Image& image, const std::string& name, const FieldRange& range,
                      int pixelSize) {
-  if (image.width <= 0 || image.height <= 0 || !ensureGuiApplication()) return false;
-  if (QFontDatabase::families().isEmpty()) return false;
-  QImage canvas(image.rgba.data(), image.width, image.height, 4 * image.width,
-                QImage::Format_RGBA8888);
-  QPainter painter(&canvas);
-  QFont font("DejaVu Sans");
-  font.setPixelSize(pixelSize);
-  painter.setFont(font);
-  const int margin = pixelSize, barWidth = std::min(image.width / 3, 12 * pixelSize);
-  const int barHeight = pixelSize, top = image.height - margin - barHeight - pixelSize - 4;
-  painter.fillRect(margin / 2, top - pixelSize - 8, barWidth + margin, 3 * pixelSize + 16,
-                   QColor(255, 255, 255, 220));
-  for (int x = 0; x < barWidth; ++x) {
-    const Rgb c = colorAt(double(x) / std::max(barWidth - 1, 1), range.diverging);
-    painter.fillRect(margin + x, top, 1, barHeight,
-                     QColor::fromRgbF(double(c[0]), double(c[1]), double(c[2])));
-  }
-  painter.setPen(QColor(20, 20, 20));
-  painter.drawText(margin, top - 4, QString::fromStdString(name));
-  painter.drawText(margin, top + barHeight + pixelSize + 2,
-                   QString::fromStdString(formatted(range.low)));
-  const QString high = QString::fromStdString(formatted(range.high));
-  painter.drawText(margin + barWidth - painter.fontMetrics().horizontalAdvance(high),
-                   top + barHeight + pixelSize + 2, high);
-  return true;
+  return paintOn(image, pixelSize, [&](QPainter& painter) {
+    const int margin = pixelSize, barWidth = std::min(image.width / 3, 12 * pixelSize);
+    const int barHeight = pixelSize, top = image.height - margin - barHeight - pixelSize - 4;
+    painter.fillRect(margin / 2, top - pixelSize - 8, barWidth + margin, 3 * pixelSize + 16,
+                     QColor(255, 255, 255, 220));
+    for (int x = 0; x < barWidth; ++x) {
+      const Rgb c = colorAt(double(x) / std::max(barWidth - 1, 1), range.diverging);
+      painter.fillRect(margin + x, top, 1, barHeight,
+                       QColor::fromRgbF(double(c[0]), double(c[1]), double(c[2])));
+    }
+    painter.setPen(QColor(20, 20, 20));
+    const int below = top + barHeight + pixelSize + 2;
+    painter.drawText(margin, top - 4, QString::fromStdString(name));
+    painter.drawText(margin, below, QString::fromStdString(formatted(range.low)));
+    const QString high = QString::fromStdString(formatted(range.high));
+    painter.drawText(margin + barWidth - painter.fontMetrics().horizontalAdvance(high), below,
+                     high);
+  });
 }
 
 }  // namespace geobrush

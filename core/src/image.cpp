@@ -77,7 +77,7 @@ bool ensureGuiApplication() {
   return qobject_cast<QGuiApplication*>(QCoreApplication::instance()) != nullptr;
 }
 
-bool drawLabel(Image& image, const std::string& text, int pixelSize) {
+bool paintOn(Image& image, int pixelSize, const std::function<void(QPainter&)>& draw) {
   if (image.width <= 0 || image.height <= 0 || !ensureGuiApplication()) return false;
   if (QFontDatabase::families().isEmpty()) return false;
   QImage canvas(image.rgba.data(), image.width, image.height, 4 * image.width,
@@ -86,15 +86,21 @@ bool drawLabel(Image& image, const std::string& text, int pixelSize) {
   QFont font("DejaVu Sans");
   font.setPixelSize(pixelSize);
   painter.setFont(font);
-  const QString label = QString::fromStdString(text);
-  const int margin = pixelSize / 2;
-  QRect box = painter.fontMetrics().boundingRect(label);
-  box.moveTopLeft({margin, margin});
-  painter.fillRect(box.adjusted(-margin / 2, -margin / 2, margin / 2, margin / 2),
-                   QColor(255, 255, 255, 220));
-  painter.setPen(QColor(20, 20, 20));
-  painter.drawText(box, Qt::AlignLeft | Qt::AlignVCenter, label);
+  draw(painter);
   return true;
+}
+
+bool drawLabel(Image& image, const std::string& text, int pixelSize) {
+  return paintOn(image, pixelSize, [&](QPainter& painter) {
+    const QString label = QString::fromStdString(text);
+    const int margin = pixelSize / 2;
+    QRect box = painter.fontMetrics().boundingRect(label);
+    box.moveTopLeft({margin, margin});
+    painter.fillRect(box.adjusted(-margin / 2, -margin / 2, margin / 2, margin / 2),
+                     QColor(255, 255, 255, 220));
+    painter.setPen(QColor(20, 20, 20));
+    painter.drawText(box, Qt::AlignLeft | Qt::AlignVCenter, label);
+  });
 }
 
 }  // namespace geobrush

@@ -5,7 +5,6 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <map>
 
@@ -13,15 +12,11 @@
 #include "geobrush/clone.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
+#include "graph_edits.hpp"
 #include "test_support.hpp"
 
 namespace geobrush {
 namespace {
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 // A method's template with a 280^2 relief plane as the source (a painted feature of about 5k
 // vertices) and a geodesic sphere of `sphereResolution` (10 r^2 + 2 vertices) as the target.
@@ -62,32 +57,14 @@ void BM_TargetMoveMethod(benchmark::State& state) {
     graph.nodes.at("target_map").params["origin"] = Vec3{origin.x(), origin.y(), origin.z()};
   };
   moveTo(0);
-  if (const EvalReport first = evaluator.evaluate(graph, options); !first.ok) {
-    state.SkipWithError(first.error.c_str());
-    return;
-  }
-  std::map<std::string, double> seconds;
-  std::vector<double> moveMs;
+  bench::EditTimer timer;
+  if (!timer.evaluate(state, evaluator, graph, options, true)) return;
   int step = 0;
   for (auto _ : state) {
     moveTo(++step);
-    const auto start = std::chrono::steady_clock::now();
-    const EvalReport report = evaluator.evaluate(graph, options);
-    moveMs.push_back(millisecondsSince(start));
-    if (!report.ok) {
-      state.SkipWithError(report.error.c_str());
-      return;
-    }
-    for (const NodeRun& run : report.runs)
-      if (!run.cacheHit) seconds[run.node] += run.seconds;
+    if (!timer.evaluate(state, evaluator, graph, options)) return;
   }
-  for (const auto& [node, total] : seconds)
-    state.counters[node + "_ms"] =
-        benchmark::Counter(1000 * total, benchmark::Counter::kAvgIterations);
-  std::sort(moveMs.begin(), moveMs.end());
-  state.counters["move_median_ms"] = moveMs[moveMs.size() / 2];
-  state.counters["move_p90_ms"] = moveMs[moveMs.size() * 9 / 10];
-  state.counters["move_max_ms"] = moveMs.back();
+  timer.report(state, "move");
   state.counters["target_vertices"] =
       double(std::dynamic_pointer_cast<const Mesh>(evaluator.output("target_mesh", "mesh"))
                  ->surface.n_vertices());

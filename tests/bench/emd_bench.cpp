@@ -5,7 +5,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <chrono>
 #include <map>
 
 #include "emd.hpp"
@@ -14,15 +13,11 @@
 #include "geobrush/graph.hpp"
 #include "geobrush/laplacian.hpp"
 #include "geobrush/registry.hpp"
+#include "graph_edits.hpp"
 #include "test_support.hpp"
 
 namespace geobrush {
 namespace {
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 MeshPtr primitive(const ParamMap& params) {
   const NodeType* type = test::registry().find("geobrush.primitive");
@@ -91,12 +86,8 @@ void BM_EmdEdit(benchmark::State& state) {
   Evaluator evaluator(test::registry());
   EvalOptions options;
   options.targets = {"belt"};
-  if (const EvalReport first = evaluator.evaluate(graph, options); !first.ok) {
-    state.SkipWithError(first.error.c_str());
-    return;
-  }
-  std::map<std::string, double> seconds;
-  std::vector<double> editMs;
+  bench::EditTimer timer;
+  if (!timer.evaluate(state, evaluator, graph, options, true)) return;
   int step = 0;
   for (auto _ : state) {
     ++step;
@@ -108,22 +99,9 @@ void BM_EmdEdit(benchmark::State& state) {
       graph.nodes.at("strokes").params["dabs"] =
           std::vector<double>{0, 0, 0.4, 1, 0.4 * std::cos(angle), 0.4 * std::sin(angle), 0.05, 1};
     }
-    const auto start = std::chrono::steady_clock::now();
-    const EvalReport report = evaluator.evaluate(graph, options);
-    editMs.push_back(millisecondsSince(start));
-    if (!report.ok) {
-      state.SkipWithError(report.error.c_str());
-      return;
-    }
-    for (const NodeRun& run : report.runs)
-      if (!run.cacheHit) seconds[run.node] += run.seconds;
+    if (!timer.evaluate(state, evaluator, graph, options)) return;
   }
-  for (const auto& [node, total] : seconds)
-    state.counters[node + "_ms"] =
-        benchmark::Counter(1000 * total, benchmark::Counter::kAvgIterations);
-  std::sort(editMs.begin(), editMs.end());
-  state.counters["edit_median_ms"] = editMs[editMs.size() / 2];
-  state.counters["edit_p90_ms"] = editMs[editMs.size() * 9 / 10];
+  timer.report(state, "edit");
   const auto system =
       std::dynamic_pointer_cast<const LaplacianSystem>(evaluator.output("system", "system"));
   state.counters["region_vertices"] = system ? double(system->vertices.size()) : 0.0;
