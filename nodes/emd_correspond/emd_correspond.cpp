@@ -5,6 +5,7 @@
 #include <string>
 
 #include "geobrush/domain_neighbours.hpp"
+#include "geobrush/parallel.hpp"
 
 namespace geobrush {
 
@@ -27,20 +28,26 @@ EmdCorrespondence correspondInDomain(const Parameterization& source, const Param
   result.sampled.assign(sourceFields.size(), std::vector<double>(targetMeshSize, 0.0));
   result.nearest.assign(targetMeshSize, -1);
 
-  const DomainNeighbours neighbours(source.uv);
-  for (int t : targetVertices) {
+  for (int t : targetVertices)
     if (t < 0 || std::size_t(t) >= target.uv.size())
       throw std::invalid_argument("target canvas vertex " + std::to_string(t) + " is not there");
-    const std::vector<int> near = neighbours.nearest(target.uv[std::size_t(t)], options.neighbours);
-    const std::size_t meshVertex = std::size_t(target.canvas->sourceVertex[std::size_t(t)]);
-    result.nearest[meshVertex] = near.front();
-    for (std::size_t k = 0; k < sourceFields.size(); ++k) {
-      double sum = 0.0;
-      for (int s : near)
-        sum += (*sourceFields[k])[std::size_t(sourceMeshVertex[std::size_t(s)])];
-      result.sampled[k][meshVertex] = options.factor * sum / double(near.size());
+  // Each target vertex reads the tree and writes its own entries: the blocks run on any number of
+  // threads with the same result.
+  const DomainNeighbours neighbours(source.uv);
+  parallelBlocks(targetVertices.size(), 1024, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) {
+      const std::size_t t = std::size_t(targetVertices[i]);
+      const std::vector<int> near = neighbours.nearest(target.uv[t], options.neighbours);
+      const std::size_t meshVertex = std::size_t(target.canvas->sourceVertex[t]);
+      result.nearest[meshVertex] = near.front();
+      for (std::size_t k = 0; k < sourceFields.size(); ++k) {
+        double sum = 0.0;
+        for (int s : near)
+          sum += (*sourceFields[k])[std::size_t(sourceMeshVertex[std::size_t(s)])];
+        result.sampled[k][meshVertex] = options.factor * sum / double(near.size());
+      }
     }
-  }
+  });
   return result;
 }
 
