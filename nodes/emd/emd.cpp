@@ -195,4 +195,26 @@ EmdResult empiricalModeDecomposition(const TriMesh& mesh, const std::vector<doub
   return result;
 }
 
+EmdResult empiricalModeDecomposition(const Canvas& canvas, const std::vector<double>& signal,
+                                     const EmdOptions& options) {
+  if (signal.size() != canvas.source->surface.n_vertices())
+    throw std::invalid_argument("the signal has " + std::to_string(signal.size()) +
+                                " values for the canvas' mesh of " +
+                                std::to_string(canvas.source->surface.n_vertices()) + " vertices");
+  std::vector<double> onCanvas;
+  for (int v : canvas.sourceVertex)
+    onCanvas.push_back(signal[std::size_t(v)]);
+  EmdResult part = empiricalModeDecomposition(canvas.surface, onCanvas, options);
+  const auto onMesh = [&](const std::vector<double>& values, std::vector<double> whole) {
+    for (std::size_t i = 0; i < values.size(); ++i)
+      whole[std::size_t(canvas.sourceVertex[i])] = values[i];
+    return whole;
+  };
+  EmdResult result = part;
+  for (std::size_t k = 0; k < part.modes.size(); ++k)
+    result.modes[k] = onMesh(part.modes[k], std::vector<double>(signal.size(), 0.0));
+  result.residue = onMesh(part.residue, signal);
+  return result;
+}
+
 }  // namespace geobrush

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "geobrush/mesh.hpp"
+#include "geobrush/canvas.hpp"
 
 namespace geobrush {
 
@@ -51,6 +51,13 @@ std::vector<int> localMinima(const TriMesh& mesh, const std::vector<double>& val
 // maxSift 1..1000, sdStop in (0, 1], and std::runtime_error when an envelope's system cannot be
 // factored.
 EmdResult empiricalModeDecomposition(const TriMesh& mesh, const std::vector<double>& signal,
+                                     const EmdOptions& options);
+
+// Eq. 2 on a canvas of the mesh `signal` lies on (one value per vertex of canvas.source): its
+// surface decomposed, the modes zero and the residue the signal off it; the result's columns are
+// per vertex of that mesh. Throws as above, and std::invalid_argument for a signal of another
+// length.
+EmdResult empiricalModeDecomposition(const Canvas& canvas, const std::vector<double>& signal,
                                      const EmdOptions& options);
 
 }  // namespace geobrush

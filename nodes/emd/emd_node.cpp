@@ -53,7 +53,6 @@ class EmdNode final : public geobrush::Node {
     const auto* signal = fields->find(name);
     if (!signal) throw NodeError::param("field", "input 'signal' has no field '" + name + "'");
 
-    // On a canvas, the decomposition runs on its surface; elsewhere the signal is all residue.
     std::shared_ptr<const Canvas> canvas;
     if (ctx.hasInput("parameterization")) {
       canvas = ctx.in<geobrush::Parameterization>("parameterization")->canvas;
@@ -63,16 +62,11 @@ class EmdNode final : public geobrush::Node {
                                "its canvas lies on another mesh than input "
                                "'mesh'");
     }
-    std::vector<double> values = *signal;
-    if (canvas) {
-      values.clear();
-      for (int v : canvas->sourceVertex)
-        values.push_back((*signal)[std::size_t(v)]);
-    }
     geobrush::EmdResult result;
     try {
-      result = geobrush::empiricalModeDecomposition(canvas ? canvas->surface : mesh->surface,
-                                                    values, optionsOf(ctx));
+      result = canvas
+                   ? geobrush::empiricalModeDecomposition(*canvas, *signal, optionsOf(ctx))
+                   : geobrush::empiricalModeDecomposition(mesh->surface, *signal, optionsOf(ctx));
     } catch (const std::out_of_range& e) {
       throw NodeError(e.what());
     } catch (const std::invalid_argument& e) {
@@ -86,16 +80,9 @@ class EmdNode final : public geobrush::Node {
 
     auto modes = std::make_shared<VertexFields>(*fields);
     modes->columns.clear();
-    const auto onMesh = [&](const std::vector<double>& part, bool residue) {
-      if (!canvas) return part;
-      std::vector<double> whole = residue ? *signal : std::vector<double>(signal->size(), 0.0);
-      for (std::size_t i = 0; i < part.size(); ++i)
-        whole[std::size_t(canvas->sourceVertex[i])] = part[i];
-      return whole;
-    };
     for (std::size_t k = 0; k < result.modes.size(); ++k)
-      modes->add(std::string("h").append(std::to_string(k + 1)), onMesh(result.modes[k], false));
-    modes->add("r", onMesh(result.residue, true));
+      modes->add(std::string("h").append(std::to_string(k + 1)), std::move(result.modes[k]));
+    modes->add("r", std::move(result.residue));
     ctx.out("modes", modes);
     ctx.out("report", report(result));
   }
