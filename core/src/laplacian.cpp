@@ -9,11 +9,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d pointAt(const TriMesh& mesh, TriMesh::VertexHandle v) {
-  const auto& p = mesh.point(v);
-  return {p[0], p[1], p[2]};
-}
-
 // cot of the angle at `apex` between the edges to a and b; 0 for a degenerate corner.
 double cotangent(const Eigen::Vector3d& apex, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const Eigen::Vector3d u = a - apex, w = b - apex;
@@ -44,7 +39,7 @@ Corners cornersOf(const TriMesh& mesh, TriMesh::FaceHandle face) {
   int k = 0;
   for (auto v : mesh.fv_range(face)) {
     corners.id[k] = v.idx();
-    corners.point[k++] = pointAt(mesh, v);
+    corners.point[k++] = pointOf(mesh, v);
   }
   return corners;
 }
@@ -132,7 +127,7 @@ std::string LaplacianSystem::summary() const {
 Eigen::MatrixX3d pointMatrix(const TriMesh& mesh) {
   Eigen::MatrixX3d points(Eigen::Index(mesh.n_vertices()), 3);
   for (auto v : mesh.vertices())
-    points.row(v.idx()) = pointAt(mesh, v).transpose();
+    points.row(v.idx()) = pointOf(mesh, v).transpose();
   return points;
 }
 

@@ -10,11 +10,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d pointAt(const TriMesh& mesh, TriMesh::VertexHandle v) {
-  const auto& p = mesh.point(v);
-  return {p[0], p[1], p[2]};
-}
-
 // The canvas' harmonic surface over its boundary loop in the metric of the (u, v) domain: L B = 0
 // inside, L the cotangent Laplacian of the canvas laid flat at its (u, v). It reproduces
 // functions linear in (u, v), so a flat canvas is its own base and each base point lies under
@@ -101,8 +96,8 @@ AdditiveDraft additiveDraft(const Parameterization& source, const Parameterizati
   result.draft = surface;
   for (auto v : surface.vertices()) {
     const std::size_t i = std::size_t(v.idx());
-    const Frame from = frameAt(pointAt(result.base, v), baseNormals[i], source.origin.uAxis);
-    const Eigen::Vector3d detail = pointAt(surface, v) - from.point;
+    const Frame from = frameAt(pointOf(result.base, v), baseNormals[i], source.origin.uAxis);
+    const Eigen::Vector3d detail = pointOf(surface, v) - from.point;
     result.largestDetail = std::max(result.largestDetail, detail.norm());
     const DomainHit hit = targetLocator.locate(source.uv[i]);
     const Frame to =

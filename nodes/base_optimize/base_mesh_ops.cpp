@@ -145,11 +145,6 @@ double faceAspect(const TriMesh& mesh, TriMesh::FaceHandle f) {
 
 }  // namespace
 
-Eigen::Vector3d pointOf(const TriMesh& mesh, TriMesh::VertexHandle v) {
-  const auto& p = mesh.point(v);
-  return {p[0], p[1], p[2]};
-}
-
 double edgeLength(const TriMesh& mesh, TriMesh::EdgeHandle e) {
   const auto h = mesh.halfedge_handle(e, 0);
   return (pointOf(mesh, mesh.to_vertex_handle(h)) - pointOf(mesh, mesh.from_vertex_handle(h)))

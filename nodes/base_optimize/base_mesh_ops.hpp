@@ -12,7 +12,6 @@
 
 namespace geobrush {
 
-Eigen::Vector3d pointOf(const TriMesh& mesh, TriMesh::VertexHandle v);
 double edgeLength(const TriMesh& mesh, TriMesh::EdgeHandle e);
 
 // The smallest interior angle over the faces, in degrees (0 for a degenerate face).

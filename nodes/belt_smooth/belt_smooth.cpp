@@ -74,11 +74,6 @@ std::vector<int> seamFacesAround(const TriMesh& mesh, const std::vector<std::uin
   return faces;
 }
 
-Eigen::Vector3d pointAt(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 }  // namespace
 
 BeltSmoothResult smoothBelt(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
@@ -97,10 +92,10 @@ BeltSmoothResult smoothBelt(const TriMesh& mesh, const std::vector<std::uint8_t>
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       int count = 0;
       for (auto w : result.mesh.vv_range(TriMesh::VertexHandle(moving[i]))) {
-        mean += pointAt(result.mesh, w.idx());
+        mean += pointOf(result.mesh, w.idx());
         ++count;
       }
-      const Eigen::Vector3d p = pointAt(result.mesh, moving[i]);
+      const Eigen::Vector3d p = pointOf(result.mesh, moving[i]);
       next[i] = count > 0 ? Eigen::Vector3d(p + options.lambda * (mean / count - p)) : p;
     }
     for (std::size_t i = 0; i < moving.size(); ++i)

@@ -12,11 +12,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-Vector3d pointOf(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 void checkParameterization(const ParameterizationPtr& p, const std::string& port) {
   if (!p || !p->canvas || p->uv.size() != p->canvas->surface.n_vertices())
     throw DetailEncodeError(port, "the parameterization does not match its canvas");

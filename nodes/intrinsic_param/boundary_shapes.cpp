@@ -16,11 +16,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-Vector3d pointOf(const TriMesh& mesh, TriMesh::VertexHandle v) {
-  const auto& p = mesh.point(v);
-  return {p[0], p[1], p[2]};
-}
-
 double cross2(const Vector2d& a, const Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }

@@ -16,11 +16,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-Vector3d pointOf(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // F's boundary loop must be the surface's only one.
 void checkFeature(const Canvas& feature) {
   const TriMesh& surface = feature.surface;

@@ -58,7 +58,7 @@ std::vector<std::array<int, 3>> faces(const TriMesh& mesh) {
   return result;
 }
 
-Vec3d pointOf(const TriMesh& mesh, int index) {
+Vec3d pointVec(const TriMesh& mesh, int index) {
   return mesh.point(TriMesh::VertexHandle(index));
 }
 
@@ -135,7 +135,7 @@ TEST(MeshIo, KeepsTheDecimalValuesOfTheFileExactly) {
   }
   double x = 0, y = 0, z = 0;
   ASSERT_EQ(std::sscanf(line.c_str(), "v %lf %lf %lf", &x, &y, &z), 3) << line;
-  const Vec3d p = pointOf(mesh->surface, 0);
+  const Vec3d p = pointVec(mesh->surface, 0);
   EXPECT_EQ(p[0], x);
   EXPECT_EQ(p[1], y);
   EXPECT_EQ(p[2], z);
@@ -150,7 +150,7 @@ TEST(MeshIo, ReadsATetrahedronInFileOrder) {
   EXPECT_TRUE(result.warnings.empty());
   const TriMesh& mesh = result.mesh->surface;
   ASSERT_EQ(mesh.n_vertices(), 4u);
-  EXPECT_EQ(pointOf(mesh, 3), Vec3d(0, 0, 1));
+  EXPECT_EQ(pointVec(mesh, 3), Vec3d(0, 0, 1));
   EXPECT_EQ(faces(mesh),
             (std::vector<std::array<int, 3>>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}));
   const MeshStats stats = meshStats(mesh);
@@ -261,9 +261,9 @@ TEST(MeshIo, RefusesNonManifoldEdgesUnlessRepaired) {
   EXPECT_TRUE(mesh.status(split).fixed_nonmanifold());
   EXPECT_FALSE(mesh.status(TriMesh::FaceHandle(0)).fixed_nonmanifold());
   EXPECT_EQ(faces(mesh)[2], (std::array<int, 3>{5, 6, 7}));
-  EXPECT_EQ(pointOf(mesh, 5), pointOf(mesh, 0));
-  EXPECT_EQ(pointOf(mesh, 6), pointOf(mesh, 1));
-  EXPECT_EQ(pointOf(mesh, 7), pointOf(mesh, 4));
+  EXPECT_EQ(pointVec(mesh, 5), pointVec(mesh, 0));
+  EXPECT_EQ(pointVec(mesh, 6), pointVec(mesh, 1));
+  EXPECT_EQ(pointVec(mesh, 7), pointVec(mesh, 4));
   EXPECT_EQ(meshStats(mesh).components, 2u);
 }
 
@@ -402,7 +402,7 @@ TEST(MeshIo, ObjRoundTripIsBitExact) {
   EXPECT_TRUE(back.warnings.empty());
   ASSERT_EQ(back.mesh->surface.n_vertices(), 4u);
   for (int i = 0; i < 4; ++i) {
-    const Vec3d a = pointOf(original.surface, i), b = pointOf(back.mesh->surface, i);
+    const Vec3d a = pointVec(original.surface, i), b = pointVec(back.mesh->surface, i);
     for (int k = 0; k < 3; ++k) {
       EXPECT_EQ(std::signbit(a[k]), std::signbit(b[k]));
       EXPECT_EQ(a[k], b[k]) << "vertex " << i << " axis " << k;
@@ -430,7 +430,7 @@ TEST_P(MeshIoFloatRoundTrip, GivesEachCoordinateAsItsNearestFloat) {
   EXPECT_TRUE(back.warnings.empty());
   ASSERT_EQ(back.mesh->surface.n_vertices(), 4u);
   for (int i = 0; i < 4; ++i) {
-    const Vec3d a = pointOf(original.surface, i), b = pointOf(back.mesh->surface, i);
+    const Vec3d a = pointVec(original.surface, i), b = pointVec(back.mesh->surface, i);
     for (int k = 0; k < 3; ++k)
       EXPECT_EQ(b[k], double(float(a[k]))) << i << " " << k;
   }
@@ -458,7 +458,7 @@ TEST(MeshIo, StlRoundTripKeepsEveryTriangleAsFloats) {
   const auto before = faces(original.surface), after = faces(mesh);
   for (std::size_t f = 0; f < 4; ++f) {
     for (int c = 0; c < 3; ++c) {
-      const Vec3d a = pointOf(original.surface, before[f][c]), b = pointOf(mesh, after[f][c]);
+      const Vec3d a = pointVec(original.surface, before[f][c]), b = pointVec(mesh, after[f][c]);
       for (int k = 0; k < 3; ++k)
         EXPECT_EQ(b[k], double(float(a[k]))) << f << " " << c;
     }
@@ -582,7 +582,7 @@ TEST(MeshValue, HashFollowsPointsFacesAndColours) {
   // Same triangles, listed in another order.
   TriMesh reordered;
   for (int i = 0; i < 4; ++i)
-    reordered.add_vertex(pointOf(a.surface, i));
+    reordered.add_vertex(pointVec(a.surface, i));
   const auto f = faces(a.surface);
   for (int i : {1, 0, 2, 3}) {
     reordered.add_face(TriMesh::VertexHandle(f[i][0]), TriMesh::VertexHandle(f[i][1]),

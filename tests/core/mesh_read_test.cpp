@@ -33,7 +33,7 @@ std::string readError(const fs::path& path) {
   return "";
 }
 
-Vec3d pointOf(const TriMesh& mesh, int index) {
+Vec3d pointVec(const TriMesh& mesh, int index) {
   return mesh.point(TriMesh::VertexHandle(index));
 }
 
@@ -73,7 +73,7 @@ TEST(PlyReader, ReadsAsciiWithOtherPropertiesAndElementsSkipped) {
   EXPECT_TRUE(result.warnings.empty());
   EXPECT_EQ(test::faceIndices(result.mesh->surface), kTetrahedronFaces);
   // Doubles are kept as doubles.
-  EXPECT_EQ(pointOf(result.mesh->surface, 3), Vec3d(0.1, 0, 1e-30));
+  EXPECT_EQ(pointVec(result.mesh->surface, 3), Vec3d(0.1, 0, 1e-30));
 }
 
 TEST(PlyReader, ReadsBinaryOfEitherByteOrder) {
@@ -93,7 +93,7 @@ TEST(PlyReader, ReadsBinaryOfEitherByteOrder) {
     const auto result = readMesh(path);
     EXPECT_TRUE(result.warnings.empty());
     EXPECT_EQ(test::faceIndices(result.mesh->surface), kTetrahedronFaces) << format;
-    EXPECT_EQ(pointOf(result.mesh->surface, 3), Vec3d(double(0.1f), 0, 1)) << format;
+    EXPECT_EQ(pointVec(result.mesh->surface, 3), Vec3d(double(0.1f), 0, 1)) << format;
   }
 }
 
@@ -129,7 +129,7 @@ TEST(OffReader, ReadsVariantsCommentsAndCountsOnTheKeywordLine) {
   const auto result = readMesh(path);
   EXPECT_TRUE(result.warnings.empty());
   EXPECT_EQ(test::faceIndices(result.mesh->surface), kTetrahedronFaces);
-  EXPECT_EQ(pointOf(result.mesh->surface, 3), Vec3d(double(0.1f), 0, 1));
+  EXPECT_EQ(pointVec(result.mesh->surface, 3), Vec3d(double(0.1f), 0, 1));
 }
 
 TEST(OffReader, ReadsBinary) {
@@ -143,7 +143,7 @@ TEST(OffReader, ReadsBinary) {
   const auto path = writeFile(dir / "tet.off", "COFF BINARY\n" + body);
   const auto result = readMesh(path);
   EXPECT_EQ(test::faceIndices(result.mesh->surface), kTetrahedronFaces);
-  EXPECT_EQ(pointOf(result.mesh->surface, 3), Vec3d(double(0.1f), 0, 1));
+  EXPECT_EQ(pointVec(result.mesh->surface, 3), Vec3d(double(0.1f), 0, 1));
   const auto cut = writeFile(dir / "cut.off", "OFF BINARY\n" + body.substr(0, 40));
   EXPECT_TRUE(test::contains(readError(cut), "declares 4 vertices and 4 faces, which do not fit"));
 }

@@ -20,11 +20,6 @@ double bump(double x, double y) {
   return 0.3 * std::exp(-6 * (x * x + y * y));
 }
 
-Vector3d pointAt(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // A bump on a plane added to a flat target: the draft is the bump itself (its base is the plane
 // under it); to a tilted plane at half scale, the bump at half size along the tilted normal.
 TEST(AdditiveDraft, AddsTheSourcesBumpAlongTheTargetsNormal) {
@@ -35,7 +30,7 @@ TEST(AdditiveDraft, AddsTheSourcesBumpAlongTheTargetsNormal) {
   const AdditiveDraft same = additiveDraft(*source, *onFlat, {});
   const TriMesh& canvas = source->canvas->surface;
   for (auto v : canvas.vertices())
-    EXPECT_LT((pointAt(same.draft, v.idx()) - pointAt(canvas, v.idx())).norm(), 0.02 * 0.3)
+    EXPECT_LT((pointOf(same.draft, v.idx()) - pointOf(canvas, v.idx())).norm(), 0.02 * 0.3)
         << v.idx();
   EXPECT_NEAR(same.largestDetail, 0.3, 0.02);
   // The base is the plane under the bump.
@@ -55,9 +50,9 @@ TEST(AdditiveDraft, AddsTheSourcesBumpAlongTheTargetsNormal) {
   tilted->origin.uAxis = tilt * Vector3d::UnitX();
   const AdditiveDraft half = additiveDraft(*source, *tilted, {});
   for (auto v : canvas.vertices()) {
-    const Vector3d p = pointAt(canvas, v.idx());
+    const Vector3d p = pointOf(canvas, v.idx());
     const Vector3d expected = tilt * Vector3d(0.5 * p.x(), 0.5 * p.y(), 0.5 * bump(p.x(), p.y()));
-    EXPECT_LT((pointAt(half.draft, v.idx()) - expected).norm(), 0.02 * 0.3) << v.idx();
+    EXPECT_LT((pointOf(half.draft, v.idx()) - expected).norm(), 0.02 * 0.3) << v.idx();
   }
   // Gain 0 lays the canvas onto the target's surface.
   const AdditiveDraft none = additiveDraft(*source, *onFlat, {.gain = 0.0});

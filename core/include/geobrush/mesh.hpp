@@ -5,6 +5,8 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include <Eigen/Core>
+
 #include <array>
 #include <vector>
 
@@ -46,6 +48,15 @@ class Mesh final : public Value {
 };
 
 using MeshPtr = std::shared_ptr<const Mesh>;
+
+// A vertex's point as an Eigen vector.
+inline Eigen::Vector3d pointOf(const TriMesh& mesh, TriMesh::VertexHandle v) {
+  const auto& p = mesh.point(v);
+  return {p[0], p[1], p[2]};
+}
+inline Eigen::Vector3d pointOf(const TriMesh& mesh, int v) {
+  return pointOf(mesh, TriMesh::VertexHandle(v));
+}
 
 // The length of the diagonal of the mesh's axis-aligned bounding box; 0 for a mesh without
 // vertices. What tolerances relative to a mesh's size are measured in.
