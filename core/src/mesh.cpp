@@ -4,19 +4,25 @@
 
 #include <string>
 
+#include "mesh_hash.hpp"
+
 namespace geobrush {
+
+void hashGeometry(Hasher& hasher, const TriMesh& mesh) {
+  hasher.u64(mesh.n_vertices());
+  for (auto vertex : mesh.vertices()) {
+    const auto& point = mesh.point(vertex);
+    hasher.f64(point[0]).f64(point[1]).f64(point[2]);
+  }
+  hasher.u64(mesh.n_faces());
+  for (auto face : mesh.faces())
+    for (auto vertex : mesh.fv_range(face))
+      hasher.u64(std::uint64_t(vertex.idx()));
+}
 
 Hash Mesh::contentHash() const {
   Hasher hasher;
-  hasher.str(kTypeId).u64(surface.n_vertices());
-  for (auto vertex : surface.vertices()) {
-    const auto& point = surface.point(vertex);
-    hasher.f64(point[0]).f64(point[1]).f64(point[2]);
-  }
-  hasher.u64(surface.n_faces());
-  for (auto face : surface.faces())
-    for (auto vertex : surface.fv_range(face))
-      hasher.u64(std::uint64_t(vertex.idx()));
+  hashGeometry(hasher.str(kTypeId), surface);
   hasher.u64(vertexColors.size());
   for (const Rgb& color : vertexColors)
     hasher.f64(color[0]).f64(color[1]).f64(color[2]);

@@ -2,19 +2,13 @@
 
 #include <stdexcept>
 
+#include "mesh_hash.hpp"
+
 namespace geobrush {
 
 Hash geometryHash(const TriMesh& mesh) {
   Hasher hasher;
-  hasher.str("geometry").u64(mesh.n_vertices());
-  for (auto vertex : mesh.vertices()) {
-    const auto& point = mesh.point(vertex);
-    hasher.f64(point[0]).f64(point[1]).f64(point[2]);
-  }
-  hasher.u64(mesh.n_faces());
-  for (auto face : mesh.faces())
-    for (auto vertex : mesh.fv_range(face))
-      hasher.u64(std::uint64_t(vertex.idx()));
+  hashGeometry(hasher.str("geometry"), mesh);
   return hasher.digest();
 }
 
@@ -65,6 +59,14 @@ std::vector<std::string> VertexFields::names() const {
   std::vector<std::string> result;
   for (const auto& column : columns)
     result.push_back(column.first);
+  return result;
+}
+
+std::vector<std::string> VertexFields::modeNames() const {
+  std::vector<std::string> result;
+  for (std::string name = "h1"; find(name);
+       name = std::string("h").append(std::to_string(result.size() + 1)))
+    result.push_back(name);
   return result;
 }
 

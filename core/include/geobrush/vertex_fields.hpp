@@ -38,6 +38,8 @@ class VertexFields final : public Value {
   const std::vector<double>& column(std::string_view name) const;
   // The names of the columns, in the order they were added.
   std::vector<std::string> names() const;
+  // The intrinsic modes' names (emd's h1, h2, ...), from h1 on as far as they run.
+  std::vector<std::string> modeNames() const;
   // Empty when the fields belong to `mesh`; else why not ("computed on a mesh of 100 vertices,
   // this one has 120", "same vertex count, other geometry").
   std::string mismatch(const TriMesh& mesh) const;
