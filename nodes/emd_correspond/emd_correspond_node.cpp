@@ -1,5 +1,3 @@
-#include <algorithm>
-#include <cctype>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -17,19 +15,6 @@ using geobrush::Parameterization;
 using geobrush::Region2D;
 using geobrush::VertexFields;
 
-// The intrinsic modes h1, h2, ... of `fields`: what transfers (never the residue).
-std::vector<std::string> modeNames(const VertexFields& fields) {
-  const auto isMode = [](const std::string& name) {
-    return name.size() >= 2 && name[0] == 'h' && name[1] != '0' &&
-           std::all_of(name.begin() + 1, name.end(),
-                       [](unsigned char c) { return std::isdigit(c); });
-  };
-  std::vector<std::string> names;
-  for (const auto& name : fields.names())
-    if (isMode(name)) names.push_back(name);
-  return names;
-}
-
 class EmdCorrespondNode final : public geobrush::Node {
  public:
   void compute(geobrush::Context& ctx) override {
@@ -39,7 +24,7 @@ class EmdCorrespondNode final : public geobrush::Node {
     const auto modes = ctx.in<VertexFields>("source_modes");
     if (const std::string why = modes->mismatch(source->canvas->source->surface); !why.empty())
       throw NodeError::input("source_modes", why + " (the mesh of input 'source')");
-    const std::vector<std::string> names = modeNames(*modes);
+    const std::vector<std::string> names = modes->modeNames();
     if (names.empty())
       throw NodeError::input("source_modes", "it has no intrinsic modes (fields h1, h2, ...)");
     std::vector<const std::vector<double>*> columns;

@@ -15,8 +15,8 @@ using geobrush::VertexFields;
 // The columns h1, h2, ... of `fields`, in order.
 std::vector<const std::vector<double>*> modesOf(const VertexFields& fields) {
   std::vector<const std::vector<double>*> modes;
-  while (const auto* mode = fields.find(std::string("h").append(std::to_string(modes.size() + 1))))
-    modes.push_back(mode);
+  for (const auto& name : fields.modeNames())
+    modes.push_back(&fields.column(name));
   return modes;
 }
 
