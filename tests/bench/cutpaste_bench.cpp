@@ -18,35 +18,13 @@
 namespace geobrush {
 namespace {
 
-// A method's template with a 280^2 relief plane as the source (a painted feature of about 5k
-// vertices) and a geodesic sphere of `sphereResolution` (10 r^2 + 2 vertices) as the target.
-Graph methodGraph(const std::string& method, int sphereResolution) {
-  Graph graph = readMethod(method, defaultMethodDirs(), test::registry());
-  graph.nodes["source_mesh"] = GraphNode{"geobrush.primitive",
-                                         1,
-                                         {{"shape", std::string("plane")},
-                                          {"size", 2.0},
-                                          {"resolution", std::int64_t(280)},
-                                          {"relief", 0.02}}};
-  graph.nodes["target_mesh"] =
-      GraphNode{"geobrush.primitive",
-                1,
-                {{"shape", std::string("sphere")}, {"resolution", std::int64_t(sphereResolution)}}};
-  graph.nodes.at("source_canvas").params = {{"origin", Vec3{0, 0, 0}},
-                                            {"dabs", std::vector<double>{0, 0, 0, 0.45}}};
-  graph.nodes.at("strokes").params = {{"dabs", std::vector<double>{0, 0, 0.285, 1}}};
-  graph.nodes.at("target_map").params = {{"origin", Vec3{0, 0, 1}}, {"scale", 0.3}};
-  prepareGraph(graph, test::registry());
-  return graph;
-}
-
 // Argument 0: the method (0 geobrush, 1 cutpaste); argument 1: the sphere's resolution. 60 moves
 // of 0.004 rad along the sphere; counters: the median, 90th percentile and largest move, the
 // nodes' mean times, the feature's and the target's vertices.
 void BM_TargetMoveMethod(benchmark::State& state) {
   const std::string method = state.range(0) == 0 ? "geobrush" : "cutpaste";
   const std::string result = state.range(0) == 0 ? "stitch" : "gap";
-  Graph graph = methodGraph(method, int(state.range(1)));
+  Graph graph = bench::proceduralClone(method, int(state.range(1)), 0.285, 0.3);
   Evaluator evaluator(test::registry());
   EvalOptions options;
   options.targets = {result};

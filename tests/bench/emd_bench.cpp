@@ -20,11 +20,10 @@ namespace geobrush {
 namespace {
 
 MeshPtr primitive(const ParamMap& params) {
-  const NodeType* type = test::registry().find("geobrush.primitive");
   Graph graph;
   graph.nodes["mesh"] = GraphNode{"geobrush.primitive", 1, params};
   Evaluator evaluator(test::registry());
-  if (!evaluator.evaluate(graph).ok || !type) return nullptr;
+  if (!evaluator.evaluate(graph).ok) return nullptr;
   return std::dynamic_pointer_cast<const Mesh>(evaluator.output("mesh", "mesh"));
 }
 
@@ -57,23 +56,7 @@ void BM_EmdDecomposition(benchmark::State& state) {
 // The emd method with a relief plane as the source and a geodesic sphere of resolution 150
 // (225,002 vertices) as the target, the painted region about 20k of its vertices.
 Graph emdGraph() {
-  Graph graph = readMethod("emd", defaultMethodDirs(), test::registry());
-  graph.nodes["source_mesh"] = GraphNode{"geobrush.primitive",
-                                         1,
-                                         {{"shape", std::string("plane")},
-                                          {"size", 2.0},
-                                          {"resolution", std::int64_t(280)},
-                                          {"relief", 0.02}}};
-  graph.nodes["target_mesh"] =
-      GraphNode{"geobrush.primitive",
-                1,
-                {{"shape", std::string("sphere")}, {"resolution", std::int64_t(150)}}};
-  graph.nodes.at("source_canvas").params = {{"origin", Vec3{0, 0, 0}},
-                                            {"dabs", std::vector<double>{0, 0, 0, 0.45}}};
-  graph.nodes.at("strokes").params = {{"dabs", std::vector<double>{0, 0, 0.4, 1}}};
-  graph.nodes.at("target_map").params = {{"origin", Vec3{0, 0, 1}}, {"scale", 1.5}};
-  prepareGraph(graph, test::registry());
-  return graph;
+  return bench::proceduralClone("emd", 150, 0.4, 1.5);
 }
 
 // Argument 0: the edit (0: a gain of the equalizer moved, 1: a dab painted, moving along the

@@ -1,5 +1,6 @@
-// Timing a graph's re-evaluations after edits through one evaluator, as an artist's drags and
-// dabs re-evaluate it: each edit's wall time and the nodes' own times, as benchmark counters.
+// Benchmarks that edit a clone graph as an artist does: the method templates on procedural
+// meshes, and each edit's re-evaluation timed through one evaluator (its wall time and the
+// nodes' own times, as benchmark counters).
 #pragma once
 
 #include <benchmark/benchmark.h>
@@ -10,10 +11,37 @@
 #include <string>
 #include <vector>
 
+#include "geobrush/clone.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
+#include "test_support.hpp"
 
 namespace geobrush::bench {
+
+// A clone method's template (graphs/methods) on procedural meshes: a 280^2 relief plane as the
+// source, its canvas of radius 0.45 around the origin, and a geodesic sphere of
+// `sphereResolution` (10 r^2 + 2 vertices) as the target at (0, 0, 1); a region of radius
+// `strokeRadius` in the domain, pasted at `scale`.
+inline Graph proceduralClone(const std::string& method, int sphereResolution, double strokeRadius,
+                             double scale) {
+  Graph graph = readMethod(method, defaultMethodDirs(), test::registry());
+  graph.nodes["source_mesh"] = GraphNode{"geobrush.primitive",
+                                         1,
+                                         {{"shape", std::string("plane")},
+                                          {"size", 2.0},
+                                          {"resolution", std::int64_t(280)},
+                                          {"relief", 0.02}}};
+  graph.nodes["target_mesh"] =
+      GraphNode{"geobrush.primitive",
+                1,
+                {{"shape", std::string("sphere")}, {"resolution", std::int64_t(sphereResolution)}}};
+  graph.nodes.at("source_canvas").params = {{"origin", Vec3{0, 0, 0}},
+                                            {"dabs", std::vector<double>{0, 0, 0, 0.45}}};
+  graph.nodes.at("strokes").params = {{"dabs", std::vector<double>{0, 0, strokeRadius, 1}}};
+  graph.nodes.at("target_map").params = {{"origin", Vec3{0, 0, 1}}, {"scale", scale}};
+  prepareGraph(graph, test::registry());
+  return graph;
+}
 
 class EditTimer {
  public:
