@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "atomic_file.hpp"
+#include "geobrush/derived_store.hpp"
 #include "geobrush/node.hpp"
 #include "geobrush/registry.hpp"
 #include "geobrush/text.hpp"
@@ -19,6 +20,7 @@ namespace geobrush {
 namespace {
 
 using Outputs = std::map<std::string, ValuePtr>;
+using InputKeys = std::map<std::string, Hash, std::less<>>;
 
 std::filesystem::path resolvePath(const std::string& text, const std::filesystem::path& base) {
   if (text.empty()) return {};
@@ -76,6 +78,13 @@ SourceIndex indexSources(const Graph& graph) {
   return sources;
 }
 
+std::vector<std::string> inputNames(const NodeType& type) {
+  std::vector<std::string> names;
+  for (const auto& port : type.inputs)
+    names.push_back(port.name);
+  return names;
+}
+
 const Endpoint* findSource(const SourceIndex& sources, const std::string& node,
                            const std::string& port) {
   auto it = sources.find({node, port});
@@ -93,13 +102,15 @@ class EvalContext final : public Context {
   // `preparing`: the context of Node::prepare, which runs off the evaluating thread: no outputs,
   // no files, no progress reports.
   EvalContext(const NodeType& type, const GraphNode& node, const std::string& name,
-              const Outputs& inputs, const std::filesystem::path& baseDir,
-              const std::filesystem::path& outputDir, const EvalOptions& options,
-              bool preparing = false)
+              const Outputs& inputs, InputKeys inputKeys, DerivedStore& derived,
+              const std::filesystem::path& baseDir, const std::filesystem::path& outputDir,
+              const EvalOptions& options, bool preparing = false)
       : type_(type),
         node_(node),
         name_(name),
         inputs_(inputs),
+        inputKeys_(std::move(inputKeys)),
+        derived_(derived),
         baseDir_(baseDir),
         outputDir_(outputDir),
         options_(options),
@@ -180,12 +191,25 @@ class EvalContext final : public Context {
     if (!decl) throw NodeError::param(name, "'" + type_.id + "' declares no such parameter");
     return effectiveParam(node_, *decl);
   }
+  Hash inputKey(std::string_view port) const override {
+    if (!type_.findInput(port))
+      throw NodeError::input(port, "'" + type_.id + "' declares no such input");
+    auto it = inputKeys_.find(port);
+    return it == inputKeys_.end() ? 0 : it->second;
+  }
+  std::shared_ptr<const void> derivedValue(
+      Hash key, const std::vector<ValuePtr>& derivedFrom,
+      const std::function<std::shared_ptr<const void>()>& build) override {
+    return derived_.get(key, derivedFrom, build);
+  }
 
  private:
   const NodeType& type_;
   const GraphNode& node_;
   const std::string& name_;
   const Outputs& inputs_;
+  InputKeys inputKeys_;
+  DerivedStore& derived_;
   std::filesystem::path baseDir_;
   std::filesystem::path outputDir_;
   const EvalOptions& options_;
@@ -288,6 +312,7 @@ struct Evaluator::Impl {
   std::unordered_map<Hash, Entry> cache;
   std::map<std::string, Instance> instances;
   std::map<std::string, Outputs> lastOutputs;
+  DerivedStore derived;
   std::uint64_t generation = 0;
 
   explicit Impl(const NodeRegistry& r) : registry(r) {}
@@ -313,6 +338,15 @@ Evaluator::~Evaluator() = default;
 void Evaluator::clearCache() {
   impl_->cache.clear();
   impl_->instances.clear();
+  impl_->derived.clear();
+}
+
+std::uint64_t Evaluator::derivedBuildCount() const {
+  return impl_->derived.builds();
+}
+
+std::size_t Evaluator::derivedHeld() const {
+  return impl_->derived.size();
 }
 
 ValuePtr Evaluator::output(const std::string& node, const std::string& port) const {
@@ -362,6 +396,7 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
   EvalReport report;
   Impl& impl = *impl_;
   const std::uint64_t generation = ++impl.generation;
+  impl.derived.nextGeneration();
 
   std::map<std::string, Hash> keys;
   std::vector<std::string> order;
@@ -413,6 +448,14 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     auto hit = impl.cache.find(key);
     return hit != impl.cache.end() && !(options.settle && hit->second.history);
   };
+  // The key of the value on each connected input port among `ports`: its node's key and port.
+  auto inputKeysOf = [&](const std::string& name, const std::vector<std::string>& ports) {
+    InputKeys inputKeys;
+    for (const auto& port : ports)
+      if (const Endpoint* from = findSource(sources, name, port))
+        inputKeys[port] = Hasher().u64(keys.at(from->node)).str(from->port).digest();
+    return inputKeys;
+  };
   std::map<std::string, Preparation> preparations;
   std::vector<std::string> waiting;  // preparing nodes not started yet, in evaluation order
   for (const auto& name : order) {
@@ -428,8 +471,9 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
     for (const auto& port : type.prepareInputs)
       if (const Endpoint* from = findSource(sources, stableName, port))
         preparation.inputs[port] = results.at(from->node).at(from->port);
-    preparation.context = std::make_unique<EvalContext>(type, node, stableName, preparation.inputs,
-                                                        baseDir, outputDir, options, true);
+    preparation.context = std::make_unique<EvalContext>(
+        type, node, stableName, preparation.inputs, inputKeysOf(stableName, type.prepareInputs),
+        impl.derived, baseDir, outputDir, options, true);
     Node& instance = impl.instance(stableName, type, options.settle);
     if (ahead) {
       try {
@@ -507,7 +551,8 @@ EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
       continue;
     }
 
-    EvalContext ctx(type, node, name, inputs, baseDir, outputDir, options);
+    EvalContext ctx(type, node, name, inputs, inputKeysOf(name, inputNames(type)), impl.derived,
+                    baseDir, outputDir, options);
     std::optional<Failure> failure;
     double preparedSeconds = 0;
     bool prepared = false;

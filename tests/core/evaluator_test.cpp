@@ -305,6 +305,47 @@ TEST(Evaluator, SettlingRecomputesWhatAWarmStartProducedWithFreshInstances) {
   EXPECT_EQ(evaluator.evaluate(graph, settle).computed(), 0);
 }
 
+// x ─┬─ first  (derived_square)
+//    └─ second (derived_square)
+TEST(Evaluator, DerivedDataIsKeyedByTheInputsItNamesAndSharedAndDropped) {
+  const auto dir = test::tempDir("eval-derived");
+  Graph graph = parseGraph(R"({
+    "format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {
+      "x": {"type": "test.number", "typeVersion": 1, "params": {"value": 3}},
+      "first": {"type": "test.derived_square", "typeVersion": 1},
+      "second": {"type": "test.derived_square", "typeVersion": 1, "params": {"gain": 2}}
+    },
+    "connections": [{"from": "x.value", "to": "first.in"}, {"from": "x.value", "to": "second.in"}]
+  })",
+                           dir / "g.json");
+  prepareGraph(graph, test::testNodeRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
+  ASSERT_TRUE(evaluator.evaluate(graph).ok);
+  EXPECT_EQ(scalar(evaluator, "first"), 3 + 9);
+  EXPECT_EQ(scalar(evaluator, "second"), 6 + 9);
+  EXPECT_EQ(evaluator.derivedBuildCount(), 1u);  // both nodes share it
+
+  // A param the derivation does not name: the node computes again, the square stays.
+  setParamFromText(graph, test::testNodeRegistry(), "first.gain=4");
+  ASSERT_TRUE(evaluator.evaluate(graph).ok);
+  EXPECT_EQ(scalar(evaluator, "first"), 12 + 9);
+  EXPECT_EQ(evaluator.derivedBuildCount(), 1u);
+
+  // A new input value: a new square; the old one goes once two evaluations have not used it.
+  setParamFromText(graph, test::testNodeRegistry(), "x.value=5");
+  ASSERT_TRUE(evaluator.evaluate(graph).ok);
+  EXPECT_EQ(scalar(evaluator, "second"), 10 + 25);
+  EXPECT_EQ(evaluator.derivedBuildCount(), 2u);
+  EXPECT_EQ(evaluator.derivedHeld(), 2u);
+  setParamFromText(graph, test::testNodeRegistry(), "first.gain=1");
+  ASSERT_TRUE(evaluator.evaluate(graph).ok);
+  EXPECT_EQ(evaluator.derivedHeld(), 1u);
+  EXPECT_EQ(evaluator.derivedBuildCount(), 2u);
+  evaluator.clearCache();
+  EXPECT_EQ(evaluator.derivedHeld(), 0u);
+}
+
 namespace {
 
 // a ─┬──────────── prep.a (read in prepare)

@@ -8,8 +8,9 @@ namespace geobrush::test {
 
 DirectContext::DirectContext(const NodeType& type,
                              std::map<std::string, ValuePtr, std::less<>> inputs,
-                             const ParamMap& params)
-    : inputs_(std::move(inputs)) {
+                             const ParamMap& params, std::shared_ptr<DerivedStore> derived)
+    : derived_(derived ? std::move(derived) : std::make_shared<DerivedStore>()),
+      inputs_(std::move(inputs)) {
   for (const auto& decl : type.params)
     params_[decl.name] = decl.defaultValue;
   for (const auto& [name, value] : params)
@@ -34,6 +35,17 @@ const ParamValue& DirectContext::paramValue(std::string_view name) const {
   const auto it = params_.find(name);
   if (it == params_.end()) throw NodeError::param(name, "is not declared");
   return it->second;
+}
+
+Hash DirectContext::inputKey(std::string_view port) const {
+  const ValuePtr value = inputValue(port);
+  return value ? value->contentHash() : 0;
+}
+
+std::shared_ptr<const void> DirectContext::derivedValue(
+    Hash key, const std::vector<ValuePtr>& derivedFrom,
+    const std::function<std::shared_ptr<const void>()>& build) {
+  return derived_->get(key, derivedFrom, build);
 }
 
 NodeRun runNode(const std::string& id, std::map<std::string, ValuePtr, std::less<>> inputs,

@@ -7,14 +7,17 @@
 #include <string>
 #include <vector>
 
+#include "geobrush/derived_store.hpp"
 #include "geobrush/node.hpp"
 
 namespace geobrush::test {
 
 class DirectContext final : public Context {
  public:
+  // `derived`: where Context::derived keeps its data; contexts that share one reuse what an
+  // earlier compute derived, as the evaluator's runs do. Null: a store of this context's own.
   DirectContext(const NodeType& type, std::map<std::string, ValuePtr, std::less<>> inputs,
-                const ParamMap& params = {});
+                const ParamMap& params = {}, std::shared_ptr<DerivedStore> derived = nullptr);
 
   std::filesystem::path path(std::string_view) const override { return {}; }
   void out(std::string_view port, ValuePtr value) override;
@@ -31,8 +34,14 @@ class DirectContext final : public Context {
  protected:
   ValuePtr inputValue(std::string_view port) const override;
   const ParamValue& paramValue(std::string_view name) const override;
+  // The content hash of the input: equal values, equal keys.
+  Hash inputKey(std::string_view port) const override;
+  std::shared_ptr<const void> derivedValue(
+      Hash key, const std::vector<ValuePtr>& derivedFrom,
+      const std::function<std::shared_ptr<const void>()>& build) override;
 
  private:
+  std::shared_ptr<DerivedStore> derived_;
   std::map<std::string, ValuePtr, std::less<>> inputs_;
   std::map<std::string, ParamValue, std::less<>> params_;
 };

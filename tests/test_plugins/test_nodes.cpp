@@ -25,6 +25,14 @@ void add(Context& ctx) {
   ctx.out("value", std::make_shared<Scalar>(sum));
 }
 
+// in * gain + the square of `in`, the square derived once per input value by the framework.
+void derivedSquare(Context& ctx) {
+  const auto in = ctx.in<Scalar>("in");
+  const auto square = ctx.derived("square", {"in"}, 0,
+                                  [&] { return std::make_shared<double>(in->value * in->value); });
+  ctx.out("value", std::make_shared<Scalar>(in->value * ctx.param<double>("gain") + *square));
+}
+
 void fail(Context& ctx) {
   const std::string how = ctx.param<std::string>("how");
   if (how == "node_error") throw NodeError::param("how", "asked to fail");
@@ -189,6 +197,13 @@ void registerNodes(PluginRegistrar& r) {
             .output<Scalar>("value", "The number.")
             .paramInputPath("path", "Text file holding one number.")
             .compute(readText)
+            .build());
+  r.add(NodeTypeBuilder("test.derived_square", 1)
+            .doc("Adds the square of its input, derived once per input value, to in * gain.")
+            .input<Scalar>("in", "x")
+            .output<Scalar>("value", "x gain + x^2")
+            .paramDouble("gain", 1.0, "gain")
+            .compute(derivedSquare)
             .build());
   r.add(NodeTypeBuilder("test.warm", 1)
             .doc("Passes its input through, off by 1e-9 when warm-started from a previous compute.")

@@ -77,6 +77,9 @@ class Evaluator {
 
   // Number of node computations (cache misses) since construction.
   std::uint64_t computeCount() const { return computeCount_; }
+  // Derived data (Context::derived) built since construction, and held now.
+  std::uint64_t derivedBuildCount() const;
+  std::size_t derivedHeld() const;
   void clearCache();
 
  private:

@@ -3,13 +3,16 @@
 
 #include <filesystem>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <typeinfo>
 #include <vector>
 
+#include "geobrush/hash.hpp"
 #include "geobrush/param.hpp"
 #include "geobrush/value.hpp"
 
@@ -85,9 +88,40 @@ class Context {
   virtual void writeFile(const std::filesystem::path& path,
                          const std::function<void(const std::filesystem::path& tmp)>& write) = 0;
 
+  // Data derived from some of the inputs that costs more than a compute should repeat (a
+  // locator, a factorization, coordinates): the framework keeps it while evaluations use it,
+  // keyed by `what` (names the derivation: equal names build equal data), the framework's keys of
+  // the values on `ports`, and `extra` (the params the derivation reads), and calls `build`
+  // where it has none. Nodes of any type asking for the same key share one copy. `build` returns
+  // a std::shared_ptr<const T> (or <T>); it may refer into the values on `ports`, which live as
+  // long as the entry.
+  template <typename Build>
+  auto derived(std::string_view what, std::initializer_list<std::string_view> ports, Hash extra,
+               const Build& build) {
+    using Made = decltype(build());
+    using T = std::add_const_t<typename Made::element_type>;
+    Hasher key;
+    key.str(typeid(T).name()).str(what).u64(extra);
+    std::vector<ValuePtr> from;
+    for (std::string_view port : ports) {
+      key.u64(inputKey(port));
+      from.push_back(inputValue(port));
+    }
+    const auto made = derivedValue(key.digest(), from, [&]() -> std::shared_ptr<const void> {
+      return std::shared_ptr<T>(build());
+    });
+    return std::static_pointer_cast<T>(made);
+  }
+
  protected:
   virtual ValuePtr inputValue(std::string_view port) const = 0;
   virtual const ParamValue& paramValue(std::string_view name) const = 0;
+  // The framework's key of the value on an input port: equal keys mean equal values. 0 where the
+  // port is unconnected.
+  virtual Hash inputKey(std::string_view port) const = 0;
+  virtual std::shared_ptr<const void> derivedValue(
+      Hash key, const std::vector<ValuePtr>& derivedFrom,
+      const std::function<std::shared_ptr<const void>()>& build) = 0;
 };
 
 template <typename T>
@@ -100,9 +134,9 @@ T Context::param(std::string_view name) const {
   }
 }
 
-// One node instance in a graph; may keep state between evaluations (e.g. a
-// warm start), but its outputs must depend only on its inputs and params,
-// up to the tolerance of an iterative solve that starts from that state.
+// One node instance in a graph. Its outputs depend on its inputs and params alone: after any
+// history of computes they equal a fresh instance's, bit for bit. Data derived from inputs
+// belongs in Context::derived, not in the node (core/DESIGN.md).
 class Node {
  public:
   virtual ~Node() = default;
@@ -113,9 +147,10 @@ class Node {
   // write files; its warnings are the node's, and what it throws is the node's failure.
   virtual void prepare(Context&) {}
   virtual void compute(Context& ctx) = 0;
-  // True when the last compute() started from state left by earlier ones (a warm start), so
-  // that its outputs may differ from a fresh instance's within the node's tolerance. The
-  // evaluator recomputes such outputs with a fresh instance when asked to settle.
+  // For node types outside this repository that warm-start: true when the last compute()
+  // started from state left by earlier ones, so that its outputs may differ from a fresh
+  // instance's within the node's tolerance. The evaluator recomputes such outputs with a fresh
+  // instance when asked to settle.
   virtual bool usedHistory() const { return false; }
 };
 

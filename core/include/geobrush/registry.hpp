@@ -15,7 +15,7 @@ namespace geobrush {
 
 // Bumped whenever the node API or a value type changes layout; plugins built
 // against another number are refused.
-inline constexpr int kPluginAbiVersion = 3;
+inline constexpr int kPluginAbiVersion = 4;
 
 class RegistryError : public std::runtime_error {
   using std::runtime_error::runtime_error;

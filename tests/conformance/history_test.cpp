@@ -1,0 +1,120 @@
+// Nodes hold no state that changes their results: an evaluator taken through a history of edits
+// (strokes, target drags, every param of every node changed and restored) gives, after each
+// edit, the outputs that a fresh evaluator gives on the same graph, bit for bit.
+#include <gtest/gtest.h>
+
+#include "geobrush/clone.hpp"
+#include "geobrush/evaluator.hpp"
+#include "geobrush/graph.hpp"
+#include "perturbed.hpp"
+#include "test_support.hpp"
+
+using namespace geobrush;
+
+namespace {
+
+// A clone method's template on small procedural meshes: a relief plane as the source and a
+// sphere as the target, as the live-brush benchmark wires them, at a test's size.
+Graph smallClone(const std::string& method) {
+  Graph graph = readMethod(method, defaultMethodDirs(), test::registry());
+  graph.file = test::tempDir("history-" + method) / "graph.json";
+  graph.nodes["source_mesh"] = GraphNode{"geobrush.primitive",
+                                         1,
+                                         {{"shape", std::string("plane")},
+                                          {"size", 2.0},
+                                          {"resolution", std::int64_t(48)},
+                                          {"relief", 0.02}}};
+  graph.nodes["target_mesh"] = GraphNode{
+      "geobrush.primitive", 1, {{"shape", std::string("sphere")}, {"resolution", std::int64_t(16)}}};
+  graph.nodes.at("source_canvas").params = {{"origin", Vec3{0, 0, 0}},
+                                            {"dabs", std::vector<double>{0, 0, 0, 0.45}}};
+  graph.nodes.at("strokes").params = {{"dabs", std::vector<double>{0, 0, 0.15, 1}}};
+  graph.nodes.at("target_map").params = {{"origin", Vec3{0, 0, 1}}};
+  prepareGraph(graph, test::registry());
+  return graph;
+}
+
+// One edit of the history: a name for messages and the change it makes.
+struct Edit {
+  std::string name;
+  std::function<void(Graph&)> apply;
+};
+
+std::vector<Edit> sessionEdits(const Graph& start) {
+  std::vector<Edit> edits;
+  auto set = [](std::string node, std::string param, ParamValue value) {
+    return [=](Graph& graph) { graph.nodes.at(node).params[param] = value; };
+  };
+  edits.push_back({"a second dab", set("strokes", "dabs", std::vector<double>{0, 0, 0.15, 1, 0.08,
+                                                                               0.02, 0.15, 1})});
+  edits.push_back({"the target dragged", set("target_map", "origin", Vec3{0.04, 0.01, 1})});
+  edits.push_back({"the target dragged on", set("target_map", "origin", Vec3{0.08, 0.03, 1})});
+  edits.push_back({"the target dragged back", set("target_map", "origin", Vec3{0, 0, 1})});
+  // Every param of every node changed on its own, then back (paths stay: they name files).
+  for (const auto& [name, node] : start.nodes) {
+    const NodeType& type = *test::registry().find(node.type);
+    for (const ParamDecl& decl : type.params) {
+      if (decl.kind == ParamKind::InputPath || decl.kind == ParamKind::OutputPath) continue;
+      auto it = node.params.find(decl.name);
+      const ParamValue before = it == node.params.end() ? decl.defaultValue : it->second;
+      ParamValue changed = test::perturbed(decl);
+      if (changed == before) changed = decl.defaultValue;
+      if (changed == before) continue;
+      edits.push_back({name + "." + decl.name + " changed", set(name, decl.name, changed)});
+      edits.push_back({name + "." + decl.name + " restored", set(name, decl.name, before)});
+    }
+  }
+  return edits;
+}
+
+// Every output of every node, and the error, equal between the two evaluators.
+void expectSameResults(const Graph& graph, const EvalReport& kept, const Evaluator& history,
+                       const EvalReport& fresh, const Evaluator& freshEvaluator,
+                       const std::string& after) {
+  ASSERT_EQ(kept.ok, fresh.ok) << after << ": " << kept.error << " | " << fresh.error;
+  EXPECT_EQ(kept.error, fresh.error) << after;
+  for (const auto& [name, node] : graph.nodes)
+    for (const PortDecl& port : test::registry().find(node.type)->outputs) {
+      const ValuePtr a = history.output(name, port.name);
+      const ValuePtr b = freshEvaluator.output(name, port.name);
+      ASSERT_EQ(a != nullptr, b != nullptr) << after << ": " << name << "." << port.name;
+      if (a) {
+        EXPECT_EQ(a->contentHash(), b->contentHash())
+            << after << ": " << name << "." << port.name << " differs from a fresh evaluator's";
+      }
+    }
+}
+
+void runHistory(Graph graph, const std::vector<Edit>& edits) {
+  EvalOptions options;
+  options.outputDir = graph.baseDir();
+  Evaluator history(test::registry());
+  history.evaluate(graph, options);
+  for (const Edit& edit : edits) {
+    edit.apply(graph);
+    const EvalReport kept = history.evaluate(graph, options);
+    Evaluator fresh(test::registry());
+    const EvalReport cold = fresh.evaluate(graph, options);
+    expectSameResults(graph, kept, history, cold, fresh, "after " + edit.name);
+    EXPECT_FALSE(kept.historyDependent()) << "after " << edit.name;
+  }
+}
+
+class CloneHistory : public testing::TestWithParam<std::string> {};
+
+}  // namespace
+
+TEST_P(CloneHistory, EveryEditGivesWhatAFreshEvaluatorGives) {
+  Graph graph = smallClone(GetParam());
+  {
+    Evaluator first(test::registry());
+    EvalOptions options;
+    options.outputDir = graph.baseDir();
+    const EvalReport report = first.evaluate(graph, options);
+    ASSERT_TRUE(report.ok) << report.error;
+  }
+  runHistory(graph, sessionEdits(graph));
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, CloneHistory,
+                         testing::Values("geobrush", "cutpaste", "variational", "emd", "additive"));
