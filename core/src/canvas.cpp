@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include "geobrush/node.hpp"
+
 namespace geobrush {
 namespace {
 
@@ -145,6 +147,12 @@ MeshPtr zeroDraft(const Canvas& canvas) {
   for (auto v : surface.vertices())
     surface.set_point(v, {0, 0, 0});
   return std::make_shared<const Mesh>(std::move(surface));
+}
+
+MeshPtr draftOrZero(Context& ctx) {
+  if (ctx.hasInput("draft")) return ctx.in<Mesh>("draft");
+  const auto source = ctx.in<Parameterization>("source");
+  return ctx.derived("zero_draft", {"source"}, 0, [&] { return zeroDraft(*source->canvas); });
 }
 
 }  // namespace geobrush

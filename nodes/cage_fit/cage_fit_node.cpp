@@ -5,8 +5,8 @@
 namespace geobrush {
 namespace {
 
-// Keeps the factorization of the last source cage and the source columns of the last source
-// cage and parameterization: dragging the target canvas changes only the right-hand side.
+// The factorization and the source columns are derived data the framework keeps: dragging the
+// target canvas changes only the right-hand side.
 class CageFitNode final : public Node {
  public:
   void compute(Context& ctx) override {
@@ -16,16 +16,15 @@ class CageFitNode final : public Node {
     CageFitOptions options;
     options.constraintWeight = ctx.param<double>("constraint_weight");
     try {
-      if (!solver_ || !solver_->fits(*cage, options.constraintWeight))
-        solver_ = std::make_unique<CageFitSolver>(*cage, options.constraintWeight);
-      if (!columns_ || columnsCage_ != cage || columnsSource_ != source) {
-        columns_.reset();
-        columns_ = std::make_unique<SourceColumns>(*cage, *source);
-        columnsCage_ = cage;
-        columnsSource_ = source;
-      }
-      CageFitResult result =
-          fitCage(*cage, *source, *target, options, solver_.get(), columns_.get());
+      Hasher weight;
+      weight.f64(options.constraintWeight);
+      const auto solver = ctx.derived("cage_fit_solver", {"source_cage"}, weight.digest(), [&] {
+        return std::make_shared<CageFitSolver>(*cage, options.constraintWeight);
+      });
+      const auto columns = ctx.derived("cage_fit_columns", {"source_cage", "source"}, 0, [&] {
+        return std::make_shared<SourceColumns>(*cage, *source);
+      });
+      CageFitResult result = fitCage(*cage, *source, *target, options, solver.get(), columns.get());
       if (result.columnsOutsideTarget > 0)
         ctx.warn(std::to_string(result.columnsOutsideTarget) +
                  " cage columns lie outside the target canvas' parameter domain; grow the target "
@@ -35,12 +34,6 @@ class CageFitNode final : public Node {
       throw NodeError::input("source_cage", e.what());
     }
   }
-
- private:
-  std::unique_ptr<CageFitSolver> solver_;
-  std::unique_ptr<SourceColumns> columns_;
-  std::shared_ptr<const Cage> columnsCage_;  // the inputs columns_ was found for
-  std::shared_ptr<const Parameterization> columnsSource_;
 };
 
 void registerNodes(PluginRegistrar& registrar) {

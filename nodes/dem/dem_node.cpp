@@ -14,9 +14,8 @@ using geobrush::Mesh;
 using geobrush::NodeError;
 using geobrush::Parameterization;
 
-// Dragging the target canvas re-evaluates this node with the same target mesh value: the node
-// keeps that mesh's PreparedTarget (normals, nearest-point search) for as long as the input is
-// the same value.
+// Dragging the target canvas re-evaluates this node on the same target mesh: its PreparedTarget
+// (normals, nearest-point search) is derived data the framework keeps.
 class DemNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -33,11 +32,10 @@ class DemNode final : public geobrush::Node {
       for (const auto& column : ctx.in<geobrush::Cage>("source_cage")->domain)
         options.preferredRadius = std::max(options.preferredRadius, column.norm());
     try {
-      if (!target_ || target_->mesh() != mesh) {
-        target_.reset();
-        target_ = std::make_shared<const geobrush::PreparedTarget>(mesh);
-      }
-      geobrush::TargetDemResult dem = geobrush::targetExponentialMap(*target_, source->uv, options);
+      const auto target = ctx.derived("dem_prepared_target", {"mesh"}, 0, [&] {
+        return std::make_shared<const geobrush::PreparedTarget>(mesh);
+      });
+      geobrush::TargetDemResult dem = geobrush::targetExponentialMap(*target, source->uv, options);
       auto out = std::make_shared<Parameterization>();
       out->canvas = std::make_shared<const geobrush::Canvas>(std::move(dem.canvas));
       out->uv = std::move(dem.uv);
@@ -52,9 +50,6 @@ class DemNode final : public geobrush::Node {
       throw NodeError::param(e.option(), e.what());
     }
   }
-
- private:
-  std::shared_ptr<const geobrush::PreparedTarget> target_;
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

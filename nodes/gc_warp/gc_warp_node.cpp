@@ -19,61 +19,66 @@ using geobrush::Mesh;
 using geobrush::NodeError;
 
 // Computing the coordinates costs about 40 times as much as applying them (GeoBrush section
-// 4.1), and moving the target cage must only re-apply them. The framework caches whole nodes, so
-// the node keeps the last coordinates itself, keyed by the content hashes of the canvas and the
-// source cage and by epsilon: a compute with only the target cage changed reuses them (and
-// outputs the very same GreenCoordinates value).
+// 4.1), and moving the target cage must only re-apply them: they are derived data the framework
+// keeps per canvas, source cage and epsilon, and a compute with only the target cage changed
+// outputs the very same GreenCoordinates value.
 class GcWarpNode final : public geobrush::Node {
  public:
+  // The coordinates of the canvas in the source cage, with the warning they come with.
+  struct Coordinates {
+    std::shared_ptr<const GreenCoordinates> value;
+    std::string outsideWarning;
+  };
+
+  static Coordinates coordinatesOf(Context& ctx, const Canvas& canvas,
+                                   const std::shared_ptr<const Cage>& sourceCage, double epsilon) {
+    std::vector<Eigen::Vector3d> points;
+    points.reserve(canvas.surface.n_vertices());
+    for (auto v : canvas.surface.vertices())
+      points.push_back(geobrush::pointOf(canvas.surface, v));
+    geobrush::GreenOptions options;
+    options.epsilon = epsilon;
+    options.progress = [&ctx](double fraction) {
+      ctx.throwIfCancelled();
+      ctx.progress(fraction);
+    };
+    geobrush::GreenCoordinatesResult result;
+    try {
+      result = geobrush::computeGreenCoordinates(sourceCage->mesh, points, options);
+    } catch (const geobrush::CageError& e) {
+      throw NodeError::input("source_cage", e.what());
+    }
+    Coordinates made;
+    if (!result.outsidePoints.empty()) {
+      made.outsideWarning = std::to_string(result.outsidePoints.size());
+      made.outsideWarning += " canvas points (the first is vertex ";
+      made.outsideWarning += std::to_string(result.outsidePoints.front());
+      made.outsideWarning +=
+          ") lie outside the source cage; Green coordinates do not reproduce them";
+    }
+    auto coordinates = std::make_shared<GreenCoordinates>();
+    coordinates->cage = sourceCage;
+    coordinates->phi = std::move(result.phi);
+    coordinates->psi = std::move(result.psi);
+    made.value = std::move(coordinates);
+    return made;
+  }
+
   void compute(Context& ctx) override {
     const auto canvas = ctx.in<Canvas>("canvas");
     const auto sourceCage = ctx.in<Cage>("source_cage");
     const auto targetCage = ctx.in<Cage>("target_cage");
     const double epsilon = ctx.param<double>("epsilon");
-    // The same values as last time need no hashing (a 50k-vertex canvas takes milliseconds):
-    // a brush dab reaches this node with the canvas and cage unchanged.
-    const bool sameInputs =
-        coordinates_ && canvas == canvas_ && sourceCage == sourceCage_ && epsilon == key_.epsilon;
-    const Key key =
-        sameInputs ? key_ : Key{canvas->contentHash(), sourceCage->contentHash(), epsilon};
-    canvas_ = canvas;
-    sourceCage_ = sourceCage;
-    if (!coordinates_ || key != key_) {
-      coordinates_.reset();
-      std::vector<Eigen::Vector3d> points;
-      points.reserve(canvas->surface.n_vertices());
-      for (auto v : canvas->surface.vertices()) {
-        const auto& p = canvas->surface.point(v);
-        points.emplace_back(p[0], p[1], p[2]);
-      }
-      geobrush::GreenOptions options;
-      options.epsilon = epsilon;
-      options.progress = [&ctx](double fraction) {
-        ctx.throwIfCancelled();
-        ctx.progress(fraction);
-      };
-      geobrush::GreenCoordinatesResult result;
-      try {
-        result = geobrush::computeGreenCoordinates(sourceCage->mesh, points, options);
-      } catch (const geobrush::CageError& e) {
-        throw NodeError::input("source_cage", e.what());
-      }
-      outsideWarning_.clear();
-      if (!result.outsidePoints.empty()) {
-        outsideWarning_ = std::to_string(result.outsidePoints.size());
-        outsideWarning_ += " canvas points (the first is vertex ";
-        outsideWarning_ += std::to_string(result.outsidePoints.front());
-        outsideWarning_ += ") lie outside the source cage; Green coordinates do not reproduce them";
-      }
-      auto coordinates = std::make_shared<GreenCoordinates>();
-      coordinates->cage = sourceCage;
-      coordinates->phi = std::move(result.phi);
-      coordinates->psi = std::move(result.psi);
-      coordinates_ = std::move(coordinates);
-      key_ = key;
-    }
-    if (!outsideWarning_.empty()) ctx.warn(outsideWarning_);
+    geobrush::Hasher epsilonKey;
+    epsilonKey.f64(epsilon);
+    const auto derived =
+        ctx.derived("green_coordinates", {"canvas", "source_cage"}, epsilonKey.digest(), [&] {
+          return std::make_shared<const Coordinates>(
+              coordinatesOf(ctx, *canvas, sourceCage, epsilon));
+        });
+    if (!derived->outsideWarning.empty()) ctx.warn(derived->outsideWarning);
     ctx.throwIfCancelled();
+    coordinates_ = derived->value;
 
     ctx.out("coordinates", coordinates_);
     try {
@@ -108,10 +113,10 @@ class GcWarpNode final : public geobrush::Node {
     const geobrush::Hash cage =
         targetCage == partialCageValue_ ? partialCage_ : targetCage->contentHash();
     partialCageValue_ = targetCage;
-    if (partial_.n_vertices() != canvas.surface.n_vertices() || partialKey_ != key_) {
+    if (partial_.n_vertices() != canvas.surface.n_vertices() || partialOf_ != coordinates_) {
       partial_ = canvas.surface;
       warpedRow_.assign(canvas.surface.n_vertices(), 0);
-      partialKey_ = key_;
+      partialOf_ = coordinates_;
       published_.clear();
     }
     std::vector<char> wanted(warpedRow_.size(), 0);
@@ -154,20 +159,10 @@ class GcWarpNode final : public geobrush::Node {
     return made;
   }
 
-  struct Key {
-    geobrush::Hash canvas = 0;
-    geobrush::Hash sourceCage = 0;
-    double epsilon = 0;
-    bool operator==(const Key&) const = default;
-  };
-  Key key_;
-  std::shared_ptr<const Canvas> canvas_;
-  std::shared_ptr<const Cage> sourceCage_;
-  std::shared_ptr<const GreenCoordinates> coordinates_;
-  std::string outsideWarning_;
+  std::shared_ptr<const GreenCoordinates> coordinates_;  // of this compute
   geobrush::TriMesh partial_;
   std::vector<char> warpedRow_;
-  Key partialKey_;
+  std::shared_ptr<const GreenCoordinates> partialOf_;  // the coordinates partial_ was warped by
   geobrush::Hash partialCage_ = 0;
   std::shared_ptr<const Cage> partialCageValue_;  // the target cage partialCage_ hashes
   static constexpr std::size_t kPublished = 3;

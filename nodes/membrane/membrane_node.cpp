@@ -47,18 +47,13 @@ std::string kernelNote(geobrush::MembraneKernel kernel) {
   return note;
 }
 
-// Each dab changes Q a little: the node keeps the locators of both canvases while they stay the
-// same, and the last solution and multigrid hierarchy on the same grid, so that the next solve
-// starts from the previous dab's membrane (one or two iterations) and reuses the hierarchy when
-// Q did not change.
+// Each dab changes Q a little; the canvases' locators are derived data the framework keeps.
 class MembraneNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    // Unconnected, the draft is G = 0, made once per source canvas.
-    const auto draft =
-        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDrafts_.of(source->canvas);
+    const auto draft = geobrush::draftOrZero(ctx);
     const auto target = ctx.in<Parameterization>("target");
     const auto continuity = ctx.param<bool>("derivative_constraints")
                                 ? geobrush::MembraneContinuity::C1
@@ -75,23 +70,13 @@ class MembraneNode final : public geobrush::Node {
       ctx.out("report", std::move(report));
       return;
     }
-    if (source != source_) {
-      source_.reset();
-      sourceLocator_ = std::make_unique<geobrush::DomainLocator>(*source);
-      source_ = source;
-      locations_.clear();
-    }
-    // Dragging the target canvas: the source's locator and answers stay.
-    if (target != target_) {
-      target_.reset();
-      targetLocator_ = std::make_unique<geobrush::DomainLocator>(*target);
-      target_ = target;
-      locations_.clearTarget();
-    }
+    // Both canvases' locators stay while the canvases do (a target drag keeps the source's).
+    const auto sourceLocator = locator(ctx, "source", *source);
+    const auto targetLocator = locator(ctx, "target", *target);
     geobrush::MembraneSetup setup;
     try {
-      setup = geobrush::membraneSetup(*region, *source, draft->surface, *sourceLocator_,
-                                      *targetLocator_, continuity, &locations_);
+      setup = geobrush::membraneSetup(*region, *source, draft->surface, *sourceLocator,
+                                      *targetLocator, continuity);
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("draft", e.what());
     }
@@ -99,11 +84,6 @@ class MembraneNode final : public geobrush::Node {
     options.tolerance = ctx.param<double>("tolerance");
     options.maxIterations = ctx.param<int>("max_iterations");
     options.kernel = kernel;
-    usedHistory_ = previousGrid_ == region->grid && previousContinuity_ == continuity;
-    if (usedHistory_) {
-      options.initialGuess = previous_;
-      options.hierarchy = hierarchy_;
-    }
     geobrush::MembraneResult result;
     try {
       result = geobrush::solveMembrane(setup.problem, options);
@@ -123,31 +103,19 @@ class MembraneNode final : public geobrush::Node {
     report->values = {{"iterations", result.iterations},
                       {"relative_residual", result.residual},
                       {"unknowns", result.unknowns},
-                      {"levels", result.levels},
-                      {"hierarchy_reused", result.hierarchyReused ? 1 : 0}};
+                      {"levels", result.levels}};
     report->notes.push_back(kernelNote(result.kernel));
-    previous_ = result.values;
-    hierarchy_ = result.hierarchy;
-    previousGrid_ = region->grid;
-    previousContinuity_ = continuity;
     ctx.out("offset", std::make_shared<const Field2D>(
                           geobrush::membraneField(*region, setup, result.values)));
     ctx.out("report", std::move(report));
   }
 
-  // The warm start: the solution (and hierarchy) of the previous dab on the same grid.
-  bool usedHistory() const override { return usedHistory_; }
-
  private:
-  bool usedHistory_ = false;
-  geobrush::ZeroDraftCache zeroDrafts_;
-  std::shared_ptr<const Parameterization> source_, target_;
-  std::unique_ptr<geobrush::DomainLocator> sourceLocator_, targetLocator_;
-  geobrush::MembraneLocations locations_;  // what the locators answered, per grid node
-  std::vector<std::vector<double>> previous_;
-  std::shared_ptr<const geobrush::MembraneHierarchy> hierarchy_;
-  geobrush::DomainGrid previousGrid_;
-  geobrush::MembraneContinuity previousContinuity_ = geobrush::MembraneContinuity::C1;
+  static std::shared_ptr<const geobrush::DomainLocator> locator(Context& ctx, std::string_view port,
+                                                                const Parameterization& canvas) {
+    return ctx.derived("domain_locator", {port}, 0,
+                       [&] { return std::make_shared<geobrush::DomainLocator>(canvas); });
+  }
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {
@@ -157,8 +125,8 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .doc("The C1 offset membrane x~ of the paper (section 4.4, Eqs. 4-5): on the "
                  "region's grid, the biharmonic function that equals R_out - g_in outside Q, value "
                  "and slope, so that g_in + x~ meets the target smoothly. Solved by conjugate "
-                 "gradients with a Galerkin multigrid preconditioner, warm-started from the "
-                 "previous dab. The preconditioner's stencil kernels run on the CPU or as Vulkan "
+                 "gradients with a Galerkin multigrid preconditioner from a nested-iteration "
+                 "start. The preconditioner's stencil kernels run on the CPU or as Vulkan "
                  "compute passes; auto picks Vulkan on a GPU and the CPU on a CPU Vulkan device "
                  "such as lavapipe, where the CPU kernel is far faster.")
             .input<Region2D>("region", "Q on its grid, with R_in.")
@@ -168,10 +136,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                                  "G = 0: the membrane alone fills the region (hole filling).")
             .input<Parameterization>("target", "E_t: the target canvas in the same domain.")
             .output<Field2D>("offset", "x~ on the region's grid.")
-            .output<geobrush::Metrics>("report",
-                                       "The solve: CG iterations, relative residual, unknowns, "
-                                       "multigrid levels, whether the hierarchy was reused, and "
-                                       "the kernel that ran (and the Vulkan device it ran on).")
+            .output<geobrush::Metrics>(
+                "report",
+                "The solve: CG iterations, relative residual, unknowns, "
+                "multigrid levels and the kernel that ran (and the Vulkan device it ran on).")
             .paramBool("derivative_constraints", true,
                        "On: biharmonic with value and slope fixed (C1). Off: harmonic with the "
                        "value only (C0), the paper's Fig. 10 comparison.")

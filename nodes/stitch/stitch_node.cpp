@@ -18,29 +18,17 @@ using geobrush::NodeError;
 using geobrush::Parameterization;
 using geobrush::Region2D;
 
-// Every dab re-stitches into the same target: the node keeps how the target canvas maps into its
-// mesh (the stitch base) for as long as the target parameterization stays the same. And every
-// result starts as the target outside the base's open part (tens of megabytes on a large target).
-// One of the node's last results that nothing holds any more (an evaluator keeps two runs'
-// outputs, so the one of three dabs ago) is turned back into that part in place (restoreOutside,
-// the border alone); where none is free, the part is copied for the next dab on another thread,
-// while the nodes before the stitch (strokes, ROI, warp) work on that next dab.
-//
-// Dragging the target canvas gives a new canvas on the same mesh at every move: the first move
-// makes a base whose open part reaches beyond the canvas, and the moves after it keep that base
-// (and the results to reclaim) while their canvases stay inside the open part; halfway to its
-// edge, the next base is made on another thread. Such results differ from a fresh node's in the
-// order of their elements alone; the node says it used history, so that a settled evaluation
-// makes them afresh.
+// Every dab re-stitches into the same target: how the target canvas maps into its mesh (the
+// stitch base) is derived data the framework keeps per target parameterization. Every result
+// starts as the target outside the canvas (tens of megabytes on a large target): one of the
+// node's last results that nothing holds any more (an evaluator keeps two runs' outputs, so the
+// one of three dabs ago) is turned back into that part in place (restoreOutside, the border
+// alone); where none is free, the part is copied for the next dab on another thread, while the
+// nodes before the stitch (strokes, ROI, warp) work on that next dab. Either way the result is
+// the one a fresh node makes.
 class StitchNode final : public geobrush::Node {
  public:
-  ~StitchNode() override {
-    dropNext();
-    dropRebuilt();
-  }
-
-  // Whether the last result was built on a base made for an earlier canvas (see above).
-  bool usedHistory() const override { return usedHistory_; }
+  ~StitchNode() override { dropNext(); }
 
   // The paste's layout (stitchLayoutInto) needs the region and the canvases alone: the evaluator
   // runs it while the membrane is solved and the cages warp the draft.
@@ -51,8 +39,15 @@ class StitchNode final : public geobrush::Node {
     const auto target = ctx.in<Parameterization>("target");
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
     try {
-      if (!base_ || target != target_) pointBaseAt(target, source->canvas);
-      usedHistory_ = !base_->openIsCanvas();
+      const auto base = ctx.derived("stitch_base", {"target"}, 0, [&] {
+        return std::make_shared<const geobrush::StitchBase>(geobrush::stitchBase(*target));
+      });
+      const bool newBase = base != base_;
+      if (newBase) {
+        dropNext();  // the copy under way reads the old base
+        made_.clear();
+        base_ = base;
+      }
       std::shared_ptr<Mesh> mesh = reclaim();
       const bool reclaimed = mesh != nullptr;
       if (!mesh && next_.valid()) mesh = next_.get();
@@ -65,8 +60,8 @@ class StitchNode final : public geobrush::Node {
       made_.push_back({mesh, result.startsWithOutside});
       if (made_.size() > kKept) made_.pop_front();
       // Where this dab found no result to reclaim, the next one is unlikely to: its outside part
-      // is copied now.
-      if (!reclaimed) prepareNext(target, source->canvas);
+      // is copied now, unless the target moved (a drag moves it again).
+      if (!reclaimed && !newBase) prepareNext(target, source->canvas);
       laid_ = Laid{std::move(mesh), std::move(result.map)};
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("region", e.what());
@@ -77,9 +72,7 @@ class StitchNode final : public geobrush::Node {
     if (!laid_) throw NodeError("the paste was not laid out before it was placed");
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    // Unconnected, the draft is G = 0, made once per source canvas.
-    const auto draft =
-        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDrafts_.of(source->canvas);
+    const auto draft = geobrush::draftOrZero(ctx);
     const auto offset = ctx.hasInput("offset") ? ctx.in<Field2D>("offset") : nullptr;
     if (offset && offset->grid != region->grid)
       throw NodeError::input("offset", "the membrane was solved on another grid than the region's");
@@ -105,71 +98,6 @@ class StitchNode final : public geobrush::Node {
     bool startsWithOutside = false;
   };
 
-  struct Rebuilt {
-    std::unique_ptr<geobrush::StitchBase> base;  // null where it could not be made
-    std::shared_ptr<Mesh> outside;               // copyOutside of it
-  };
-
-  // Points the base at the target's canvas: the base moved, where its open part holds the canvas;
-  // else the base rebuilt ahead of time, where that one holds it; else a base made now (grown,
-  // where the canvas moved on the same mesh).
-  void pointBaseAt(const std::shared_ptr<const Parameterization>& target,
-                   const std::shared_ptr<const geobrush::Canvas>& sourceCanvas) {
-    target_.reset();
-    const bool sameMesh =
-        base_ && target->canvas && baseMesh_ && target->canvas->source == baseMesh_;
-    bool moved = sameMesh && geobrush::moveStitchBase(*base_, *target);
-    if (!moved && sameMesh && rebuilt_.valid()) {
-      Rebuilt ahead = rebuilt_.get();
-      if (ahead.base && geobrush::moveStitchBase(*ahead.base, *target)) {
-        dropNext();
-        made_.clear();
-        base_ = std::move(ahead.base);
-        std::promise<std::shared_ptr<Mesh>> copied;
-        copied.set_value(std::move(ahead.outside));
-        next_ = copied.get_future();
-        moved = true;
-      }
-    }
-    if (!moved) {
-      dropRebuilt();
-      dropNext();  // the copy under way reads the base
-      made_.clear();
-      base_.reset();
-      baseMesh_.reset();
-      base_ = std::make_unique<geobrush::StitchBase>(
-          geobrush::stitchBase(*target, sameMesh ? kMovingOpenGrowth : 0));
-      baseMesh_ = target->canvas->source;
-    } else if (base_->openRings > 0 && !rebuilt_.valid() &&
-               2 * base_->canvasReach >= base_->openRings) {
-      // Halfway to the open part's edge: the next base, around this canvas, is made on another
-      // thread while the drag goes on, so that leaving this one costs no rebuild.
-      rebuildAhead(target, sourceCanvas);
-    }
-    target_ = target;
-  }
-
-  void rebuildAhead(std::shared_ptr<const Parameterization> target,
-                    std::shared_ptr<const geobrush::Canvas> sourceCanvas) {
-    rebuilt_ = std::async(std::launch::async, [target, sourceCanvas] {
-      Rebuilt ahead;
-      try {
-        ahead.base = std::make_unique<geobrush::StitchBase>(
-            geobrush::stitchBase(*target, kMovingOpenGrowth));
-        ahead.outside = std::make_shared<Mesh>();
-        geobrush::copyOutside(*ahead.base, target->canvas->source->surface, sourceCanvas->surface,
-                              ahead.outside->surface);
-      } catch (const std::exception&) {
-        ahead.base.reset();  // made in the foreground when needed, which reports the error
-      }
-      return ahead;
-    });
-  }
-
-  void dropRebuilt() {
-    if (rebuilt_.valid()) rebuilt_.get();
-  }
-
   // The oldest of the node's last results that no one else holds any more (no one can take hold
   // of it again then: the node's is the last reference), turned back into the outside part; null
   // where there is none.
@@ -189,8 +117,7 @@ class StitchNode final : public geobrush::Node {
   void prepareNext(std::shared_ptr<const Parameterization> target,
                    std::shared_ptr<const geobrush::Canvas> canvas) {
     dropNext();
-    const geobrush::StitchBase* base = base_.get();
-    next_ = std::async(std::launch::async, [base, target, canvas] {
+    next_ = std::async(std::launch::async, [base = base_, target, canvas] {
       auto next = std::make_shared<Mesh>();
       const geobrush::TriMesh& targetMesh =
           target->canvas->source ? target->canvas->source->surface : target->canvas->surface;
@@ -199,26 +126,17 @@ class StitchNode final : public geobrush::Node {
     });
   }
 
-  // Waits for the copy under way, which reads base_, and drops it.
   void dropNext() {
     if (next_.valid()) next_.get();
   }
 
-  // A base made for a moved canvas opens twice the canvas' faces: a drag goes about two fifths of
-  // the canvas' radius before its canvas leaves the open part.
-  static constexpr double kMovingOpenGrowth = 1.0;
   struct Laid {
     std::shared_ptr<Mesh> mesh;  // the paste with R_in at the source canvas' positions
     geobrush::PasteMap map;
   };
-  std::optional<Laid> laid_;  // from prepare() to compute()
-  bool usedHistory_ = false;
-  geobrush::ZeroDraftCache zeroDrafts_;
-  std::unique_ptr<geobrush::StitchBase> base_;
-  geobrush::MeshPtr baseMesh_;                      // the target mesh the base was made for
-  std::shared_ptr<const Parameterization> target_;  // the canvas the base points at
-  std::future<std::shared_ptr<Mesh>> next_;         // the next result, its outside part copied
-  std::future<Rebuilt> rebuilt_;                    // the next base of a drag, made ahead
+  std::optional<Laid> laid_;                          // from prepare() to compute()
+  std::shared_ptr<const geobrush::StitchBase> base_;  // the base made_ and next_ belong to
+  std::future<std::shared_ptr<Mesh>> next_;           // the next result, its outside part copied
   static constexpr std::size_t kKept = 3;
   std::deque<Made> made_;  // the last kKept results, the oldest first
 };

@@ -45,9 +45,7 @@ class VariationalPasteNode final : public geobrush::Node {
   void compute(Context& ctx) override {
     const auto region = ctx.in<Region2D>("region");
     const auto source = ctx.in<Parameterization>("source");
-    // Unconnected, the draft is G = 0, made once per source canvas.
-    const auto draft =
-        ctx.hasInput("draft") ? ctx.in<Mesh>("draft") : zeroDrafts_.of(source->canvas);
+    const auto draft = geobrush::draftOrZero(ctx);
     const auto target = ctx.in<Parameterization>("target");
     checkDraft(draft->surface, *source);
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
@@ -83,7 +81,6 @@ class VariationalPasteNode final : public geobrush::Node {
   }
 
  private:
-  geobrush::ZeroDraftCache zeroDrafts_;
   std::unique_ptr<geobrush::StitchBase> base_;
   std::shared_ptr<const Parameterization> target_;
 };

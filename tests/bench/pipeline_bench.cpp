@@ -384,9 +384,8 @@ void BM_LiveBrushGraph(benchmark::State& state) {
 // Dragging the target canvas with a painted ROI, as the studio runs it: the clone graph of
 // BM_LiveBrushGraph with a 12-dab stroke painted, its target canvas origin moved a step along the
 // sphere per iteration and the paste evaluated. Every node downstream of the target canvas runs:
-// the target DEM, the cage fit, the warp of the region's vertices, the ROI, the membrane (on the
-// region's unchanged hierarchy, warm-started from the previous move) and the stitch (on a base
-// grown around the canvas at the first move, rebuilt when the canvas leaves it). 120 moves of
+// the target DEM, the cage fit, the warp of the region's vertices, the ROI, the membrane and the
+// stitch (on the base of each move's target canvas). 120 moves of
 // 0.004 rad (0.48 rad, about 1.4 times the target canvas' radius). Counters: each node's mean
 // time per move, from the evaluator's report, and the median, 90th percentile and largest move.
 //

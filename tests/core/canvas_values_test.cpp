@@ -1,7 +1,9 @@
 // The preprocess value types: content hashes follow every field.
 #include <gtest/gtest.h>
 
+#include "direct_context.hpp"
 #include "geobrush/canvas.hpp"
+#include "geobrush/derived_store.hpp"
 #include "mesh_checks.hpp"
 
 using namespace geobrush;
@@ -62,15 +64,35 @@ TEST(CanvasValues, HashesFollowEveryField) {
   EXPECT_EQ(gc.summary(), "Green coordinates of 2 points");
 }
 
-TEST(CanvasValues, TheZeroDraftIsMadeOncePerCanvas) {
+TEST(CanvasValues, TheZeroDraftIsDerivedOncePerSourceWhereNoDraftIsConnected) {
+  const NodeType paste = NodeTypeBuilder("test.paste", 1)
+                             .input<Parameterization>("source", "E_s.")
+                             .optionalInput<Mesh>("draft", "G.")
+                             .compute([](Context&) {})
+                             .build();
+  auto source = std::make_shared<Parameterization>();
   auto canvas = std::make_shared<Canvas>();
   canvas->surface = test::icosphere(1);
-  ZeroDraftCache cache;
-  const MeshPtr first = cache.of(canvas);
-  ASSERT_EQ(first->surface.n_vertices(), canvas->surface.n_vertices());
-  for (auto v : first->surface.vertices())
-    EXPECT_EQ(first->surface.point(v), TriMesh::Point(0, 0, 0));
-  EXPECT_EQ(cache.of(canvas), first);
-  auto other = std::make_shared<Canvas>(*canvas);
-  EXPECT_NE(cache.of(other), first);
+  source->canvas = canvas;
+  auto store = std::make_shared<DerivedStore>();
+  test::DirectContext first(paste, {{"source", source}}, {}, store);
+  const MeshPtr zero = draftOrZero(first);
+  ASSERT_EQ(zero->surface.n_vertices(), canvas->surface.n_vertices());
+  for (auto v : zero->surface.vertices())
+    EXPECT_EQ(zero->surface.point(v), TriMesh::Point(0, 0, 0));
+  test::DirectContext again(paste, {{"source", source}}, {}, store);
+  EXPECT_EQ(draftOrZero(again), zero);
+  EXPECT_EQ(store->builds(), 1u);
+
+  auto draft = std::make_shared<const Mesh>(canvas->surface);
+  test::DirectContext drafted(paste, {{"source", source}, {"draft", draft}}, {}, store);
+  EXPECT_EQ(draftOrZero(drafted), draft);
+
+  auto moved = std::make_shared<Parameterization>(*source);
+  auto otherCanvas = std::make_shared<Canvas>(*canvas);
+  otherCanvas->surface = test::icosphere(2);
+  moved->canvas = otherCanvas;
+  test::DirectContext other(paste, {{"source", moved}}, {}, store);
+  EXPECT_EQ(draftOrZero(other)->surface.n_vertices(), otherCanvas->surface.n_vertices());
+  EXPECT_EQ(store->builds(), 2u);
 }

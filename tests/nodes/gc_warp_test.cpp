@@ -330,7 +330,7 @@ std::shared_ptr<const Canvas> gridCanvas(int n) {
   return canvas;
 }
 
-TEST(GcWarpNode, KeepsTheCoordinatesWhileOnlyTheTargetCageMoves) {
+TEST(GcWarpNode, DerivesTheCoordinatesOnceWhileOnlyTheTargetCageMoves) {
   const NodeType* type = test::registry().find("geobrush.gc_warp");
   ASSERT_NE(type, nullptr) << (test::registryLoadErrors().empty() ? ""
                                                                   : test::registryLoadErrors()[0]);
@@ -338,10 +338,12 @@ TEST(GcWarpNode, KeepsTheCoordinatesWhileOnlyTheTargetCageMoves) {
   const TriMesh box = test::boxCage({-1, -1, -1}, {1, 1, 1}, 2);
   const auto source = cageValue(box);
   const auto node = type->create();
+  // The framework's derived data, kept from one compute to the next as an evaluator keeps it.
+  const auto derived = std::make_shared<DerivedStore>();
 
   auto run = [&](std::shared_ptr<const Canvas> c, std::shared_ptr<const Cage> s,
                  std::shared_ptr<const Cage> t) {
-    DirectContext ctx(*type, {{"canvas", c}, {"source_cage", s}, {"target_cage", t}});
+    DirectContext ctx(*type, {{"canvas", c}, {"source_cage", s}, {"target_cage", t}}, {}, derived);
     node->compute(ctx);
     EXPECT_TRUE(ctx.warnings.empty());
     return std::pair(std::dynamic_pointer_cast<const GreenCoordinates>(ctx.outputs["coordinates"]),

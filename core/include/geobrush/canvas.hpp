@@ -42,22 +42,11 @@ void setBoundaryAndOrigin(Canvas& canvas, int originFace, const Eigen::Vector3d&
 // origin, standing in for the draft G(P_s) where nothing is warped in.
 MeshPtr zeroDraft(const Canvas& canvas);
 
-// The G = 0 draft of the last source canvas asked for, made once and kept while the canvas
-// stays the same: what a paste node uses on every dab when no draft is connected.
-class ZeroDraftCache {
- public:
-  MeshPtr of(const std::shared_ptr<const Canvas>& canvas) {
-    if (canvas != canvas_) {
-      draft_ = zeroDraft(*canvas);
-      canvas_ = canvas;
-    }
-    return draft_;
-  }
-
- private:
-  std::shared_ptr<const Canvas> canvas_;
-  MeshPtr draft_;
-};
+class Context;
+// What a paste node places: the Mesh on its optional "draft" input or, unconnected, the G = 0
+// draft of the canvas of its "source" Parameterization, derived once per source
+// (Context::derived).
+MeshPtr draftOrZero(Context& ctx);
 
 // An orthonormal frame: a normal and the directions of growing u and v.
 struct Frame {
