@@ -8,57 +8,12 @@
 
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
+#include "perturbed.hpp"
 #include "test_support.hpp"
 
 using namespace geobrush;
 
 namespace {
-
-// A value different from the default that is still valid for the declaration.
-ParamValue perturbed(const ParamDecl& decl) {
-  auto fit = [&](double v, double fallback) {
-    if ((decl.min && v < *decl.min) || (decl.max && v > *decl.max)) return fallback;
-    return v;
-  };
-  switch (decl.kind) {
-    case ParamKind::Bool:
-      return !std::get<bool>(decl.defaultValue);
-    case ParamKind::Int: {
-      auto v = std::get<std::int64_t>(decl.defaultValue);
-      return std::int64_t(fit(double(v + 1), double(v - 1)));
-    }
-    case ParamKind::Double: {
-      double v = std::get<double>(decl.defaultValue);
-      double up = v + 0.25 * std::max(1e-3, std::abs(v));
-      double down = v - 0.25 * std::max(1e-3, std::abs(v));
-      return fit(up, down);
-    }
-    case ParamKind::String:
-    case ParamKind::InputPath:
-    case ParamKind::OutputPath: {
-      std::string v = std::get<std::string>(decl.defaultValue);
-      return v.empty() ? std::string("other") : "other_" + v;
-    }
-    case ParamKind::Enum:
-      for (const auto& choice : decl.choices)
-        if (choice != std::get<std::string>(decl.defaultValue)) return choice;
-      return decl.defaultValue;
-    case ParamKind::Vec3: {
-      Vec3 v = std::get<Vec3>(decl.defaultValue);
-      for (double& x : v)
-        x = fit(x + 0.5, x - 0.5);
-      return v;
-    }
-    case ParamKind::DoubleList: {
-      auto v = std::get<std::vector<double>>(decl.defaultValue);
-      double x = decl.min ? *decl.min : (decl.max ? *decl.max : 0.5);
-      for (int i = 0; i < decl.rowSize; ++i)
-        v.push_back(x);
-      return v;
-    }
-  }
-  return decl.defaultValue;
-}
 
 // Adds nodes that produce a value of `typeId` and returns the output feeding
 // it: the first type (by id) whose required inputs can be fed in turn.
@@ -167,7 +122,7 @@ TEST_P(Conformance, ParamsSurviveAGraphFileRoundTrip) {
     graph.nodes["subject"] = {type().id, type().version, {}};
     for (const auto& param : type().params)
       graph.nodes["subject"].params[param.name] =
-          useDefaults ? param.defaultValue : perturbed(param);
+          useDefaults ? param.defaultValue : test::perturbed(param);
     const std::string text = serializeGraph(graph, &test::registry());
     Graph read = parseGraph(text, "roundtrip.json");
     prepareGraph(read, test::registry(), /*requireInputs=*/false);
@@ -191,7 +146,7 @@ TEST_P(Conformance, EveryParamChangesTheCacheKey) {
   const Hash base = evaluator.nodeKeys(graph).at("subject");
   for (const auto& param : type().params) {
     Graph changed = graph;
-    changed.nodes["subject"].params[param.name] = perturbed(param);
+    changed.nodes["subject"].params[param.name] = test::perturbed(param);
     ASSERT_NE(changed.nodes["subject"].params[param.name], param.defaultValue) << param.name;
     EXPECT_NE(evaluator.nodeKeys(changed).at("subject"), base) << param.name;
   }
