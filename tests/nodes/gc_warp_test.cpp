@@ -393,6 +393,7 @@ TEST(GcWarpNode, APartialDraftIsTheSupportWarpedWhateverCameBefore) {
       points.push_back(toEigen(canvas->surface.point(v)));
     return points;
   }());
+  const auto derived = std::make_shared<DerivedStore>();  // kept across steps, as by an evaluator
   std::vector<std::shared_ptr<const Mesh>> held;
   std::set<const Mesh*> values;
   for (int step = 0; step < 10; ++step) {
@@ -409,7 +410,8 @@ TEST(GcWarpNode, APartialDraftIsTheSupportWarpedWhateverCameBefore) {
         region->draftSupport.push_back(v.idx());
     DirectContext ctx(
         *type,
-        {{"canvas", canvas}, {"source_cage", source}, {"target_cage", target}, {"region", region}});
+        {{"canvas", canvas}, {"source_cage", source}, {"target_cage", target}, {"region", region}},
+        {}, derived);
     node->compute(ctx);
     const auto draft = std::dynamic_pointer_cast<const Mesh>(ctx.outputs["draft"]);
     ASSERT_NE(draft, nullptr);
