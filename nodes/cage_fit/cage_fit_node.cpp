@@ -16,9 +16,8 @@ class CageFitNode final : public Node {
     CageFitOptions options;
     options.constraintWeight = ctx.param<double>("constraint_weight");
     try {
-      Hasher weight;
-      weight.f64(options.constraintWeight);
-      const auto solver = ctx.derived("cage_fit_solver", {"source_cage"}, weight.digest(), [&] {
+      const Hash weight = Hasher().f64(options.constraintWeight).digest();
+      const auto solver = ctx.derived("cage_fit_solver", {"source_cage"}, weight, [&] {
         return std::make_shared<CageFitSolver>(*cage, options.constraintWeight);
       });
       const auto columns = ctx.derived("cage_fit_columns", {"source_cage", "source"}, 0, [&] {

@@ -69,10 +69,9 @@ class GcWarpNode final : public geobrush::Node {
     const auto sourceCage = ctx.in<Cage>("source_cage");
     const auto targetCage = ctx.in<Cage>("target_cage");
     const double epsilon = ctx.param<double>("epsilon");
-    geobrush::Hasher epsilonKey;
-    epsilonKey.f64(epsilon);
+    const geobrush::Hash epsilonKey = geobrush::Hasher().f64(epsilon).digest();
     const auto derived =
-        ctx.derived("green_coordinates", {"canvas", "source_cage"}, epsilonKey.digest(), [&] {
+        ctx.derived("green_coordinates", {"canvas", "source_cage"}, epsilonKey, [&] {
           return std::make_shared<const Coordinates>(
               coordinatesOf(ctx, *canvas, sourceCage, epsilon));
         });
