@@ -7,7 +7,7 @@
 
 #include "geobrush/node.hpp"
 #include "geobrush/registry.hpp"
-#include "stitch.hpp"
+#include "geobrush/stitch.hpp"
 
 namespace {
 

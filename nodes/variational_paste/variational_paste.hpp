@@ -57,7 +57,7 @@
 
 #include "geobrush/canvas.hpp"
 #include "geobrush/region.hpp"
-#include "stitch.hpp"
+#include "geobrush/stitch.hpp"
 
 namespace geobrush {
 

@@ -39,7 +39,7 @@ void checkDraft(const geobrush::TriMesh& draft, const Parameterization& source) 
         throw NodeError::input("draft", "vertex " + std::to_string(v.idx()) + " is not finite");
 }
 
-// The target's stitch base is kept while the target stays the same, as geobrush.stitch does.
+// The target's stitch base is derived data, shared with a geobrush.stitch on the same target.
 class VariationalPasteNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -59,13 +59,11 @@ class VariationalPasteNode final : public geobrush::Node {
     options.progress = [&ctx](double fraction) { ctx.progress(fraction); };
     geobrush::VariationalPasteResult result;
     try {
-      if (!base_ || target != target_) {
-        base_.reset();
-        base_ = std::make_unique<geobrush::StitchBase>(geobrush::stitchBase(*target));
-        target_ = target;
-      }
+      const auto base = ctx.derived("stitch_base", {"target"}, 0, [&] {
+        return std::make_shared<const geobrush::StitchBase>(geobrush::stitchBase(*target));
+      });
       result = geobrush::variationalPaste(*region, *source, draft->surface, *target, options,
-                                          base_.get());
+                                          base.get());
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("target", e.what());
     } catch (const geobrush::VariationalPasteError& e) {
@@ -79,10 +77,6 @@ class VariationalPasteNode final : public geobrush::Node {
     ctx.out("map", std::make_shared<const geobrush::PasteMap>(std::move(result.map)));
     ctx.out("report", reportValue(result.report));
   }
-
- private:
-  std::unique_ptr<geobrush::StitchBase> base_;
-  std::shared_ptr<const Parameterization> target_;
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

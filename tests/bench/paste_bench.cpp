@@ -17,11 +17,11 @@
 #include "canvas_fixtures.hpp"
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/memory.hpp"
+#include "geobrush/stitch.hpp"
 #include "membrane.hpp"
 #include "membrane_boundary.hpp"
 #include "metrics.hpp"
 #include "roi.hpp"
-#include "stitch.hpp"
 #include "variational_paste.hpp"
 
 using namespace geobrush;

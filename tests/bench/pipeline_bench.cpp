@@ -20,11 +20,11 @@
 #include "geobrush/exponential_map.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/memory.hpp"
+#include "geobrush/stitch.hpp"
 #include "membrane.hpp"
 #include "membrane_boundary.hpp"
 #include "mesh_checks.hpp"
 #include "roi.hpp"
-#include "stitch.hpp"
 #include "test_support.hpp"
 
 using namespace geobrush;

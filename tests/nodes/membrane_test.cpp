@@ -20,12 +20,12 @@
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/gpu/vulkan_context.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/stitch.hpp"
 #include "geobrush/values.hpp"
 #include "membrane_boundary.hpp"
 #include "membrane_levels.hpp"
 #include "membrane_vulkan.hpp"
 #include "roi.hpp"
-#include "stitch.hpp"
 #include "test_support.hpp"
 
 namespace geobrush {

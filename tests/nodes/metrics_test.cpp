@@ -8,11 +8,11 @@
 #include "direct_context.hpp"
 #include "geobrush/intersection.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/stitch.hpp"
 #include "geobrush/values.hpp"
 #include "mesh_checks.hpp"
 #include "metrics.hpp"
 #include "roi.hpp"
-#include "stitch.hpp"
 #include "test_support.hpp"
 
 using namespace geobrush;

@@ -10,10 +10,10 @@
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/stitch.hpp"
 #include "geobrush/values.hpp"
 #include "mesh_checks.hpp"
 #include "roi.hpp"
-#include "stitch.hpp"
 #include "test_support.hpp"
 
 using namespace geobrush;

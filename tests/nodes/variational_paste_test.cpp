@@ -13,7 +13,7 @@
 #include "mesh_checks.hpp"
 #include "metrics.hpp"
 #include "roi.hpp"
-#include "stitch.hpp"
+#include "geobrush/stitch.hpp"
 #include "test_support.hpp"
 #include "variational_paste.hpp"
 #include "variational_paste_cost.hpp"

@@ -1,4 +1,4 @@
-#include "stitch.hpp"
+#include "geobrush/stitch.hpp"
 
 #include <algorithm>
 #include <array>
@@ -629,6 +629,309 @@ void restoreOutside(const StitchBase& base, TriMesh& out) {
 
 namespace {
 
+// The result of a paste that changes nothing: the target mesh, each vertex its own.
+StitchResult keepTarget(TriMesh& out, const TriMesh& targetMesh) {
+  StitchResult result;
+  out = targetMesh;
+  result.map.targetVertex.resize(targetMesh.n_vertices());
+  std::iota(result.map.targetVertex.begin(), result.map.targetVertex.end(), 0);
+  result.map.sourceVertex.assign(targetMesh.n_vertices(), -1);
+  return result;
+}
+
+// R_in: the source faces with every corner in the region, made manifold.
+struct PatchFaces {
+  std::vector<char> selected;  // per source canvas face
+  std::vector<int> faces;      // the selected ones, increasing
+};
+
+PatchFaces selectPatch(const TriMesh& canvas, const Region2D& region) {
+  // Counting each face's corners in the region visits a face once per corner; the faces with
+  // some corner out (along the outline) hold every vertex where R_in could be pinched.
+  std::vector<char> inRegion(canvas.n_vertices(), 0);
+  std::vector<char> cornersIn(canvas.n_faces(), 0);
+  std::vector<int> touched;
+  for (int v : region.sourceVertices) {
+    if (inRegion[std::size_t(v)]) continue;
+    inRegion[std::size_t(v)] = 1;
+    for (auto f : canvas.vf_range(TriMesh::VertexHandle(v)))
+      if (cornersIn[std::size_t(f.idx())]++ == 0) touched.push_back(f.idx());
+  }
+  PatchFaces patch;
+  patch.selected.assign(canvas.n_faces(), 0);
+  std::vector<int> alongOutline;
+  for (int f : touched) {
+    const bool whole = cornersIn[std::size_t(f)] == 3;
+    patch.selected[std::size_t(f)] = whole;
+    if (!whole) alongOutline.push_back(f);
+  }
+  removePinches(canvas, patch.selected, alongOutline);
+  patch.faces = selectedFaces(patch.selected);
+  return patch;
+}
+
+// The target faces the paste replaces: those of its canvas that touch a covered vertex.
+struct TargetCut {
+  std::vector<char> covered;            // per target canvas vertex: in Q
+  std::vector<char> kept;               // per target mesh face
+  std::vector<int> removedFaces;        // target mesh faces
+  std::vector<int> removedCanvasFaces;  // the same faces of the target canvas
+};
+
+TargetCut cutTarget(const Region2D& region, const Parameterization& target, const StitchBase& base,
+                    const TriMesh& targetMesh) {
+  const TriMesh& targetCanvas = target.canvas->surface;
+  if (base.canvasToMesh.size() != targetCanvas.n_vertices() ||
+      base.canvasFaceToMesh.size() != targetCanvas.n_faces() ||
+      base.openRing.size() != targetMesh.n_faces())
+    throw StitchError("the stitch base was made for another target canvas");
+  std::vector<char> outerBoundary(targetCanvas.n_vertices(), 0);
+  for (int v : target.canvas->boundary)
+    outerBoundary[std::size_t(v)] = 1;
+  TargetCut cut;
+  cut.covered.assign(targetCanvas.n_vertices(), 0);
+  for (int v : region.targetVertices) {
+    // Vertices of the canvas' inner loops (holes of the target mesh) may be covered: a fill
+    // replaces the faces around them.
+    if (outerBoundary[std::size_t(v)]) {
+      throw StitchError("the region reaches the edge of the target canvas at target " +
+                        vertexText(base.canvasToMesh[std::size_t(v)]) +
+                        ": paint away from it or grow the target canvas");
+    }
+    cut.covered[std::size_t(v)] = 1;
+  }
+  cut.kept.assign(targetMesh.n_faces(), 1);
+  for (int v : region.targetVertices)
+    for (auto f : targetCanvas.vf_range(TriMesh::VertexHandle(v))) {
+      const int meshFace = base.canvasFaceToMesh[std::size_t(f.idx())];
+      char& k = cut.kept[std::size_t(meshFace)];
+      if (k) {
+        cut.removedFaces.push_back(meshFace);
+        cut.removedCanvasFaces.push_back(f.idx());
+      }
+      k = 0;
+    }
+  return cut;
+}
+
+// The longest edge the seam refinement leaves along dQ, or 0 where the target is fine enough
+// there (see StitchOptions::seamRefinementRatio).
+double refinementLimit(const TriMesh& canvas, const PatchFaces& patch,
+                       const Parameterization& source, const TargetCut& cut,
+                       const Parameterization& target, double refinementRatio,
+                       std::vector<Segment>& outline) {
+  if (refinementRatio <= 0) return 0;
+  outline = patchOutline(canvas, patch.faces, patch.selected, source.uv);
+  const double sourceEdge = meanLength(outline);
+  if (sourceEdge <= 0 || crossingEdgeLength(target.canvas->surface, cut.removedCanvasFaces,
+                                            cut.covered, target.uv) <= refinementRatio * sourceEdge)
+    return 0;
+  return kRefinedEdgeRatio * sourceEdge;
+}
+
+// The kept target faces in `out`: the base's outside part, copied whole (unless `out` holds it
+// already), with the kept open faces joined to it; or, where making the cut manifold reached
+// beyond the open part, every kept face appended afresh.
+struct TargetPart {
+  AppendedFaces faces;             // the kept faces joined or appended to `out`
+  std::vector<int> outToMesh;      // vertex of `out` -> target mesh vertex
+  std::vector<int> removedFaces;   // the target mesh faces removed, increasing
+  bool startsWithOutside = false;  // `out` starts with the base's outside part
+};
+
+TargetPart addTargetPart(TriMesh& out, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
+                         const StitchBase& base, const std::vector<char>& kept,
+                         bool outHoldsOutside) {
+  // Copied connectivity, not add_face face by face, which takes several times longer on a large
+  // target; with room for the patch and the seam strips.
+  auto reserve = [&] { reserveForPaste(out, targetMesh, sourceCanvas, base.openMeshFaces.size()); };
+  TargetPart part;
+  std::vector<int> keptFaces;
+  for (int f : base.openMeshFaces)
+    (kept[std::size_t(f)] ? keptFaces : part.removedFaces).push_back(f);
+  if (std::size_t(std::count(kept.begin(), kept.end(), 0)) == part.removedFaces.size()) {
+    if (!outHoldsOutside) {
+      // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
+      reserve();
+      out = base.outside;
+    }
+    part.faces = joinFaces(out, targetMesh, keptFaces, base.outsideFaces);
+    part.outToMesh = base.outsideFaces.sourceVertex;
+    part.startsWithOutside = true;
+  } else {
+    keptFaces.clear();
+    part.removedFaces.clear();
+    for (std::size_t f = 0; f < kept.size(); ++f)
+      (kept[f] ? keptFaces : part.removedFaces).push_back(int(f));
+    out.clear();
+    reserve();
+    part.faces = appendFaces(out, targetMesh, keptFaces);
+  }
+  part.outToMesh.insert(part.outToMesh.end(), part.faces.sourceVertex.begin(),
+                        part.faces.sourceVertex.end());
+  return part;
+}
+
+// Where the seam loops are traced from: the vertices of `out` at a corner of a removed face
+// (a removed face of the refined band, whose kept faces are added to `out` first), and where in
+// the domain the vertices the band adds lie.
+struct SeamSeeds {
+  std::vector<int> vertices;     // vertices of `out`
+  int firstBandVertex = 0;       // the first vertex of `out` the band added
+  std::vector<Vector2d> bandUv;  // vertex firstBandVertex + i of `out` -> its place in the domain
+};
+
+SeamSeeds removedFaceSeeds(const TriMesh& out, const TriMesh& targetMesh, const TargetPart& part) {
+  SeamSeeds seeds;
+  seeds.firstBandVertex = int(out.n_vertices());
+  for (int f : part.removedFaces)
+    for (auto corner : targetMesh.fv_range(TriMesh::FaceHandle(f)))
+      seeds.vertices.push_back(part.faces.vertexInOut[std::size_t(corner.idx())]);
+  return seeds;
+}
+
+SeamSeeds addBandSeeds(TriMesh& out, const SeamBand& band, TargetPart& part,
+                       std::size_t& refinedVertices) {
+  SeamSeeds seeds;
+  seeds.firstBandVertex = int(out.n_vertices());
+  const std::vector<int> bandInOut =
+      addBand(out, band, part.faces.vertexInOut, part.outToMesh, seeds.bandUv, refinedVertices);
+  for (auto f : band.mesh.faces())
+    if (!band.kept[std::size_t(f.idx())])
+      for (auto corner : band.mesh.fv_range(f))
+        seeds.vertices.push_back(bandInOut[std::size_t(corner.idx())]);
+  return seeds;
+}
+
+// A boundary loop of `out`, each vertex with its place in the domain.
+struct DomainLoop {
+  std::vector<int> vertices;
+  std::vector<Vector2d> uv;
+};
+
+// The seam loops: the boundary loops of the target part through a seed, traced before the patch
+// is added.
+std::vector<DomainLoop> traceSeams(const TriMesh& out, const SeamSeeds& seeds,
+                                   const std::vector<int>& outToMesh, const StitchBase& base,
+                                   const Parameterization& target) {
+  auto uvInDomain = [&](int v) -> Vector2d {
+    if (v >= seeds.firstBandVertex) return seeds.bandUv[std::size_t(v - seeds.firstBandVertex)];
+    const int canvasVertex = base.meshToCanvas[std::size_t(outToMesh[std::size_t(v)])];
+    if (canvasVertex < 0) {
+      throw StitchError(
+          "the region reaches the edge of the target canvas: paint away from "
+          "it or grow the target canvas");
+    }
+    return target.uv[std::size_t(canvasVertex)];
+  };
+  std::vector<DomainLoop> seams;
+  std::unordered_set<int> traced;  // a few loops in a large mesh
+  for (int o : seeds.vertices) {
+    if (o < 0 || !out.is_boundary(TriMesh::VertexHandle(o))) continue;
+    for (auto start : out.voh_range(TriMesh::VertexHandle(o))) {
+      if (!out.is_boundary(start) || traced.count(start.idx())) continue;
+      DomainLoop loop;
+      auto h = start;
+      do {
+        traced.insert(h.idx());
+        const int v = out.from_vertex_handle(h).idx();
+        loop.uv.push_back(uvInDomain(v));
+        loop.vertices.push_back(v);
+        h = out.next_halfedge_handle(h);
+      } while (h != start);
+      seams.push_back(std::move(loop));
+    }
+  }
+  return seams;
+}
+
+// R_in appended to `out` after the target's vertices, at the source canvas' positions until
+// placePatch, with its boundary loops.
+struct PatchPart {
+  AppendedFaces faces;
+  std::vector<std::vector<int>> loops;  // vertices of `out`
+};
+
+PatchPart addPatch(TriMesh& out, const TriMesh& canvas, const std::vector<int>& patchFaces) {
+  // Joined to nothing: the copy costs the region's size, not the canvas'.
+  AppendedFaces nothing;
+  nothing.vertexInOut.assign(canvas.n_vertices(), -1);
+  nothing.edgeInOut.assign(canvas.n_edges(), -1);
+  nothing.faceInOut.assign(canvas.n_faces(), -1);
+  const int firstPatchHalfedge = int(out.n_halfedges());
+  PatchPart patch;
+  patch.faces = joinFaces(out, canvas, patchFaces, std::move(nothing));
+  // The patch's halfedges are the last ones.
+  std::vector<char> traced(out.n_halfedges() - std::size_t(firstPatchHalfedge), 0);
+  for (int v = patch.faces.firstVertex; v < int(out.n_vertices()); ++v) {
+    if (!out.is_boundary(TriMesh::VertexHandle(v))) continue;
+    for (auto start : out.voh_range(TriMesh::VertexHandle(v))) {
+      if (!out.is_boundary(start) || traced[std::size_t(start.idx() - firstPatchHalfedge)])
+        continue;
+      std::vector<int> loop;
+      auto h = start;
+      do {
+        traced[std::size_t(h.idx() - firstPatchHalfedge)] = 1;
+        loop.push_back(out.from_vertex_handle(h).idx());
+        h = out.next_halfedge_handle(h);
+      } while (h != start);
+      patch.loops.push_back(std::move(loop));
+    }
+  }
+  return patch;
+}
+
+// Pairs each boundary loop of R_in with the seam loop nearest to it in the domain and fills the
+// strip between them (section 4.4, Fig. 6d). Returns the triangles added.
+std::size_t zipSeams(TriMesh& out, const PatchPart& patch, const std::vector<DomainLoop>& seams,
+                     const Parameterization& source, const std::vector<int>& outToMesh,
+                     bool refinedSeam) {
+  if (patch.loops.size() != seams.size()) {
+    throw StitchError("the region has " + std::to_string(patch.loops.size()) +
+                      " boundary loops on the source but " + std::to_string(seams.size()) +
+                      " on the target: paint a region whose outline both canvases hold whole");
+  }
+  std::vector<char> paired(seams.size(), 0);
+  std::size_t triangles = 0;
+  for (const auto& ids : patch.loops) {
+    std::vector<Vector2d> uv;
+    for (int v : ids)
+      uv.push_back(
+          source
+              .uv[std::size_t(patch.faces.sourceVertex[std::size_t(v - patch.faces.firstVertex)])]);
+    std::size_t best = seams.size();
+    double bestDistance = std::numeric_limits<double>::infinity();
+    for (std::size_t s = 0; s < seams.size(); ++s) {
+      const double d = paired[s] ? bestDistance : meanNearestDistance(uv, seams[s].uv);
+      if (d < bestDistance) {
+        bestDistance = d;
+        best = s;
+      }
+    }
+    if (best == seams.size()) throw StitchError("two source loops pair with one seam loop");
+    paired[best] = 1;
+    const DomainZipMetric metric(uv, seams[best].uv);
+    for (const auto& t : zipLoops(ids, seams[best].vertices, metric, refinedSeam)) {
+      const auto face = out.add_face(TriMesh::VertexHandle(t[0]), TriMesh::VertexHandle(t[1]),
+                                     TriMesh::VertexHandle(t[2]));
+      if (!face.is_valid()) {
+        const int near = outToMesh[std::size_t(t[2] < patch.faces.firstVertex ? t[2] : t[0])];
+        std::string text = "the seam strip folds onto itself near ";
+        if (near >= 0) {
+          text += "target ";
+          text += vertexText(near);
+        } else {
+          text += "the refined seam";
+        }
+        text += ": the two outlines are too far apart or too jagged to join";
+        throw StitchError(text);
+      }
+      ++triangles;
+    }
+  }
+  return triangles;
+}
+
 // stitchLayoutInto, refining the seam band as StitchOptions::seamRefinementRatio says; `refined`
 // tells whether it did.
 StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
@@ -642,253 +945,48 @@ StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameteriza
   if (!source.canvas || !target.canvas) throw StitchError("the parameterizations have no canvases");
   const TriMesh& canvas = source.canvas->surface;
   const TriMesh& targetMesh = meshOf(*target.canvas);
-  StitchResult result;  // its mesh stays empty: the mesh is `out`
-  auto keepTarget = [&] {
-    out = targetMesh;
-    result.map.targetVertex.resize(targetMesh.n_vertices());
-    std::iota(result.map.targetVertex.begin(), result.map.targetVertex.end(), 0);
-    result.map.sourceVertex.assign(targetMesh.n_vertices(), -1);
-  };
-  if (region.empty()) {
-    keepTarget();
-    return result;
-  }
+  if (region.empty()) return keepTarget(out, targetMesh);
+  const PatchFaces patch = selectPatch(canvas, region);
+  if (patch.faces.empty()) return keepTarget(out, targetMesh);
 
-  // R_in: the source faces with every corner in the region, made manifold. Counting each face's
-  // corners in the region visits a face once per corner; the faces with some corner out (along
-  // the outline) hold every vertex where R_in could be pinched.
-  std::vector<char> inRegion(canvas.n_vertices(), 0);
-  std::vector<char> cornersIn(canvas.n_faces(), 0);
-  std::vector<int> touched;
-  for (int v : region.sourceVertices) {
-    if (inRegion[std::size_t(v)]) continue;
-    inRegion[std::size_t(v)] = 1;
-    for (auto f : canvas.vf_range(TriMesh::VertexHandle(v)))
-      if (cornersIn[std::size_t(f.idx())]++ == 0) touched.push_back(f.idx());
-  }
-  std::vector<char> patchSelected(canvas.n_faces(), 0);
-  std::vector<int> alongOutline;
-  for (int f : touched) {
-    const bool whole = cornersIn[std::size_t(f)] == 3;
-    patchSelected[std::size_t(f)] = whole;
-    if (!whole) alongOutline.push_back(f);
-  }
-  removePinches(canvas, patchSelected, alongOutline);
-  const std::vector<int> patchFaces = selectedFaces(patchSelected);
-  if (patchFaces.empty()) {
-    keepTarget();
-    return result;
-  }
-
-  // The target: every face but those of its canvas that touch a covered vertex, made manifold.
   std::optional<StitchBase> ownBase;
   if (!base) base = &ownBase.emplace(stitchBase(target));
-  const TriMesh& targetCanvas = target.canvas->surface;
-  if (base->canvasToMesh.size() != targetCanvas.n_vertices() ||
-      base->canvasFaceToMesh.size() != targetCanvas.n_faces() ||
-      base->openRing.size() != targetMesh.n_faces())
-    throw StitchError("the stitch base was made for another target canvas");
-  std::vector<char> outerBoundary(targetCanvas.n_vertices(), 0);
-  for (int v : target.canvas->boundary)
-    outerBoundary[std::size_t(v)] = 1;
-  std::vector<char> covered(targetCanvas.n_vertices(), 0);
-  for (int v : region.targetVertices) {
-    // Vertices of the canvas' inner loops (holes of the target mesh) may be covered: a fill
-    // replaces the faces around them.
-    if (outerBoundary[std::size_t(v)]) {
-      throw StitchError("the region reaches the edge of the target canvas at target " +
-                        vertexText(base->canvasToMesh[std::size_t(v)]) +
-                        ": paint away from it or grow the target canvas");
-    }
-    covered[std::size_t(v)] = 1;
-  }
-  std::vector<char> kept(targetMesh.n_faces(), 1);
-  std::vector<int> removedFaces, removedCanvasFaces;
-  for (int v : region.targetVertices)
-    for (auto f : targetCanvas.vf_range(TriMesh::VertexHandle(v))) {
-      char& k = kept[std::size_t(base->canvasFaceToMesh[std::size_t(f.idx())])];
-      if (k) {
-        removedFaces.push_back(base->canvasFaceToMesh[std::size_t(f.idx())]);
-        removedCanvasFaces.push_back(f.idx());
-      }
-      k = 0;
-    }
-
-  // On a target coarser than the source, the faces along dQ are refined first (see
-  // StitchOptions); the band they form replaces its target faces, and the rest stay whole.
+  TargetCut cut = cutTarget(region, target, *base, targetMesh);
+  // On a target coarser than the source, the faces along dQ are refined first; the band they
+  // form replaces its target faces, and the rest stay whole.
+  std::vector<Segment> outline;
+  const double limit =
+      refinementLimit(canvas, patch, source, cut, target, refinementRatio, outline);
   std::optional<SeamBand> band;
-  if (refinementRatio > 0) {
-    std::vector<Segment> outline = patchOutline(canvas, patchFaces, patchSelected, source.uv);
-    const double sourceEdge = meanLength(outline);
-    if (sourceEdge > 0 && crossingEdgeLength(targetCanvas, removedCanvasFaces, covered, target.uv) >
-                              refinementRatio * sourceEdge) {
-      refined = true;
-      const double limit = kRefinedEdgeRatio * sourceEdge;
-      band = refineSeamBand(removedCanvasFaces, Outline(std::move(outline), 2 * limit), limit,
-                            covered, target, *base, targetMesh, kept);
-      for (int f : band->meshFaces)
-        kept[std::size_t(f)] = 0;
-    }
-  }
-  if (!band) removePinches(targetMesh, kept, removedFaces);
-  // The kept target faces, then the patch, their connectivity copied (add_face, face by face,
-  // takes several times longer on a large target); room for the seam strips too. The part
-  // outside the open part is copied whole from the base, unless pinches reached it.
-  auto reserve = [&] { reserveForPaste(out, targetMesh, canvas, base->openMeshFaces.size()); };
-  std::vector<int> keptFaces;
-  removedFaces.clear();
-  for (int f : base->openMeshFaces)
-    (kept[std::size_t(f)] ? keptFaces : removedFaces).push_back(f);
-  AppendedFaces targetPart;
-  std::vector<int> outToMesh;  // vertex of `out` -> target mesh vertex
-  if (std::size_t(std::count(kept.begin(), kept.end(), 0)) == removedFaces.size()) {
-    if (!outHoldsOutside) {
-      // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
-      reserve();
-      out = base->outside;
-    }
-    targetPart = joinFaces(out, targetMesh, keptFaces, base->outsideFaces);
-    outToMesh = base->outsideFaces.sourceVertex;
-    result.startsWithOutside = true;
+  if (limit > 0) {
+    refined = true;
+    band = refineSeamBand(cut.removedCanvasFaces, Outline(std::move(outline), 2 * limit), limit,
+                          cut.covered, target, *base, targetMesh, cut.kept);
+    for (int f : band->meshFaces)
+      cut.kept[std::size_t(f)] = 0;
   } else {
-    keptFaces.clear();
-    removedFaces.clear();
-    for (std::size_t f = 0; f < kept.size(); ++f)
-      (kept[f] ? keptFaces : removedFaces).push_back(int(f));
-    out.clear();
-    reserve();
-    targetPart = appendFaces(out, targetMesh, keptFaces);
-  }
-  outToMesh.insert(outToMesh.end(), targetPart.sourceVertex.begin(), targetPart.sourceVertex.end());
-  result.removedFaces = removedFaces.size();
-
-  // The seam loops: boundary loops of the target part through a vertex of a removed face, found
-  // before the patch is added.
-  const int firstBandVertex = int(out.n_vertices());
-  std::vector<Vector2d> bandUv;  // vertex firstBandVertex + i of `out` -> its place in the domain
-  std::vector<int> seamSeeds;    // vertices of `out` at a corner of a removed face
-  if (band) {
-    const std::vector<int> bandInOut =
-        addBand(out, *band, targetPart.vertexInOut, outToMesh, bandUv, result.refinedVertices);
-    for (auto f : band->mesh.faces())
-      if (!band->kept[std::size_t(f.idx())])
-        for (auto corner : band->mesh.fv_range(f))
-          seamSeeds.push_back(bandInOut[std::size_t(corner.idx())]);
-    result.removedFaces = band->replacedFaces;
-  } else {
-    for (int f : removedFaces)
-      for (auto corner : targetMesh.fv_range(TriMesh::FaceHandle(f)))
-        seamSeeds.push_back(targetPart.vertexInOut[std::size_t(corner.idx())]);
-  }
-  auto uvInDomain = [&](int v) -> Vector2d {
-    if (v >= firstBandVertex) return bandUv[std::size_t(v - firstBandVertex)];
-    const int canvasVertex = base->meshToCanvas[std::size_t(outToMesh[std::size_t(v)])];
-    if (canvasVertex < 0) {
-      throw StitchError(
-          "the region reaches the edge of the target canvas: paint away from "
-          "it or grow the target canvas");
-    }
-    return target.uv[std::size_t(canvasVertex)];
-  };
-  std::vector<std::vector<int>> seams;
-  std::vector<std::vector<Vector2d>> seamUv;
-  std::unordered_set<int> tracedSeam;  // a few loops in a large mesh
-  for (int o : seamSeeds) {
-    if (o < 0 || !out.is_boundary(TriMesh::VertexHandle(o))) continue;
-    for (auto start : out.voh_range(TriMesh::VertexHandle(o))) {
-      if (!out.is_boundary(start) || tracedSeam.count(start.idx())) continue;
-      std::vector<int> loop;
-      std::vector<Vector2d> uv;
-      auto h = start;
-      do {
-        tracedSeam.insert(h.idx());
-        const int v = out.from_vertex_handle(h).idx();
-        uv.push_back(uvInDomain(v));
-        loop.push_back(v);
-        h = out.next_halfedge_handle(h);
-      } while (h != start);
-      seams.push_back(std::move(loop));
-      seamUv.push_back(std::move(uv));
-    }
+    removePinches(targetMesh, cut.kept, cut.removedFaces);
   }
 
-  // The patch, after the target's vertices, at the source canvas' positions until placePatch.
-  // Joined to nothing: the copy costs the region's size, not the canvas'.
-  AppendedFaces nothing;
-  nothing.vertexInOut.assign(canvas.n_vertices(), -1);
-  nothing.edgeInOut.assign(canvas.n_edges(), -1);
-  nothing.faceInOut.assign(canvas.n_faces(), -1);
-  const int firstPatchHalfedge = int(out.n_halfedges());
-  const AppendedFaces patch = joinFaces(out, canvas, patchFaces, std::move(nothing));
-  result.patchVertices = patch.sourceVertex.size();
-  std::vector<std::vector<int>> patchLoops;
-  // The patch's halfedges are the last ones.
-  std::vector<char> traced(out.n_halfedges() - std::size_t(firstPatchHalfedge), 0);
-  for (int v = patch.firstVertex; v < int(out.n_vertices()); ++v) {
-    if (!out.is_boundary(TriMesh::VertexHandle(v))) continue;
-    for (auto start : out.voh_range(TriMesh::VertexHandle(v))) {
-      if (!out.is_boundary(start) || traced[std::size_t(start.idx() - firstPatchHalfedge)])
-        continue;
-      std::vector<int> loop;
-      auto h = start;
-      do {
-        traced[std::size_t(h.idx() - firstPatchHalfedge)] = 1;
-        loop.push_back(out.from_vertex_handle(h).idx());
-        h = out.next_halfedge_handle(h);
-      } while (h != start);
-      patchLoops.push_back(std::move(loop));
-    }
-  }
-
-  // Pair each boundary loop of R_in with the seam loop of the target nearest to it in the domain.
-  if (patchLoops.size() != seams.size()) {
-    throw StitchError("the region has " + std::to_string(patchLoops.size()) +
-                      " boundary loops on the source but " + std::to_string(seams.size()) +
-                      " on the target: paint a region whose outline both canvases hold whole");
-  }
-  std::vector<char> paired(seams.size(), 0);
+  StitchResult result;  // its mesh stays empty: the mesh is `out`
+  TargetPart part = addTargetPart(out, targetMesh, canvas, *base, cut.kept, outHoldsOutside);
+  result.startsWithOutside = part.startsWithOutside;
+  result.removedFaces = band ? band->replacedFaces : part.removedFaces.size();
+  const SeamSeeds seeds = band ? addBandSeeds(out, *band, part, result.refinedVertices)
+                               : removedFaceSeeds(out, targetMesh, part);
+  const std::vector<DomainLoop> seams = traceSeams(out, seeds, part.outToMesh, *base, target);
+  const PatchPart patchPart = addPatch(out, canvas, patch.faces);
+  result.patchVertices = patchPart.faces.sourceVertex.size();
   const int firstSeamFace = int(out.n_faces());
-  for (const auto& ids : patchLoops) {
-    std::vector<Vector2d> uv;
-    for (int v : ids)
-      uv.push_back(source.uv[std::size_t(patch.sourceVertex[std::size_t(v - patch.firstVertex)])]);
-    std::size_t best = seams.size();
-    double bestDistance = std::numeric_limits<double>::infinity();
-    for (std::size_t s = 0; s < seams.size(); ++s) {
-      const double d = paired[s] ? bestDistance : meanNearestDistance(uv, seamUv[s]);
-      if (d < bestDistance) {
-        bestDistance = d;
-        best = s;
-      }
-    }
-    if (best == seams.size()) throw StitchError("two source loops pair with one seam loop");
-    paired[best] = 1;
-    const DomainZipMetric metric(uv, seamUv[best]);
-    for (const auto& t : zipLoops(ids, seams[best], metric, band.has_value())) {
-      const auto face = out.add_face(TriMesh::VertexHandle(t[0]), TriMesh::VertexHandle(t[1]),
-                                     TriMesh::VertexHandle(t[2]));
-      if (!face.is_valid()) {
-        const int near = outToMesh[std::size_t(t[2] < patch.firstVertex ? t[2] : t[0])];
-        std::string text = "the seam strip folds onto itself near ";
-        if (near >= 0) {
-          text += "target ";
-          text += vertexText(near);
-        } else {
-          text += "the refined seam";
-        }
-        text += ": the two outlines are too far apart or too jagged to join";
-        throw StitchError(text);
-      }
-      ++result.gapTriangles;
-    }
-    ++result.seamLoops;
-  }
+  result.gapTriangles = zipSeams(out, patchPart, seams, source, part.outToMesh, band.has_value());
+  result.seamLoops = seams.size();
+
   PasteMap& map = result.map;
-  map.targetVertex = outToMesh;
+  map.targetVertex = part.outToMesh;
   map.targetVertex.resize(out.n_vertices(), -1);
-  map.sourceVertex.assign(std::size_t(patch.firstVertex), -1);
-  map.sourceVertex.insert(map.sourceVertex.end(), patch.sourceVertex.begin(),
-                          patch.sourceVertex.end());
+  map.sourceVertex.assign(std::size_t(patchPart.faces.firstVertex), -1);
+  map.sourceVertex.insert(map.sourceVertex.end(), patchPart.faces.sourceVertex.begin(),
+                          patchPart.faces.sourceVertex.end());
   map.seamFaces.resize(out.n_faces() - std::size_t(firstSeamFace));
   std::iota(map.seamFaces.begin(), map.seamFaces.end(), firstSeamFace);
   return result;
