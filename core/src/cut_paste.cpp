@@ -14,10 +14,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 void hashVector3s(Hasher& hasher, const std::vector<Eigen::Vector3d>& values) {
   hasher.u64(values.size());
   for (const auto& v : values)

@@ -20,10 +20,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 std::vector<Eigen::Vector3d> points(const TriMesh& mesh) {
   std::vector<Eigen::Vector3d> p;
   p.reserve(mesh.n_vertices());

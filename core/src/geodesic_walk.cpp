@@ -15,11 +15,6 @@ namespace {
 
 using Eigen::Vector3d;
 
-Vector3d at(const TriMesh& mesh, TriMesh::VertexHandle v) {
-  const auto& p = mesh.point(v);
-  return {p[0], p[1], p[2]};
-}
-
 // Twice the area below which a face counts as degenerate, relative to its longest edge squared.
 constexpr double kDegenerateArea = 1e-14;
 
@@ -46,7 +41,7 @@ Triangle triangleOf(const TriMesh& mesh, int face) {
   for (int k = 0; k < 3; ++k) {
     t.side[k] = h;
     t.vertex[k] = mesh.from_vertex_handle(h).idx();
-    t.x[k] = at(mesh, mesh.from_vertex_handle(h));
+    t.x[k] = pointOf(mesh, mesh.from_vertex_handle(h));
     h = mesh.next_halfedge_handle(h);
   }
   const Vector3d cross = (t.x[1] - t.x[0]).cross(t.x[2] - t.x[0]);
@@ -90,11 +85,11 @@ Fan fanAround(const TriMesh& mesh, TriMesh::VertexHandle v, int firstFace) {
   for (auto h : mesh.voh_range(v))
     if (mesh.face_handle(h).idx() == firstFace) first = h;
   auto h = first;
-  const Vector3d centre = at(mesh, v);
+  const Vector3d centre = pointOf(mesh, v);
   do {
-    const Vector3d a = at(mesh, mesh.to_vertex_handle(h)) - centre;
+    const Vector3d a = pointOf(mesh, mesh.to_vertex_handle(h)) - centre;
     const auto back = mesh.prev_halfedge_handle(h);
-    const Vector3d b = at(mesh, mesh.from_vertex_handle(back)) - centre;
+    const Vector3d b = pointOf(mesh, mesh.from_vertex_handle(back)) - centre;
     const double sine = a.cross(b).norm();
     if (!(sine > kDegenerateArea * std::max(a.squaredNorm(), b.squaredNorm()))) return {};
     fan.out.push_back(h);
@@ -107,7 +102,8 @@ Fan fanAround(const TriMesh& mesh, TriMesh::VertexHandle v, int firstFace) {
 
 // The unit vector along an edge leaving a vertex.
 Vector3d edgeDirection(const TriMesh& mesh, TriMesh::HalfedgeHandle h) {
-  return (at(mesh, mesh.to_vertex_handle(h)) - at(mesh, mesh.from_vertex_handle(h))).normalized();
+  return (pointOf(mesh, mesh.to_vertex_handle(h)) - pointOf(mesh, mesh.from_vertex_handle(h)))
+      .normalized();
 }
 
 // The angle from `from` to `to` about `normal`, counter-clockwise seen from its tip.
@@ -300,7 +296,7 @@ bool Walker::depart(TriMesh::VertexHandle v, const Fan& fan, double position) {
   const Vector3d e = edgeDirection(mesh_, fan.out[i]);
   const Vector3d direction = std::cos(psi) * e + std::sin(psi) * next.normal.cross(e);
   const int corner = next.cornerOf(v.idx());
-  return enter(face, Vector3d::Unit(corner), direction, 1u << corner, at(mesh_, v));
+  return enter(face, Vector3d::Unit(corner), direction, 1u << corner, pointOf(mesh_, v));
 }
 
 bool Walker::stop(WalkStop why) {

@@ -38,10 +38,6 @@ bool finite(const Rgb& color) {
   return std::isfinite(color[0]) && std::isfinite(color[1]) && std::isfinite(color[2]);
 }
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 void checkOptions(const RenderOptions& options) {
   for (auto [name, size] : {std::pair{"width", options.width}, {"height", options.height}}) {
     if (size < 1 || size > kMaxSize)

@@ -107,7 +107,7 @@ AdditiveDraft additiveDraft(const Parameterization& source, const Parameterizati
         (detail.dot(from.uAxis) * to.uAxis + detail.dot(from.vAxis) * to.vAxis +
          detail.dot(from.normal) * to.normal);
     const Eigen::Vector3d p = to.point + carried;
-    result.draft.set_point(v, {p.x(), p.y(), p.z()});
+    result.draft.set_point(v, toPoint(p));
   }
   return result;
 }

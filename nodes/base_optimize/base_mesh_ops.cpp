@@ -20,10 +20,6 @@ namespace {
 using VertexHandle = TriMesh::VertexHandle;
 using HalfedgeHandle = TriMesh::HalfedgeHandle;
 
-TriMesh::Point toPoint(const Eigen::Vector3d& p) {
-  return {p.x(), p.y(), p.z()};
-}
-
 std::array<Eigen::Vector3d, 3> corners(const TriMesh& mesh, TriMesh::FaceHandle f) {
   std::array<Eigen::Vector3d, 3> c;
   int k = 0;

@@ -17,10 +17,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-Vector3d toEigen(const OpenMesh::Vec3d& p) {
-  return {p[0], p[1], p[2]};
-}
-
 // A uniform grid over the parameter domain; C is made of some of its cells.
 struct Grid {
   Vector2d corner;  // position of grid vertex (0, 0)
@@ -344,8 +340,8 @@ TriMesh shellMesh(const Domain& domain, const std::vector<Column>& columns, doub
     const Column& c = columns[d];
     const Vector3d up = c.point + (c.high + margin + raise[d]) * c.normal;
     const Vector3d down = c.point + (c.low - margin - lower[d]) * c.normal;
-    top[d] = mesh.add_vertex({up.x(), up.y(), up.z()}).idx();
-    bottom[d] = mesh.add_vertex({down.x(), down.y(), down.z()}).idx();
+    top[d] = mesh.add_vertex(toPoint(up)).idx();
+    bottom[d] = mesh.add_vertex(toPoint(down)).idx();
   }
   auto vh = [](int i) { return TriMesh::VertexHandle(i); };
   for (const auto& t : domain.triangles) {

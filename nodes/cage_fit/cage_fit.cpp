@@ -11,10 +11,6 @@ namespace {
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
-Vector3d toEigen(const OpenMesh::Vec3d& p) {
-  return {p[0], p[1], p[2]};
-}
-
 Matrix3d frameMatrix(const Frame& frame) {
   Matrix3d m;
   m.col(0) = frame.uAxis;

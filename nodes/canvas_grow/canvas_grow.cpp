@@ -15,10 +15,6 @@ namespace {
 // Below this relative size an offset is rounding noise of the mesh's coordinates.
 constexpr double kRoundoff = 1e-9;
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 std::string formatPoint(const Eigen::Vector3d& p) {
   std::ostringstream s;
   s.precision(6);

@@ -18,10 +18,6 @@ namespace {
 // Below this relative size an offset is rounding noise of the mesh's coordinates.
 constexpr double kRoundoff = 1e-9;
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 std::string formatNumber(double x) {
   std::ostringstream s;
   s.precision(4);

@@ -11,11 +11,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d point3(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // The walked points' places in the target feature's domain: each lies on a face of the region
 // (the walk's own face where the region holds it, else the region's nearest point, e.g. for a
 // point on the region's outline given with a face outside); its barycentric coordinates there
@@ -35,9 +30,9 @@ std::vector<Eigen::Vector2d> walkedDomainPoints(const Parameterization& targetFe
     int c = 0;
     for (auto v : region.surface.fv_range(TriMesh::FaceHandle(face)))
       corners[std::size_t(c++)] = v.idx();
-    const Eigen::Vector3d a = point3(region.surface, corners[0]);
+    const Eigen::Vector3d a = pointOf(region.surface, corners[0]);
     Eigen::Matrix<double, 3, 2> edges;
-    edges << point3(region.surface, corners[1]) - a, point3(region.surface, corners[2]) - a;
+    edges << pointOf(region.surface, corners[1]) - a, pointOf(region.surface, corners[2]) - a;
     const Eigen::Vector2d st = edges.colPivHouseholderQr().solve(walk.point[k] - a);
     uv[k] = (1 - st.x() - st.y()) * targetFeature.uv[std::size_t(corners[0])] +
             st.x() * targetFeature.uv[std::size_t(corners[1])] +
@@ -158,7 +153,7 @@ DetailTransferResult transferDetail(const DetailEncoding& encoding,
     const Eigen::Vector3d x =
         decodeOffset(baseFace(movedBase, field, encoding.baseFace[i]), encoding.barycentric[i],
                      encoding.offset[i], encoding.method, walk.scale);
-    result.pasted.set_point(v, TriMesh::Point(x.x(), x.y(), x.z()));
+    result.pasted.set_point(v, toPoint(x));
   }
   for (const auto& uv : encoding.feature->uv)
     result.placedUv.push_back(apply(alignment.similarity, uv));

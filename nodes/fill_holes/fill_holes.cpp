@@ -19,11 +19,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-Vector3d point(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 std::string loopName(int id, const BoundaryLoop& loop) {
   return "loop " + std::to_string(id) + " (" + std::to_string(loop.vertices.size()) +
          " border edges, from vertex " + std::to_string(loop.vertices.front()) + ")";
@@ -175,7 +170,8 @@ HoleMembrane holeMembrane(const TriMesh& mesh, const BoundaryLoop& loop, const P
   }
   for (const auto& face : ring.faces) {
     problem.triangles.push_back({local.at(face[0]), local.at(face[1]), local.at(face[2])});
-    problem.corners.push_back({point(mesh, face[0]), point(mesh, face[1]), point(mesh, face[2])});
+    problem.corners.push_back(
+        {pointOf(mesh, face[0]), pointOf(mesh, face[1]), pointOf(mesh, face[2])});
   }
   return membrane;
 }
@@ -192,7 +188,7 @@ std::vector<Vector3d> solveFill(const TriMesh& mesh, const BoundaryLoop& loop,
   problem.continuity = 0;
   problem.values = Eigen::MatrixXd::Zero(problem.pointCount, chart.planar ? 1 : 3);
   for (std::size_t k = 0; k < known.size(); ++k) {
-    const Vector3d p = point(mesh, known[k]);
+    const Vector3d p = pointOf(mesh, known[k]);
     if (chart.planar)
       problem.values(added + int(k), 0) = chart.height(p);
     else
@@ -211,11 +207,11 @@ std::vector<Vector3d> solveFill(const TriMesh& mesh, const BoundaryLoop& loop,
     for (int k = 0; k < 3; ++k) {
       const int p = patch.triangles[t][std::size_t(k)];
       problem.corners[t][std::size_t(k)] =
-          p < n ? point(mesh, loop.vertices[std::size_t(p)]) : lifted[std::size_t(p - n)];
+          p < n ? pointOf(mesh, loop.vertices[std::size_t(p)]) : lifted[std::size_t(p - n)];
     }
   problem.values.resize(problem.pointCount, 3);
   for (std::size_t k = 0; k < known.size(); ++k)
-    problem.values.row(added + int(k)) = point(mesh, known[k]).transpose();
+    problem.values.row(added + int(k)) = pointOf(mesh, known[k]).transpose();
   const Eigen::MatrixXd positions = solveMembrane(problem);
   for (int i = 0; i < added; ++i)
     lifted[std::size_t(i)] = positions.row(i).transpose();
@@ -229,7 +225,7 @@ HoleFill fillOne(const TriMesh& mesh, const BoundaryLoop& loop, int loopId,
   // A border in a plane (a cut through a CAD part) is capped flat whatever the ring's slopes.
   double borderHeight = 0.0;
   for (int v : loop.vertices)
-    borderHeight = std::max(borderHeight, std::abs(chart.height(point(mesh, v))));
+    borderHeight = std::max(borderHeight, std::abs(chart.height(pointOf(mesh, v))));
   const bool flat = chart.planar && borderHeight <= kPlanarBorder * loop.length;
   fill.continuity = flat ? 0 : options.continuity;
   PlanarPatch patch;
@@ -290,7 +286,7 @@ double meanEdgeLength(const std::vector<Vector3d>& points,
     for (int k = 0; k < 3; ++k)
       edges.insert(std::minmax(f[k], f[(k + 1) % 3]));
   auto at = [&](int v) {
-    return v < firstNewVertex ? point(mesh, v) : points[std::size_t(v - firstNewVertex)];
+    return v < firstNewVertex ? pointOf(mesh, v) : points[std::size_t(v - firstNewVertex)];
   };
   double sum = 0.0;
   int count = 0;
@@ -339,8 +335,7 @@ std::map<int, std::size_t> refillCrossingHarmonic(const TriMesh& mesh,
     const HoleFill fill = fillOne(mesh, loops[std::size_t(i)], i, harmonic, first);
     for (std::size_t k = 0; k < fill.newPoints.size(); ++k) {
       const Vector3d& p = fill.newPoints[k];
-      result.mesh.set_point(TriMesh::VertexHandle(first + int(k)),
-                            TriMesh::Point(p.x(), p.y(), p.z()));
+      result.mesh.set_point(TriMesh::VertexHandle(first + int(k)), toPoint(p));
     }
     report.continuity = 0;
     report.note = "filled harmonic: with the border's slopes it cut the surface";
@@ -417,7 +412,7 @@ HoleChart chartHole(const TriMesh& mesh, const BoundaryLoop& loop) {
   std::vector<Vector3d> points;
   Vector3d origin = Vector3d::Zero(), areaNormal = Vector3d::Zero();
   for (int v : loop.vertices)
-    points.push_back(point(mesh, v));
+    points.push_back(pointOf(mesh, v));
   for (std::size_t i = 0; i < points.size(); ++i) {
     origin += points[i];
     areaNormal += points[i].cross(points[(i + 1) % points.size()]);
@@ -483,7 +478,7 @@ FillHolesResult fillHoles(const TriMesh& mesh, const FillHolesOptions& options) 
     for (std::size_t f = 0; f < fill.faces.size(); ++f)
       newFaces[i].push_back(int(result.mesh.n_faces() + f));
     for (const auto& p : fill.newPoints)
-      result.mesh.add_vertex(TriMesh::Point(p.x(), p.y(), p.z()));
+      result.mesh.add_vertex(toPoint(p));
     for (const auto& f : fill.faces) {
       const auto face = result.mesh.add_face(
           TriMesh::VertexHandle(f[0]), TriMesh::VertexHandle(f[1]), TriMesh::VertexHandle(f[2]));

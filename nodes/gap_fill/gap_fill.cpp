@@ -9,11 +9,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d point3(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // The target's faces outside the region, copied with their connectivity.
 AppendedFaces keepOutside(TriMesh& out, const TriMesh& target, const Canvas& region) {
   std::vector<char> removed(target.n_faces(), 0);
@@ -68,11 +63,11 @@ std::vector<std::array<int, 3>> zipInSpace(const TriMesh& out, const Loops& loop
   const std::vector<Eigen::Vector3d> normals = vertexNormals(out);
   std::vector<Eigen::Vector3d> pa, pb, na, nb;
   for (int v : loops.feature) {
-    pa.push_back(point3(out, v));
+    pa.push_back(pointOf(out, v));
     na.push_back(normals[std::size_t(v)]);
   }
   for (int v : loops.hole) {
-    pb.push_back(point3(out, v));
+    pb.push_back(pointOf(out, v));
     nb.push_back(normals[std::size_t(v)]);
   }
   return zipLoops(loops.feature, loops.hole, SpaceZipMetric(pa, pb, na, nb), true);

@@ -26,10 +26,6 @@ constexpr double kInvFourPi = 1.0 / (4.0 * std::numbers::pi);
 // multiplied by a distance below 1e-150 and vanish.
 constexpr double kMaxLogRatio = 1e300;
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 std::vector<Eigen::Vector3d> cagePoints(const TriMesh& cage) {
   std::vector<Eigen::Vector3d> points;
   points.reserve(cage.n_vertices());

@@ -99,7 +99,7 @@ class GcWarpNode final : public geobrush::Node {
 
  private:
   static void setPoint(geobrush::TriMesh& mesh, int v, const Eigen::Vector3d& p) {
-    mesh.set_point(geobrush::TriMesh::VertexHandle(v), {p.x(), p.y(), p.z()});
+    mesh.set_point(geobrush::TriMesh::VertexHandle(v), geobrush::toPoint(p));
   }
 
   // The draft with only `rows` warped, the others at their source positions. Rows warped for the

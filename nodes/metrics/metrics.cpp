@@ -13,11 +13,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d position(const TriMesh& mesh, TriMesh::VertexHandle v) {
-  const auto& p = mesh.point(v);
-  return {p[0], p[1], p[2]};
-}
-
 Eigen::Vector3d faceNormal(const TriMesh& mesh, TriMesh::FaceHandle f) {
   const Triangle3 t = faceTriangle(mesh, f.idx());
   return (t[1] - t[0]).cross(t[2] - t[0]).normalized();
@@ -49,7 +44,7 @@ std::vector<char> duplicatedVertices(const TriMesh& mesh, double tolerance) {
   for (std::size_t i = 0; i < order.size(); ++i)
     for (std::size_t j = i + 1; j < order.size() && x(order[j]) - x(order[i]) <= tolerance; ++j) {
       const auto a = TriMesh::VertexHandle(order[i]), b = TriMesh::VertexHandle(order[j]);
-      if ((position(mesh, a) - position(mesh, b)).norm() <= tolerance)
+      if ((pointOf(mesh, a) - pointOf(mesh, b)).norm() <= tolerance)
         duplicated[std::size_t(a.idx())] = duplicated[std::size_t(b.idx())] = 1;
     }
   return duplicated;
@@ -61,10 +56,10 @@ double laplacianMagnitude(const TriMesh& mesh, TriMesh::VertexHandle v) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   int count = 0;
   for (auto w : mesh.vv_range(v)) {
-    sum += position(mesh, w);
+    sum += pointOf(mesh, w);
     ++count;
   }
-  return count ? (position(mesh, v) - sum / count).norm() : 0;
+  return count ? (pointOf(mesh, v) - sum / count).norm() : 0;
 }
 
 // Edge distance from every vertex to the nearest seam vertex, up to `limit` (limit beyond).
@@ -206,9 +201,9 @@ PasteMetrics measurePaste(const TriMesh& result, const PasteMap* map, const TriM
       const int b = map->sourceVertex[std::size_t(result.to_vertex_handle(h).idx())];
       if (a < 0 || b < 0) continue;
       resultLength += result.calc_edge_length(e);
-      sourceLength += (position(*source, TriMesh::VertexHandle(a)) -
-                       position(*source, TriMesh::VertexHandle(b)))
-                          .norm();
+      sourceLength +=
+          (pointOf(*source, TriMesh::VertexHandle(a)) - pointOf(*source, TriMesh::VertexHandle(b)))
+              .norm();
     }
     const double scale = sourceLength > 0 ? resultLength / sourceLength : 1;
     values["scale_ratio"] = scale;

@@ -13,11 +13,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d position(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // The loop's coordinates, one array each, so that the programme's inner loop streams over k.
 struct LoopCoordinates {
   std::vector<double> x, y, z;
@@ -199,7 +194,7 @@ LoopTriangulation optimalTriangulation(const std::vector<Eigen::Vector3d>& loop,
 TriMesh triangulationMesh(const std::vector<Eigen::Vector3d>& loop, const LoopTriangulation& t) {
   TriMesh mesh;
   for (const auto& p : loop)
-    mesh.add_vertex(TriMesh::Point(p.x(), p.y(), p.z()));
+    mesh.add_vertex(toPoint(p));
   for (const auto& tri : t.triangles)
     mesh.add_face(TriMesh::VertexHandle(tri[0]), TriMesh::VertexHandle(tri[1]),
                   TriMesh::VertexHandle(tri[2]));
@@ -212,7 +207,7 @@ MinAreaResult minAreaTriangulate(const Canvas& canvas, const MinAreaOptions& opt
   std::vector<Eigen::Vector3d> loop;
   loop.reserve(canvas.boundary.size());
   for (int v : canvas.boundary)
-    loop.push_back(position(canvas.surface, v));
+    loop.push_back(pointOf(canvas.surface, v));
   const LoopTriangulation triangulation = optimalTriangulation(loop, options.objective);
 
   MinAreaResult result;

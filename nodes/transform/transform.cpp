@@ -61,7 +61,7 @@ TriMesh transformMesh(const TriMesh& mesh, const TransformOptions& options) {
   for (std::size_t i = 0; i < mesh.n_vertices(); ++i) {
     const auto& p = mesh.point(TriMesh::VertexHandle(static_cast<int>(i)));
     const Eigen::Vector3d q = t.linear * Eigen::Vector3d(p[0], p[1], p[2]) + t.offset;
-    result.add_vertex(TriMesh::Point(q.x(), q.y(), q.z()));
+    result.add_vertex(toPoint(q));
   }
   std::vector<TriMesh::VertexHandle> corners;
   for (auto face : mesh.faces()) {

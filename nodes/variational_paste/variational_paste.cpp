@@ -17,11 +17,6 @@ namespace {
 
 using Eigen::Vector3d;
 
-Vector3d position(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 bool finite(const TriMesh& mesh) {
   for (auto v : mesh.vertices())
     for (int k = 0; k < 3; ++k)
@@ -113,13 +108,13 @@ class DraftSampler {
     Vector3d point = Vector3d::Zero();
     int k = 0;
     for (auto corner : canvas.fv_range(TriMesh::FaceHandle(hit.face)))
-      point += hit.barycentric[k++] * position(draft_, corner.idx());
+      point += hit.barycentric[k++] * pointOf(draft_, corner.idx());
     return point;
   }
 
  private:
   Vector3d detail(int v) const {
-    return position(draft_, v) - targetLocator_.locate(source_.uv[std::size_t(v)]).point;
+    return pointOf(draft_, v) - targetLocator_.locate(source_.uv[std::size_t(v)]).point;
   }
 
   Vector3d extendedDetail(const Eigen::Vector2d& uv) const {
@@ -167,12 +162,12 @@ DomainSamples sampleDraft(const TriMesh& mesh, const PasteMap& map, const Roles&
           "or grow the target canvas");
     }
     const Eigen::Vector2d& uv = target.uv[std::size_t(c)];
-    samples.draft[std::size_t(v)] = sampler(uv, position(mesh, v));
+    samples.draft[std::size_t(v)] = sampler(uv, pointOf(mesh, v));
     samples.uv[std::size_t(v)] = uv;
   };
   for (int v : roles.unknowns) {
     const int s = map.sourceVertex[std::size_t(v)];
-    samples.draft[std::size_t(v)] = position(draft, s);
+    samples.draft[std::size_t(v)] = pointOf(draft, s);
     samples.uv[std::size_t(v)] = source.uv[std::size_t(s)];
   }
   for (std::size_t e = roles.unknowns.size(); e < roles.energy.size(); ++e)
@@ -436,7 +431,7 @@ VariationalPasteResult variationalPaste(const Region2D& region, const Parameteri
   const std::vector<Vector3d>& g = samples.draft;
   problem.fixed.assign(mesh.n_vertices(), Vector3d::Zero());
   for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
-    if (roles.unknownIndex[v] < 0) problem.fixed[v] = position(mesh, int(v));
+    if (roles.unknownIndex[v] < 0) problem.fixed[v] = pointOf(mesh, int(v));
   for (int v : roles.energy) {
     problem.rows.push_back(options.weights == LaplacianWeights::MeanValue
                                ? meanValueRow(mesh, v, samples.uv)

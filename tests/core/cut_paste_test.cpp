@@ -9,11 +9,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d point3(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 std::vector<char> interior(const TriMesh& mesh) {
   std::vector<char> movable(mesh.n_vertices(), 0);
   for (auto v : mesh.vertices())
@@ -27,7 +22,7 @@ TEST(CutPaste, SmoothingToRestIsTheLimitOfTheUmbrellaPasses) {
   umbrellaSmooth(passes, interior(passes), 3000);
   umbrellaSmoothToRest(rest, interior(rest));
   for (auto v : rest.vertices()) {
-    EXPECT_LT((point3(rest, v.idx()) - point3(passes, v.idx())).norm(), 1e-9);
+    EXPECT_LT((pointOf(rest, v.idx()) - pointOf(passes, v.idx())).norm(), 1e-9);
     if (rest.is_boundary(v)) {
       EXPECT_EQ(rest.point(v), bumpy->surface.point(v));  // the boundary stays
     }
@@ -43,7 +38,7 @@ TEST(CutPaste, APlanarGridAtRestStaysInItsPlane) {
   umbrellaSmoothToRest(rest, interior(rest));
   const Eigen::Vector3d normal = tilt.linear() * Eigen::Vector3d::UnitZ();
   for (auto v : rest.vertices())
-    EXPECT_NEAR(point3(rest, v.idx()).dot(normal), 0.0, 1e-12);
+    EXPECT_NEAR(pointOf(rest, v.idx()).dot(normal), 0.0, 1e-12);
 }
 
 // On a plane parameterized by its own coordinates, the frame field is the plane's axes, and an
@@ -63,8 +58,8 @@ TEST(CutPaste, FramesOfAPlaneAreItsAxesAndOffsetsMoveWithTheBase) {
   const Eigen::Matrix3d turn =
       Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.3, -1, 2).normalized()).toRotationMatrix();
   for (auto v : moved.vertices()) {
-    const Eigen::Vector3d p = 2.5 * (turn * point3(moved, v.idx()));
-    moved.set_point(v, TriMesh::Point(p.x(), p.y(), p.z()));
+    const Eigen::Vector3d p = 2.5 * (turn * pointOf(moved, v.idx()));
+    moved.set_point(v, toPoint(p));
   }
   const BaseFrameField movedField = baseFrameField(moved, uv);
   const Eigen::Vector3d b(0.2, 0.5, 0.3), x(0.1, -0.05, 0.4);

@@ -23,10 +23,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 double flat(double, double) {
   return 0;
 }

@@ -21,13 +21,8 @@ using Eigen::Vector3d;
 
 constexpr double kPi = std::numbers::pi;
 
-Vector3d at(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 TriMesh::VertexHandle addVertex(TriMesh& mesh, const Vector3d& p) {
-  return mesh.add_vertex({p.x(), p.y(), p.z()});
+  return mesh.add_vertex(toPoint(p));
 }
 
 // The square [0, n]^2 cut into unit squares of two triangles each (alternating diagonals), facing
@@ -166,7 +161,7 @@ TEST(GeodesicWalk, IsAStraightSegmentOnAPlane) {
     Vector3d q = Vector3d::Zero();
     int i = 0;
     for (auto c : mesh.fv_range(TriMesh::FaceHandle(walk.face)))
-      q += walk.barycentric[i++] * at(mesh, c.idx());
+      q += walk.barycentric[i++] * pointOf(mesh, c.idx());
     EXPECT_LT((q - walk.point).norm(), 1e-12 * length);
   }
 }
@@ -190,9 +185,9 @@ TEST(GeodesicWalk, GoesStraightThroughVerticesOfAPlane) {
   for (auto f : mesh.vf_range(TriMesh::VertexHandle(vertex)))
     face = f.idx();
   const Vector3d w = Vector3d(-2, 1, 0).normalized();
-  const GeodesicWalkResult fromVertex = walkStraightest(mesh, face, at(mesh, vertex), w, 2.0);
+  const GeodesicWalkResult fromVertex = walkStraightest(mesh, face, pointOf(mesh, vertex), w, 2.0);
   EXPECT_EQ(fromVertex.stop, WalkStop::Completed);
-  EXPECT_LT((fromVertex.point - (at(mesh, vertex) + 2.0 * w)).norm(), 1e-12 * 2);
+  EXPECT_LT((fromVertex.point - (pointOf(mesh, vertex) + 2.0 * w)).norm(), 1e-12 * 2);
 }
 
 // A developable surface unfolds onto the plane: the square's four sides and four turns of pi / 2
@@ -218,9 +213,9 @@ TEST(GeodesicWalk, ClosesASquareOnACylinder) {
 TEST(GeodesicWalk, SplitsTheAngleAtAConeApexInHalf) {
   for (int sides : {6, 5}) {
     const TriMesh mesh = pyramid(sides, 0.8);
-    const Vector3d apex = at(mesh, 0);
+    const Vector3d apex = pointOf(mesh, 0);
     auto baseMidpoint = [&](int k) -> Vector3d {
-      return 0.5 * (at(mesh, 1 + k) + at(mesh, 1 + (k + 1) % sides));
+      return 0.5 * (pointOf(mesh, 1 + k) + pointOf(mesh, 1 + (k + 1) % sides));
     };
     const Vector3d from = apex + 0.6 * (baseMidpoint(0) - apex);
     const Vector3d d = (apex - from).normalized();
@@ -228,7 +223,7 @@ TEST(GeodesicWalk, SplitsTheAngleAtAConeApexInHalf) {
     const GeodesicWalkResult walk = walkStraightest(mesh, 0, from, d, toApex + beyond);
     EXPECT_EQ(walk.stop, WalkStop::Completed);
     EXPECT_EQ(walk.vertices, 1);
-    const Vector3d away = sides == 6 ? baseMidpoint(3) - apex : at(mesh, 1 + 3) - apex;
+    const Vector3d away = sides == 6 ? baseMidpoint(3) - apex : pointOf(mesh, 1 + 3) - apex;
     EXPECT_LT((walk.point - (apex + beyond * away.normalized())).norm(), 1e-12) << sides;
     if (sides == 6) {
       EXPECT_EQ(walk.face, 3);

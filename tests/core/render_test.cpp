@@ -33,7 +33,7 @@ MeshPtr makeMesh(const std::vector<Eigen::Vector3d>& points,
   TriMesh surface;
   std::vector<TriMesh::VertexHandle> vertices;
   for (const auto& p : points)
-    vertices.push_back(surface.add_vertex({p.x(), p.y(), p.z()}));
+    vertices.push_back(surface.add_vertex(toPoint(p)));
   for (const auto& f : faces)
     surface.add_face(vertices[f[0]], vertices[f[1]], vertices[f[2]]);
   return std::make_shared<const Mesh>(std::move(surface), std::move(colors));

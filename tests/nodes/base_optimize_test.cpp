@@ -45,7 +45,7 @@ Vector3d centroid(const TriMesh& mesh, TriMesh::FaceHandle f) {
 TriMesh fanBase(const std::vector<Vector3d>& loop) {
   TriMesh mesh;
   for (const auto& p : loop)
-    mesh.add_vertex(TriMesh::Point(p.x(), p.y(), p.z()));
+    mesh.add_vertex(toPoint(p));
   for (int k = 1; k + 1 < int(loop.size()); ++k)
     mesh.add_face(TriMesh::VertexHandle(0), TriMesh::VertexHandle(k + 1), TriMesh::VertexHandle(k));
   return mesh;
@@ -376,7 +376,7 @@ TEST(BaseOptimizeNode, NamesTheInputOrParamThatCannotWork) {
   const std::vector<Vector3d> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
   TriMesh reversed;
   for (const auto& p : square)
-    reversed.add_vertex(TriMesh::Point(p.x(), p.y(), p.z()));
+    reversed.add_vertex(toPoint(p));
   reversed.add_face(TriMesh::VertexHandle(0), TriMesh::VertexHandle(1), TriMesh::VertexHandle(2));
   reversed.add_face(TriMesh::VertexHandle(0), TriMesh::VertexHandle(2), TriMesh::VertexHandle(3));
   expectRefusal(std::make_shared<const Mesh>(reversed), nullptr, "input 'base'",

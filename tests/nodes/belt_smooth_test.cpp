@@ -112,7 +112,7 @@ TEST(BeltSmoothNode, SmoothsTheBeltOfARegionOfARealMesh) {
       region[std::size_t(v.idx())] = 1.0;
       nearest[std::size_t(v.idx())] = v.idx();
       const Eigen::Vector3d n = 0.01 * radius * areaWeightedNormal(mesh, v.idx());
-      raised.set_point(v, mesh.point(v) + TriMesh::Point(n.x(), n.y(), n.z()));
+      raised.set_point(v, mesh.point(v) + toPoint(n));
     }
   sampled->add("region", region);
   sampled->add("nearest", nearest);

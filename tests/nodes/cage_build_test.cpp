@@ -40,10 +40,6 @@ void expectValidCage(const Parameterization& param, const CageBuildResult& resul
   EXPECT_EQ(outside, 0u);
 }
 
-Vector3d toEigen(const OpenMesh::Vec3d& p) {
-  return {p[0], p[1], p[2]};
-}
-
 // Both meshes in one, the second's vertices renumbered after the first's.
 TriMesh merged(const TriMesh& a, const TriMesh& b) {
   TriMesh result = a;
@@ -62,7 +58,7 @@ TriMesh merged(const TriMesh& a, const TriMesh& b) {
 TriMesh transformed(TriMesh mesh, const Eigen::Affine3d& transform) {
   for (auto v : mesh.vertices()) {
     const Vector3d p = transform * toEigen(mesh.point(v));
-    mesh.point(v) = {p.x(), p.y(), p.z()};
+    mesh.point(v) = toPoint(p);
   }
   return mesh;
 }

@@ -28,7 +28,7 @@ std::shared_ptr<Parameterization> moved(const Parameterization& source, const Ei
   for (auto v : canvas->surface.vertices()) {
     const auto& p = canvas->surface.point(v);
     const Vector3d q = scale * R * Vector3d(p[0], p[1], p[2]) + t;
-    canvas->surface.point(v) = {q.x(), q.y(), q.z()};
+    canvas->surface.point(v) = toPoint(q);
   }
   auto target = std::make_shared<Parameterization>(source);
   target->canvas = canvas;

@@ -23,10 +23,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 // An n x n grid of squares over [-1, 1]^2 at z = 0, each split along one diagonal; cells
 // listed in `skip` are left out (a hole in the mesh).
 MeshPtr planeGrid(int n, const std::set<std::pair<int, int>>& skip = {}) {

@@ -21,10 +21,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 // The plane z = 0 over [-half, half]^2 with n x n quads.
 MeshPtr plane(int n, double half) {
   TriMesh mesh;

@@ -29,11 +29,6 @@ using test::centroidFan;
 using test::membraneBase;
 using test::nearestFace;
 
-Vector3d at(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // An n x n grid over [-1, 1]^2 at (x + shift(x, y), y, height(x, y)), mapped by `rigid`.
 MeshPtr grid(int n, const std::function<double(double, double)>& height,
              const std::function<double(double, double)>& shift,
@@ -43,7 +38,7 @@ MeshPtr grid(int n, const std::function<double(double, double)>& height,
     for (int i = 0; i <= n; ++i) {
       const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
       const Vector3d p = rigid * Vector3d(x + shift(x, y), y, height(x, y));
-      mesh.add_vertex({p.x(), p.y(), p.z()});
+      mesh.add_vertex(toPoint(p));
     }
   const auto id = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
   for (int j = 0; j < n; ++j)
@@ -69,7 +64,7 @@ ParameterizationPtr projection(CanvasPtr canvas) {
   auto p = std::make_shared<Parameterization>();
   p->canvas = std::move(canvas);
   for (auto v : p->canvas->surface.vertices()) {
-    const Vector3d x = at(p->canvas->surface, v.idx());
+    const Vector3d x = pointOf(p->canvas->surface, v.idx());
     p->uv.emplace_back(x.x(), x.y());
     p->normal.push_back(Vector3d::UnitZ());
   }
@@ -100,7 +95,7 @@ double relativeDecodeError(const DetailEncoding& encoding) {
   const std::vector<Vector3d> decoded = decodeOverOwnBase(encoding);
   double worst = 0;
   for (auto v : f.vertices())
-    worst = std::max(worst, (decoded[v.idx()] - at(f, v.idx())).norm());
+    worst = std::max(worst, (decoded[v.idx()] - pointOf(f, v.idx())).norm());
   return worst / boundingDiagonal(f);
 }
 
@@ -164,7 +159,7 @@ TEST(DetailEncode, AHeightFieldOverAPlaneIsItsHeightForBothMethods) {
        {DetailMethod::FaceFrame, DetailMethod::SmoothFrame, DetailMethod::NormalDisplacement}) {
     const DetailEncoding e = encodeDetail(pf, pb, method);
     for (auto v : feature->surface.vertices()) {
-      const Vector3d x = at(feature->surface, v.idx());
+      const Vector3d x = pointOf(feature->surface, v.idx());
       EXPECT_NEAR(e.offset[v.idx()].z(), bump(x.x(), x.y()), 1e-15);
       EXPECT_NEAR(e.offset[v.idx()].head<2>().norm(), 0, 1e-15);
     }
@@ -189,7 +184,7 @@ TEST(DetailEncode, ATangentialOffsetIsKeptByFramesAndLostByNormalDisplacement) {
   const std::vector<Vector3d> decoded = decodeOverOwnBase(normal);
   double lost = 0;
   for (auto v : feature->surface.vertices()) {
-    const Vector3d x = at(feature->surface, v.idx());
+    const Vector3d x = pointOf(feature->surface, v.idx());
     const Vector2d uv = pf->uv[v.idx()];
     EXPECT_LT((decoded[v.idx()] - Vector3d(uv.x(), uv.y(), x.z())).norm(), 1e-12);
     lost = std::max(lost, std::abs(slide(uv.x(), uv.y())));

@@ -22,20 +22,15 @@ namespace {
 
 using Uv = std::function<Eigen::Vector2d(const Eigen::Vector3d&)>;
 
-Eigen::Vector3d point3(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // A base by the pipeline's convention: the feature's loop, then its centroid, fanned.
 MeshPtr fanBase(const Canvas& feature) {
   TriMesh base;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (int v : feature.boundary) {
     base.add_vertex(feature.surface.point(TriMesh::VertexHandle(v)));
-    centroid += point3(feature.surface, v) / double(feature.boundary.size());
+    centroid += pointOf(feature.surface, v) / double(feature.boundary.size());
   }
-  const auto c = base.add_vertex(TriMesh::Point(centroid.x(), centroid.y(), centroid.z()));
+  const auto c = base.add_vertex(toPoint(centroid));
   const int n = int(feature.boundary.size());
   for (int i = 0; i < n; ++i)
     base.add_face(TriMesh::VertexHandle((i + 1) % n), TriMesh::VertexHandle(i), c);
@@ -46,7 +41,7 @@ ParameterizationPtr parameterize(const CanvasPtr& canvas, const Uv& uv) {
   auto p = std::make_shared<Parameterization>();
   p->canvas = canvas;
   for (auto v : canvas->surface.vertices()) {
-    p->uv.push_back(uv(point3(canvas->surface, v.idx())));
+    p->uv.push_back(uv(pointOf(canvas->surface, v.idx())));
     p->normal.push_back(Eigen::Vector3d::UnitZ());
   }
   return p;
@@ -67,7 +62,7 @@ DetailEncoding encode(const ParameterizationPtr& feature, const Parameterization
     encoding.baseFace.push_back(hit.face);
     encoding.barycentric.push_back(hit.barycentric);
     encoding.offset.push_back(encodeOffset(baseFace(b, field, hit.face), hit.barycentric,
-                                           point3(feature->canvas->surface, v.idx()), method));
+                                           pointOf(feature->canvas->surface, v.idx()), method));
   }
   return encoding;
 }
@@ -120,7 +115,7 @@ TEST(DetailTransfer, OntoItsOwnBaseTheFeatureComesBackUnchanged) {
   EXPECT_EQ(result.uncovered, 0u);
   const double diagonal = boundingDiagonal(s.feature->surface);
   for (auto v : result.pasted.vertices())
-    EXPECT_LT((point3(result.pasted, v.idx()) - point3(s.feature->surface, v.idx())).norm(),
+    EXPECT_LT((pointOf(result.pasted, v.idx()) - pointOf(s.feature->surface, v.idx())).norm(),
               1e-9 * diagonal);
 }
 
@@ -149,8 +144,8 @@ TEST(DetailTransfer, OntoAMovedPlaneTheFeatureIsASimilarCopy) {
   EXPECT_EQ(result.shrink, 1.0);
   EXPECT_LT(result.alignmentResidual, 1e-12);
   for (auto v : result.pasted.vertices()) {
-    const Eigen::Vector3d expected = rigid * (lambda * point3(s.feature->surface, v.idx()));
-    EXPECT_LT((point3(result.pasted, v.idx()) - expected).norm(), 1e-9);
+    const Eigen::Vector3d expected = rigid * (lambda * pointOf(s.feature->surface, v.idx()));
+    EXPECT_LT((pointOf(result.pasted, v.idx()) - expected).norm(), 1e-9);
   }
 }
 
@@ -242,7 +237,7 @@ TEST(DetailTransfer, AGenusOneFeatureOfTheTorusComesBackOverItsOwnBase) {
   double worst = 0;
   for (auto v : result.pasted.vertices())
     worst = std::max(worst,
-                     (point3(result.pasted, v.idx()) - point3(feature->surface, v.idx())).norm());
+                     (pointOf(result.pasted, v.idx()) - pointOf(feature->surface, v.idx())).norm());
   EXPECT_LT(worst, 1e-9 * diagonal);
   EXPECT_EQ(result.newSelfIntersections, 0u);
 }

@@ -27,7 +27,7 @@ TriMesh moved(TriMesh mesh, const Eigen::Isometry3d& rigid) {
   for (auto v : mesh.vertices()) {
     const auto& p = mesh.point(v);
     const Eigen::Vector3d q = rigid * Eigen::Vector3d(p[0], p[1], p[2]);
-    mesh.set_point(v, {q.x(), q.y(), q.z()});
+    mesh.set_point(v, toPoint(q));
   }
   return mesh;
 }

@@ -23,17 +23,12 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-Vector3d at(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // Deletes the faces `remove` picks (by their centroid) and the vertices left without a face.
 TriMesh withoutFaces(TriMesh mesh, const std::function<bool(const Vector3d&)>& remove) {
   for (auto f : mesh.faces()) {
     Vector3d centroid = Vector3d::Zero();
     for (auto v : mesh.fv_range(f))
-      centroid += at(mesh, v.idx()) / 3.0;
+      centroid += pointOf(mesh, v.idx()) / 3.0;
     if (remove(centroid)) mesh.delete_face(f, true);
   }
   mesh.garbage_collection();
@@ -58,7 +53,7 @@ TriMesh planeGrid(int n) {
 std::vector<Vector3d> newPoints(const TriMesh& filled, const TriMesh& holed) {
   std::vector<Vector3d> points;
   for (int v = int(holed.n_vertices()); v < int(filled.n_vertices()); ++v)
-    points.push_back(at(filled, v));
+    points.push_back(pointOf(filled, v));
   return points;
 }
 
@@ -368,12 +363,12 @@ TEST(FillHoles, TheHolesOfACadPartCloseAndItsPlanarHoleFillsPlanar) {
     const HoleChart chart = chartHole(holed, loops[i]);
     double border = 0.0;
     for (int v : loops[i].vertices)
-      border = std::max(border, std::abs(chart.height(at(holed, v))));
+      border = std::max(border, std::abs(chart.height(pointOf(holed, v))));
     const bool planar = chart.planar && border <= 1e-6 * diag;
     planarLoops += planar;
     for (int k = 0; k < result.holes[i].newVertices; ++k, ++next) {
       if (planar) {
-        EXPECT_LE(std::abs(chart.height(at(result.mesh, int(next)))), 1e-6 * diag);
+        EXPECT_LE(std::abs(chart.height(pointOf(result.mesh, int(next)))), 1e-6 * diag);
       }
     }
   }

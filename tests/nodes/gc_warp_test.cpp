@@ -22,10 +22,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 std::vector<Eigen::Vector3d> meshPoints(const TriMesh& mesh) {
   std::vector<Eigen::Vector3d> points;
   for (auto v : mesh.vertices())
@@ -38,7 +34,7 @@ TriMesh mapCage(const TriMesh& cage,
   TriMesh out = cage;
   for (auto v : out.vertices()) {
     const Eigen::Vector3d q = f(toEigen(out.point(v)));
-    out.set_point(v, {q.x(), q.y(), q.z()});
+    out.set_point(v, toPoint(q));
   }
   return out;
 }

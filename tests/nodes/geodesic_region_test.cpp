@@ -28,13 +28,8 @@ using Eigen::Vector3d;
 
 constexpr double kPi = std::numbers::pi;
 
-Vector3d at(const TriMesh& mesh, TriMesh::VertexHandle v) {
-  const auto& p = mesh.point(v);
-  return {p[0], p[1], p[2]};
-}
-
 TriMesh::VertexHandle addVertex(TriMesh& mesh, const Vector3d& p) {
-  return mesh.add_vertex({p.x(), p.y(), p.z()});
+  return mesh.add_vertex(toPoint(p));
 }
 
 // The square [0, n]^2 of unit squares, two triangles each (alternating diagonals), facing +z,
@@ -87,7 +82,7 @@ ParameterizationPtr discBase(const std::vector<Vector2d>& polygon) {
   auto base = std::make_shared<Parameterization>();
   base->canvas = std::make_shared<const Canvas>(canvasOfMesh(std::make_shared<const Mesh>(disc)));
   for (auto v : disc.vertices()) {
-    base->uv.push_back(at(disc, v).head<2>());
+    base->uv.push_back(pointOf(disc, v).head<2>());
     base->normal.push_back(Vector3d::UnitZ());
   }
   return base;
@@ -102,7 +97,7 @@ ParameterizationPtr placementOn(const MeshPtr& target, const Vector3d& origin, d
   std::array<Vector3d, 3> corners, cornerNormals;
   int i = 0;
   for (auto v : target->surface.fv_range(TriMesh::FaceHandle(snapped.face))) {
-    corners[std::size_t(i)] = at(target->surface, v);
+    corners[std::size_t(i)] = pointOf(target->surface, v);
     cornerNormals[std::size_t(i++)] = normals[std::size_t(v.idx())];
   }
   auto canvas = std::make_shared<Canvas>();
@@ -254,7 +249,7 @@ TEST(GeodesicRegion, IsARigidCopyOfThePolygonOnAPlane) {
       std::array<Vector2d, 3> t;
       int k = 0;
       for (auto v : target->surface.fv_range(f))
-        t[std::size_t(k++)] = (rigid.inverse() * at(target->surface, v)).head<2>();
+        t[std::size_t(k++)] = (rigid.inverse() * pointOf(target->surface, v)).head<2>();
       if (overlap(t, inPlane)) expected.insert(f.idx());
     }
     EXPECT_EQ(regionFaces(*run.region), expected);
@@ -318,7 +313,7 @@ double enclosedArea(const TriMesh& mesh, const std::vector<int>& faces) {
     std::array<Vector3d, 3> t;
     int k = 0;
     for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-      t[std::size_t(k++)] = at(mesh, v);
+      t[std::size_t(k++)] = pointOf(mesh, v);
     area += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
   }
   return area;

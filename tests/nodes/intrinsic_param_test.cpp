@@ -27,11 +27,6 @@ using test::centroidFan;
 using test::membraneBase;
 using test::nearestFace;
 
-Vector3d at(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // An n x n grid over [-1, 1]^2, its interior vertices moved by up to 0.15 of a cell in a fixed
 // pattern; every diagonal runs the same way, so each one-ring is a convex hexagon. Points are
 // (x, y, 0) mapped by `rigid`; `plane` gets the (x, y) of each vertex.
@@ -45,7 +40,7 @@ MeshPtr jitteredGrid(int n, const Eigen::Isometry3d& rigid, std::vector<Vector2d
         p += 0.15 * cell * Vector2d(std::sin(12.9898 * i + 78.233 * j), std::cos(4.1 * i * j + j));
       if (plane) plane->push_back(p);
       const Vector3d x = rigid * Vector3d(p.x(), p.y(), 0);
-      mesh.add_vertex({x.x(), x.y(), x.z()});
+      mesh.add_vertex(toPoint(x));
     }
   const auto id = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
   for (int j = 0; j < n; ++j)
@@ -148,7 +143,7 @@ TEST(IntrinsicParam, PlaneModeUvIsTheProjectionAboutTheBoundaryCentroid) {
   EXPECT_NEAR(r.plane.normal.dot(normal), 1.0, 1e-12);  // the faces' side: +z of the grid
   EXPECT_NEAR(r.plane.uAxis.cross(r.plane.vAxis).dot(r.plane.normal), 1.0, 1e-12);
   for (auto v : feature->surface.vertices()) {
-    const Vector3d x = at(feature->surface, v.idx());
+    const Vector3d x = pointOf(feature->surface, v.idx());
     const Vector3d back = r.origin.point + r.featureUv[v.idx()].x() * r.origin.uAxis +
                           r.featureUv[v.idx()].y() * r.origin.vAxis;
     EXPECT_LT((back - x).norm(), 1e-12) << v.idx();
@@ -265,7 +260,8 @@ void expectSharedBoundary(const Canvas& feature, const TriMesh& base,
     const Vector2d chord = r.baseUv[to] - r.baseUv[from], rel = r.baseUv[v] - r.baseUv[from];
     EXPECT_LT(std::abs(chord.x() * rel.y() - chord.y() * rel.x()), 1e-12 * chord.squaredNorm());
     EXPECT_NEAR(rel.norm() / chord.norm(),
-                (at(base, v) - at(base, from)).norm() / (at(base, to) - at(base, from)).norm(),
+                (pointOf(base, v) - pointOf(base, from)).norm() /
+                    (pointOf(base, to) - pointOf(base, from)).norm(),
                 1e-12);
   }
 }
@@ -310,7 +306,7 @@ MeshPtr tentOverC(int arcPoints) {
     loop.emplace_back(1.4 * std::cos(t), 1.4 * std::sin(t), 0);
   }
   for (const auto& p : loop)
-    mesh.add_vertex({p.x(), p.y(), p.z()});
+    mesh.add_vertex(toPoint(p));
   const auto apex = mesh.add_vertex({0.3, 0.2, 6});
   const int n = int(loop.size());
   for (int i = 0; i < n; ++i)  // boundary halfedges i -> i + 1
@@ -322,8 +318,8 @@ MeshPtr tentOverC(int arcPoints) {
 MeshPtr stripBase(const Canvas& feature, int arcPoints) {
   TriMesh base;
   for (int v : feature.boundary) {
-    const Vector3d p = at(feature.surface, v);
-    base.add_vertex({p.x(), p.y(), p.z()});
+    const Vector3d p = pointOf(feature.surface, v);
+    base.add_vertex(toPoint(p));
   }
   const int last = 2 * arcPoints - 1;
   const auto face = [&](int a, int b, int c) {  // a < b < c in loop order

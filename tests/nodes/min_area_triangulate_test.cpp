@@ -27,15 +27,10 @@ namespace {
 using Eigen::Vector3d;
 using Triangles = std::vector<std::array<int, 3>>;
 
-Vector3d at(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 Vector3d faceNormal(const TriMesh& mesh, TriMesh::FaceHandle f) {
   std::vector<Vector3d> c;
   for (auto v : mesh.fv_range(f))
-    c.push_back(at(mesh, v.idx()));
+    c.push_back(pointOf(mesh, v.idx()));
   return (c[1] - c[0]).cross(c[2] - c[0]);
 }
 
@@ -97,10 +92,10 @@ Canvas fanCanvas(const std::vector<Vector3d>& loop) {
   const int n = int(loop.size());
   Vector3d centre = Vector3d::Zero();
   for (const auto& p : loop) {
-    canvas.surface.add_vertex(TriMesh::Point(p.x(), p.y(), p.z()));
+    canvas.surface.add_vertex(toPoint(p));
     centre += p / n;
   }
-  canvas.surface.add_vertex(TriMesh::Point(centre.x(), centre.y(), centre.z()));
+  canvas.surface.add_vertex(toPoint(centre));
   for (int i = 0; i < n; ++i)
     canvas.surface.add_face(TriMesh::VertexHandle(n), TriMesh::VertexHandle((i + 1) % n),
                             TriMesh::VertexHandle(i));
@@ -246,7 +241,7 @@ RealCanvas realCanvas(const std::string& file, const Vector3d& near, double radi
   for (auto f : m.faces()) {
     Vector3d centroid = Vector3d::Zero();
     for (auto v : m.fv_range(f))
-      centroid += at(m, v.idx()) / 3;
+      centroid += pointOf(m, v.idx()) / 3;
     if ((centroid - near).norm() < best) {
       best = (centroid - near).norm();
       nearest = f.idx();
@@ -284,7 +279,7 @@ TEST(MinAreaTriangulate, ASphereCapGetsAnOutwardChordSurface) {
   for (auto f : result.base.faces()) {
     Vector3d centroid = Vector3d::Zero();
     for (auto v : result.base.fv_range(f))
-      centroid += at(result.base, v.idx()) / 3;
+      centroid += pointOf(result.base, v.idx()) / 3;
     EXPECT_GT(faceNormal(result.base, f).dot(centroid), 0.0) << f.idx();  // outward
     EXPECT_LT(centroid.norm(), 1.0);                                      // under the cap
   }
@@ -296,7 +291,7 @@ TEST(MinAreaTriangulate, ASphereCapGetsAnOutwardChordSurface) {
   Triangles fan;
   std::vector<Vector3d> loop;
   for (int v : r.canvas.boundary)
-    loop.push_back(at(r.canvas.surface, v));
+    loop.push_back(pointOf(r.canvas.surface, v));
   for (int k = 1; k + 1 < int(n); ++k)
     fan.push_back({0, k + 1, k});
   EXPECT_LE(result.area, costOf(loop, fan, TriangulationObjective::Area));
@@ -354,7 +349,8 @@ TEST(MinAreaTriangulateNode, OutputsTheBaseAndItsReport) {
     double loopLength = 0;
     for (std::size_t i = 0; i < r.canvas.boundary.size(); ++i)
       loopLength +=
-          (at(base->surface, int(i)) - at(base->surface, int((i + 1) % std::size_t(n)))).norm();
+          (pointOf(base->surface, int(i)) - pointOf(base->surface, int((i + 1) % std::size_t(n))))
+              .norm();
     if (objective == "area")
       EXPECT_DOUBLE_EQ(report->values.at("objective"), report->values.at("area"));
     else

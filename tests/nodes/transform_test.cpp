@@ -19,10 +19,6 @@
 namespace geobrush {
 namespace {
 
-Eigen::Vector3d toEigen(const TriMesh::Point& p) {
-  return {p[0], p[1], p[2]};
-}
-
 TriMesh readBunny() {
   TriMesh mesh;
   const auto path = test::meshPath("bunny_small.obj");
@@ -36,7 +32,7 @@ TriMesh readBunny() {
 TriMesh pointsMesh(const std::vector<Eigen::Vector3d>& points) {
   TriMesh mesh;
   for (const auto& p : points) {
-    const auto a = mesh.add_vertex({p.x(), p.y(), p.z()});
+    const auto a = mesh.add_vertex(toPoint(p));
     const auto b = mesh.add_vertex({p.x() + 1, p.y(), p.z()});
     const auto c = mesh.add_vertex({p.x(), p.y() + 1, p.z()});
     mesh.add_face(a, b, c);

@@ -9,11 +9,11 @@
 
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
+#include "geobrush/stitch.hpp"
 #include "geobrush/values.hpp"
 #include "mesh_checks.hpp"
 #include "metrics.hpp"
 #include "roi.hpp"
-#include "geobrush/stitch.hpp"
 #include "test_support.hpp"
 #include "variational_paste.hpp"
 #include "variational_paste_cost.hpp"
@@ -38,11 +38,6 @@ double relief(double x, double y) {
   return 0.12 * std::exp(-14 * r2) * (1 + 0.5 * std::sin(9 * x) * std::cos(7 * y));
 }
 
-Eigen::Vector3d point(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 // A source pasted into a target through a disc of Q, with the region and stitch base kept.
 struct Paste {
   std::shared_ptr<Parameterization> source, target;
@@ -63,8 +58,8 @@ struct Paste {
 TriMesh transformed(const TriMesh& mesh, const Eigen::Affine3d& transform) {
   TriMesh out = mesh;
   for (auto v : out.vertices()) {
-    const Eigen::Vector3d p = transform * point(out, v.idx());
-    out.set_point(v, {p.x(), p.y(), p.z()});
+    const Eigen::Vector3d p = transform * pointOf(out, v.idx());
+    out.set_point(v, toPoint(p));
   }
   return out;
 }
@@ -74,7 +69,7 @@ double largestPastedDistance(const VariationalPasteResult& a, const VariationalP
   double largest = 0;
   for (std::size_t v = 0; v < a.mesh.n_vertices(); ++v)
     if (a.map.sourceVertex[v] >= 0)
-      largest = std::max(largest, (point(a.mesh, int(v)) - point(b.mesh, int(v))).norm());
+      largest = std::max(largest, (pointOf(a.mesh, int(v)) - pointOf(b.mesh, int(v))).norm());
   return largest;
 }
 
@@ -416,7 +411,7 @@ TEST(VariationalPaste, ClosesAConstantGapOnARealTerrain) {
   for (std::size_t v = 0; v < result.mesh.n_vertices(); ++v) {
     const int s = result.map.sourceVertex[v];
     if (s >= 0)
-      largest = std::max(largest, (point(result.mesh, int(v)) - point(surface, s)).norm());
+      largest = std::max(largest, (pointOf(result.mesh, int(v)) - pointOf(surface, s)).norm());
   }
   // The terrain spans about 50 units: 1e-6 is the normal equations' round-off at its size.
   EXPECT_LT(largest, 1e-6);
@@ -453,8 +448,8 @@ TEST(VariationalPaste, ReadsTheDraftOnlyOnItsSupport) {
   double lowest = 0, highest = 0;
   for (std::size_t v = 0; v < result.mesh.n_vertices(); ++v)
     if (result.map.sourceVertex[v] >= 0) {
-      lowest = std::min(lowest, point(result.mesh, int(v)).z());
-      highest = std::max(highest, point(result.mesh, int(v)).z());
+      lowest = std::min(lowest, pointOf(result.mesh, int(v)).z());
+      highest = std::max(highest, pointOf(result.mesh, int(v)).z());
     }
   // The relief peaks at 0.18 and falls to 1e-3 at Q's outline.
   EXPECT_GT(lowest, -0.01);

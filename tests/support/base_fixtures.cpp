@@ -12,18 +12,13 @@ namespace {
 
 using Eigen::Vector3d;
 
-Vector3d at(const TriMesh& mesh, int v) {
-  const auto& p = mesh.point(TriMesh::VertexHandle(v));
-  return {p[0], p[1], p[2]};
-}
-
 }  // namespace
 
 CanvasPtr canvasOf(const MeshPtr& mesh, std::vector<int> faces) {
   const int first = *std::min_element(faces.begin(), faces.end());
   Vector3d centre = Vector3d::Zero();
   for (auto v : mesh->surface.fv_range(TriMesh::FaceHandle(first)))
-    centre += at(mesh->surface, v.idx()) / 3;
+    centre += pointOf(mesh->surface, v.idx()) / 3;
   return std::make_shared<const Canvas>(canvasFromFaces(mesh, std::move(faces), first, centre));
 }
 
@@ -32,19 +27,19 @@ MeshPtr centroidFan(const Canvas& feature, const std::vector<int>& split) {
   TriMesh base;
   Vector3d centroid = Vector3d::Zero();
   for (int i = 0; i < n; ++i) {
-    const Vector3d p = at(feature.surface, feature.boundary[i]);
-    base.add_vertex({p.x(), p.y(), p.z()});
+    const Vector3d p = pointOf(feature.surface, feature.boundary[i]);
+    base.add_vertex(toPoint(p));
     centroid += p / n;
   }
   std::vector<int> loop;
   for (int i = 0; i < n; ++i) {
     loop.push_back(i);
     if (std::find(split.begin(), split.end(), i) == split.end()) continue;
-    const Vector3d p = 0.5 * (at(base, i) + at(base, (i + 1) % n));
+    const Vector3d p = 0.5 * (pointOf(base, i) + pointOf(base, (i + 1) % n));
     loop.push_back(int(base.n_vertices()));
-    base.add_vertex({p.x(), p.y(), p.z()});
+    base.add_vertex(toPoint(p));
   }
-  const auto c = base.add_vertex({centroid.x(), centroid.y(), centroid.z()});
+  const auto c = base.add_vertex(toPoint(centroid));
   for (std::size_t k = 0; k < loop.size(); ++k)  // faces hold the boundary edges as next -> current
     base.add_face(c, TriMesh::VertexHandle(loop[(k + 1) % loop.size()]),
                   TriMesh::VertexHandle(loop[k]));
@@ -107,7 +102,7 @@ int nearestFace(const TriMesh& mesh, const Vector3d& p) {
   for (auto f : mesh.faces()) {
     Vector3d c = Vector3d::Zero();
     for (auto v : mesh.fv_range(f))
-      c += at(mesh, v.idx()) / 3;
+      c += pointOf(mesh, v.idx()) / 3;
     if ((c - p).norm() < bestDistance)
       std::tie(bestDistance, best) = std::tuple((c - p).norm(), f.idx());
   }

@@ -19,7 +19,7 @@ MeshPtr heightGrid(int n, const std::function<double(double, double)>& z,
     for (int i = 0; i <= n; ++i) {
       const double x = -1 + 2.0 * i / n, y = -1 + 2.0 * j / n;
       const Eigen::Vector3d p = rigid * Eigen::Vector3d(x, y, z(x, y));
-      mesh.add_vertex({p.x(), p.y(), p.z()});
+      mesh.add_vertex(toPoint(p));
     }
   auto at = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
   for (int j = 0; j < n; ++j)

@@ -71,7 +71,7 @@ TriMesh icosphere(int levels) {
   }
   TriMesh mesh;
   for (const auto& x : p)
-    mesh.add_vertex({x.x(), x.y(), x.z()});
+    mesh.add_vertex(toPoint(x));
   for (const auto& [a, b, c] : f)
     mesh.add_face(TriMesh::VertexHandle(a), TriMesh::VertexHandle(b), TriMesh::VertexHandle(c));
   return mesh;
@@ -86,7 +86,7 @@ TriMesh boxCage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n) {
       Eigen::Vector3d p;
       for (int a = 0; a < 3; ++a)
         p[a] = lo[a] + (hi[a] - lo[a]) * ijk[std::size_t(a)] / n;
-      it->second = mesh.add_vertex({p.x(), p.y(), p.z()});
+      it->second = mesh.add_vertex(toPoint(p));
     }
     return it->second;
   };

@@ -57,6 +57,14 @@ inline Eigen::Vector3d pointOf(const TriMesh& mesh, TriMesh::VertexHandle v) {
 inline Eigen::Vector3d pointOf(const TriMesh& mesh, int v) {
   return pointOf(mesh, TriMesh::VertexHandle(v));
 }
+// An OpenMesh point as an Eigen vector.
+inline Eigen::Vector3d toEigen(const TriMesh::Point& p) {
+  return {p[0], p[1], p[2]};
+}
+// An Eigen vector as an OpenMesh point.
+inline TriMesh::Point toPoint(const Eigen::Vector3d& p) {
+  return {p.x(), p.y(), p.z()};
+}
 
 // The length of the diagonal of the mesh's axis-aligned bounding box; 0 for a mesh without
 // vertices. What tolerances relative to a mesh's size are measured in.
