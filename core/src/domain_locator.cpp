@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "geobrush/node.hpp"
+
 namespace geobrush {
 
 using Eigen::Vector2d;
@@ -222,6 +224,12 @@ DomainHit DomainLocator::nearestOutside(const Vector2d& u, double ci, double cj)
     column(i0 + r, r);
   }
   return hit(best, barycentricOf(best, u), false);
+}
+
+std::shared_ptr<const DomainLocator> derivedLocator(Context& ctx, std::string_view port) {
+  const auto canvas = ctx.in<Parameterization>(port);
+  return ctx.derived("domain_locator", {port}, 0,
+                     [&] { return std::make_shared<const DomainLocator>(*canvas); });
 }
 
 }  // namespace geobrush

@@ -71,8 +71,8 @@ class MembraneNode final : public geobrush::Node {
       return;
     }
     // Both canvases' locators stay while the canvases do (a target drag keeps the source's).
-    const auto sourceLocator = locator(ctx, "source", *source);
-    const auto targetLocator = locator(ctx, "target", *target);
+    const auto sourceLocator = geobrush::derivedLocator(ctx, "source");
+    const auto targetLocator = geobrush::derivedLocator(ctx, "target");
     geobrush::MembraneSetup setup;
     try {
       setup = geobrush::membraneSetup(*region, *source, draft->surface, *sourceLocator,
@@ -108,13 +108,6 @@ class MembraneNode final : public geobrush::Node {
     ctx.out("offset", std::make_shared<const Field2D>(
                           geobrush::membraneField(*region, setup, result.values)));
     ctx.out("report", std::move(report));
-  }
-
- private:
-  static std::shared_ptr<const geobrush::DomainLocator> locator(Context& ctx, std::string_view port,
-                                                                const Parameterization& canvas) {
-    return ctx.derived("domain_locator", {port}, 0,
-                       [&] { return std::make_shared<geobrush::DomainLocator>(canvas); });
   }
 };
 

@@ -273,35 +273,54 @@ std::vector<std::uint8_t> domainCoverage(const Parameterization& param, const Do
   return covered;
 }
 
+std::shared_ptr<const RoiSourceSide> roiSourceSide(const Parameterization& source, int resolution) {
+  auto side = std::make_shared<RoiSourceSide>();
+  side->grid = roiGrid(source, resolution);
+  side->coverage = domainCoverage(source, side->grid);
+  side->holes = canvasHoles(source);
+  side->nodeFace.assign(side->grid.nodeCount(), -1);
+  return side;
+}
+
+std::shared_ptr<const RoiTargetSide> roiTargetSide(const Parameterization& source,
+                                                   const Parameterization& target,
+                                                   const DomainGrid& grid) {
+  auto side = std::make_shared<RoiTargetSide>();
+  side->coverage = domainCoverage(target, grid);
+  side->holes = canvasHoles(target);
+  side->sourceCovered.assign(source.uv.size(), -1);
+  side->targetCovered.assign(target.uv.size(), -1);
+  return side;
+}
+
 RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& target,
                         const RoiOptions& options) {
   RoiCoverage coverage;
-  coverage.grid = roiGrid(source, options.resolution);
-  coverage.source = domainCoverage(source, coverage.grid);
+  coverage.source = roiSourceSide(source, options.resolution);
   coverage.sourceLocator = std::make_shared<const DomainLocator>(source);
-  coverage.sourceHoles = canvasHoles(source);
-  coverage.memo.nodeFace.assign(coverage.grid.nodeCount(), -1);
-  coverage.memo.sourceCovered.assign(source.uv.size(), -1);
-  moveTarget(coverage, target);
-  return coverage;
+  return moveTarget(coverage, source, target);
 }
 
-void moveTarget(RoiCoverage& coverage, const Parameterization& target) {
-  coverage.target = domainCoverage(target, coverage.grid);
-  coverage.targetLocator.reset();
-  coverage.targetLocator = std::make_shared<const DomainLocator>(target);
-  coverage.targetHoles = canvasHoles(target);
-  // Which source vertices the target covers, and which target vertices the source covers, are
-  // the new canvas' questions.
-  std::fill(coverage.memo.sourceCovered.begin(), coverage.memo.sourceCovered.end(), -1);
-  coverage.memo.targetCovered.assign(target.uv.size(), -1);
+RoiCoverage moveTarget(const RoiCoverage& coverage, const Parameterization& source,
+                       const Parameterization& target) {
+  RoiCoverage moved = coverage;
+  moved.target = roiTargetSide(source, target, coverage.source->grid);
+  moved.targetLocator = std::make_shared<const DomainLocator>(target);
+  return moved;
 }
 
 RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
-                      const Parameterization& target, RoiCoverage& coverage) {
+                      const Parameterization& target, const RoiCoverage& coverage) {
+  const RoiSourceSide& sourceSide = *coverage.source;
+  const RoiTargetSide& targetSide = *coverage.target;
+  if (sourceSide.nodeFace.size() != sourceSide.grid.nodeCount() ||
+      targetSide.sourceCovered.size() != source.uv.size() ||
+      targetSide.targetCovered.size() != target.uv.size())
+    throw RoiError("the coverage was made for other canvases");
+  std::scoped_lock lock(sourceSide.memoLock, targetSide.memoLock);
   RoiResult result;
   Region2D& region = result.region;
-  region.grid = coverage.grid;
+  region.grid = sourceSide.grid;
   const DomainGrid& grid = region.grid;
   region.inside.assign(grid.nodeCount(), 0);
   const BinnedStrokes painted(strokes, grid);
@@ -316,7 +335,7 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
     for (int i = window.i0; i <= window.i1; ++i) {
       const std::size_t n = grid.index(i, j);
       region.inside[n] =
-          coverage.source[n] && coverage.target[n] && painted.contains(grid.position(i, j));
+          sourceSide.coverage[n] && targetSide.coverage[n] && painted.contains(grid.position(i, j));
     }
 
   // The vertices painted whose uv the other canvas covers (asked once per vertex: see RoiMemo).
@@ -329,13 +348,13 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
       if (covered[v]) selected.push_back(int(v));
     }
   };
-  select(source.uv, *coverage.targetLocator, coverage.targetHoles, coverage.memo.sourceCovered,
+  select(source.uv, *coverage.targetLocator, targetSide.holes, targetSide.sourceCovered,
          region.sourceVertices);
-  select(target.uv, *coverage.sourceLocator, coverage.sourceHoles, coverage.memo.targetCovered,
+  select(target.uv, *coverage.sourceLocator, sourceSide.holes, targetSide.targetCovered,
          region.targetVertices);
 
-  region.draftSupport = draftSupport(region, source, *coverage.sourceLocator,
-                                     coverage.memo.nodeFace, window.grown(1, grid));
+  region.draftSupport = draftSupport(region, source, *coverage.sourceLocator, sourceSide.nodeFace,
+                                     window.grown(1, grid));
 
   for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
     const Dab& dab = strokes.dabs[d];
@@ -347,7 +366,7 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
     for (int j = j0; j <= j1 && !paints; ++j)
       for (int i = i0; i <= i1 && !paints; ++i) {
         const std::size_t n = grid.index(i, j);
-        paints = coverage.source[n] && coverage.target[n] &&
+        paints = sourceSide.coverage[n] && targetSide.coverage[n] &&
                  (grid.position(i, j) - dab.center).squaredNorm() <= dab.radius * dab.radius;
       }
     if (!paints) result.dabsOutside.push_back(int(d));
@@ -357,8 +376,7 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
 
 RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
                       const Parameterization& target, const RoiOptions& options) {
-  RoiCoverage coverage = roiCoverage(source, target, options);
-  return paintRegion(strokes, source, target, coverage);
+  return paintRegion(strokes, source, target, roiCoverage(source, target, options));
 }
 
 }  // namespace geobrush

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -41,33 +42,48 @@ std::vector<std::vector<Eigen::Vector2d>> canvasHoles(const Parameterization& pa
 // does (the canvas covers it).
 std::vector<std::uint8_t> domainCoverage(const Parameterization& param, const DomainGrid& grid);
 
-// The locator's answers that every dab asks again (whether the other canvas covers a vertex's
-// uv, which source face holds a grid node), kept as they are first asked: a dab then locates
-// only where it newly reaches, instead of everywhere the strokes reach.
-struct RoiMemo {
-  std::vector<std::int8_t> sourceCovered;  // per source canvas vertex: -1 not asked yet, 0 or 1
-  std::vector<std::int8_t> targetCovered;  // per target canvas vertex: -1 not asked yet, 0 or 1
-  std::vector<int> nodeFace;               // per grid node: the source face there, -1 not asked
-};
-
-// What stays the same while only the strokes change: the grid, both canvases' coverage of its
-// nodes, a locator on each parameterization, and what the locators answered so far. The
-// locators refer to the parameterizations, which must outlive it.
-struct RoiCoverage {
+// What the ROI knows of the source canvas alone: the grid, which of its nodes the canvas covers,
+// the canvas' holes, and (a memo, filled as dabs first ask) which source face holds each grid
+// node. It stays the same while the strokes change and while the target canvas moves; derived
+// data that callers share, so each call reads and fills the memo under its lock.
+struct RoiSourceSide {
   DomainGrid grid;
-  std::vector<std::uint8_t> source;
-  std::vector<std::uint8_t> target;
+  std::vector<std::uint8_t> coverage;  // per grid node: the source canvas covers it
+  std::vector<std::vector<Eigen::Vector2d>> holes;
+  mutable std::mutex memoLock;
+  mutable std::vector<int> nodeFace;  // per grid node: the source face there, -1 not asked yet
+};
+// Throws RoiError as roiGrid does.
+std::shared_ptr<const RoiSourceSide> roiSourceSide(const Parameterization& source, int resolution);
+
+// What the ROI knows of the target canvas on the source's grid, and (memos) whether the other
+// canvas covers a painted vertex's uv, per canvas vertex: -1 not asked yet, 0 or 1.
+struct RoiTargetSide {
+  std::vector<std::uint8_t> coverage;  // per grid node: the target canvas covers it
+  std::vector<std::vector<Eigen::Vector2d>> holes;
+  mutable std::mutex memoLock;
+  mutable std::vector<std::int8_t> sourceCovered;  // per source canvas vertex
+  mutable std::vector<std::int8_t> targetCovered;  // per target canvas vertex
+};
+std::shared_ptr<const RoiTargetSide> roiTargetSide(const Parameterization& source,
+                                                   const Parameterization& target,
+                                                   const DomainGrid& grid);
+
+// What stays the same while only the strokes change: both sides and a locator on each
+// parameterization (which must outlive them). A dab then locates only where it newly reaches,
+// instead of everywhere the strokes reach.
+struct RoiCoverage {
+  std::shared_ptr<const RoiSourceSide> source;
+  std::shared_ptr<const RoiTargetSide> target;
   std::shared_ptr<const DomainLocator> sourceLocator;
   std::shared_ptr<const DomainLocator> targetLocator;
-  std::vector<std::vector<Eigen::Vector2d>> sourceHoles, targetHoles;
-  RoiMemo memo;
 };
 RoiCoverage roiCoverage(const Parameterization& source, const Parameterization& target,
                         const RoiOptions& options = {});
-// Makes `coverage` the coverage of the same source and grid with another target canvas, keeping
-// what depends on the source alone (its coverage, locator and holes, and which source face holds
-// each grid node): dragging the target canvas costs the target canvas' size rather than both.
-void moveTarget(RoiCoverage& coverage, const Parameterization& target);
+// The coverage of the same source and grid with another target canvas, sharing what depends on
+// the source alone: dragging the target canvas costs the target canvas' size rather than both.
+RoiCoverage moveTarget(const RoiCoverage& coverage, const Parameterization& source,
+                       const Parameterization& target);
 
 struct RoiResult {
   Region2D region;
@@ -77,10 +93,9 @@ struct RoiResult {
 
 // Q = the painted points covered by both canvases. A node of the grid is in Q when the strokes
 // paint it and both canvases cover it; a canvas vertex when the strokes paint its uv and the
-// other canvas covers that uv (its own covers it by definition). Adds to the coverage's memo: one
-// call at a time per coverage.
+// other canvas covers that uv (its own covers it by definition). Adds to the coverage's memos.
 RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
-                      const Parameterization& target, RoiCoverage& coverage);
+                      const Parameterization& target, const RoiCoverage& coverage);
 RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
                       const Parameterization& target, const RoiOptions& options = {});
 

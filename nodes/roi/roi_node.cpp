@@ -23,38 +23,31 @@ std::string dabList(const std::vector<int>& dabs) {
   return text;
 }
 
-// Painting changes only the strokes: the node keeps the grid, the canvases' coverage and their
-// locators for as long as both parameterizations and the resolution stay the same. Dragging the
-// target canvas changes only the target's: the source's are kept.
+// Painting changes only the strokes: the grid, both canvases' coverage of it and their locators
+// are derived data, kept by the framework while the parameterizations and the resolution stay
+// the same; dragging the target canvas changes only the target's side. The locators are the
+// ones the membrane asks for on the same canvases.
 class RoiNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
     const auto strokes = ctx.in<Strokes>("strokes");
     const auto source = ctx.in<Parameterization>("source");
     const auto target = ctx.in<Parameterization>("target");
-    geobrush::RoiOptions options;
-    options.resolution = ctx.param<int>("resolution");
+    const int resolution = ctx.param<int>("resolution");
+    const geobrush::Hash resolutionKey = geobrush::Hasher().u64(std::uint64_t(resolution)).digest();
+    geobrush::RoiCoverage coverage;
     try {
-      if (!coverage_ || source != source_ || options.resolution != resolution_) {
-        coverage_.reset();
-        coverage_ = std::make_unique<geobrush::RoiCoverage>(
-            geobrush::roiCoverage(*source, *target, options));
-        source_ = source;
-        target_ = target;
-        resolution_ = options.resolution;
-      } else if (target != target_) {
-        try {
-          geobrush::moveTarget(*coverage_, *target);
-        } catch (...) {
-          coverage_.reset();  // half moved
-          throw;
-        }
-        target_ = target;
-      }
+      coverage.source = ctx.derived("roi_source_side", {"source"}, resolutionKey,
+                                    [&] { return geobrush::roiSourceSide(*source, resolution); });
+      coverage.target = ctx.derived("roi_target_side", {"source", "target"}, resolutionKey, [&] {
+        return geobrush::roiTargetSide(*source, *target, coverage.source->grid);
+      });
     } catch (const geobrush::RoiError& e) {
       throw NodeError::input("source", e.what());
     }
-    geobrush::RoiResult result = geobrush::paintRegion(*strokes, *source, *target, *coverage_);
+    coverage.sourceLocator = geobrush::derivedLocator(ctx, "source");
+    coverage.targetLocator = geobrush::derivedLocator(ctx, "target");
+    geobrush::RoiResult result = geobrush::paintRegion(*strokes, *source, *target, coverage);
     if (!result.dabsOutside.empty()) {
       std::string message = std::to_string(result.dabsOutside.size());
       message += " dabs (";
@@ -66,11 +59,6 @@ class RoiNode final : public geobrush::Node {
       ctx.warn("the strokes select no source vertex: the target stays unchanged");
     ctx.out("region", std::make_shared<const Region2D>(std::move(result.region)));
   }
-
- private:
-  std::unique_ptr<geobrush::RoiCoverage> coverage_;
-  std::shared_ptr<const Parameterization> source_, target_;
-  int resolution_ = 0;
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

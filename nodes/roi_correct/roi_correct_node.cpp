@@ -27,14 +27,18 @@ class RoiCorrectNode final : public geobrush::Node {
     options.margin = ctx.param<double>("margin");
     geobrush::RoiCorrectResult result;
     try {
-      // The flags depend on the source and the options alone: kept while a brush paints.
-      const FlagsKey key{source, options.includeProtrusions, options.protrusionThreshold,
-                         options.ring};
-      if (!(key == flagsKey_)) {
-        flags_ = geobrush::correctionFlags(*source, options);
-        flagsKey_ = key;
-      }
-      result = geobrush::correctRoi(*strokes, *source, options, flags_);
+      // The flags depend on the source and the options they read alone: derived data, kept while
+      // a brush paints.
+      const geobrush::Hash flagOptions = geobrush::Hasher()
+                                             .u64(options.includeProtrusions)
+                                             .f64(options.protrusionThreshold)
+                                             .u64(std::uint64_t(options.ring))
+                                             .digest();
+      const auto flags = ctx.derived("roi_correction_flags", {"source"}, flagOptions, [&] {
+        return std::make_shared<const std::vector<std::uint8_t>>(
+            geobrush::correctionFlags(*source, options));
+      });
+      result = geobrush::correctRoi(*strokes, *source, options, *flags);
     } catch (const geobrush::RoiCorrectError& e) {
       throw NodeError::input("source", e.what());
     }
@@ -50,17 +54,6 @@ class RoiCorrectNode final : public geobrush::Node {
     }
     ctx.out("strokes", std::make_shared<const Strokes>(std::move(result.strokes)));
   }
-
- private:
-  struct FlagsKey {
-    std::shared_ptr<const Parameterization> source;
-    bool includeProtrusions = false;
-    double threshold = 0;
-    int ring = 0;
-    bool operator==(const FlagsKey&) const = default;
-  };
-  FlagsKey flagsKey_;
-  std::vector<std::uint8_t> flags_;
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

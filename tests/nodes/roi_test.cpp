@@ -194,7 +194,7 @@ TEST(Roi, ACoverageKeptFromDabToDabGivesWhatAFreshOneGives) {
     EXPECT_EQ(memoized.region.draftSupport, fresh.region.draftSupport) << "dab " << d;
     EXPECT_EQ(memoized.dabsOutside, fresh.dabsOutside) << "dab " << d;
   }
-  EXPECT_GT(std::count(kept.memo.sourceCovered.begin(), kept.memo.sourceCovered.end(), 0), 0)
+  EXPECT_GT(std::count(kept.target->sourceCovered.begin(), kept.target->sourceCovered.end(), 0), 0)
       << "some painted source vertices lie outside the target canvas";
 }
 
@@ -205,6 +205,7 @@ TEST(Roi, ACoverageMovedWithTheTargetGivesWhatAFreshOneGives) {
   auto source = flatSquare(30);
   RoiCoverage moved = roiCoverage(*source, *shifted(*source, {0.9, 0.0}), RoiOptions{80});
   const auto sourceLocator = moved.sourceLocator;
+  const auto sourceSide = moved.source;
   const Strokes s = strokes({{{0.3, 0.1}, 0.5, false}, {{-0.2, -0.3}, 0.3, false}});
   const NodeType* type = test::registry().find("geobrush.roi");
   ASSERT_TRUE(type);
@@ -215,7 +216,7 @@ TEST(Roi, ACoverageMovedWithTheTargetGivesWhatAFreshOneGives) {
   for (int step = 0; step < 6; ++step) {
     SCOPED_TRACE(step);
     const auto target = shifted(*source, {0.8 - 0.25 * step, 0.05 * step});
-    moveTarget(moved, *target);
+    moved = moveTarget(moved, *source, *target);
     const RoiResult viaMoved = paintRegion(s, *source, *target, moved);
     const RoiResult fresh = paintRegion(s, *source, *target, RoiOptions{80});
     EXPECT_EQ(viaMoved.region.inside, fresh.region.inside);
@@ -224,6 +225,7 @@ TEST(Roi, ACoverageMovedWithTheTargetGivesWhatAFreshOneGives) {
     EXPECT_EQ(viaMoved.region.draftSupport, fresh.region.draftSupport);
     EXPECT_EQ(viaMoved.dabsOutside, fresh.dabsOutside);
     EXPECT_EQ(moved.sourceLocator, sourceLocator);
+    EXPECT_EQ(moved.source, sourceSide);
 
     test::DirectContext ctx(
         *type, {{"strokes", strokesValue}, {"source", source}, {"target", target}}, params);
@@ -233,6 +235,35 @@ TEST(Roi, ACoverageMovedWithTheTargetGivesWhatAFreshOneGives) {
     EXPECT_EQ(region->inside, fresh.region.inside);
     EXPECT_EQ(region->sourceVertices, fresh.region.sourceVertices);
     EXPECT_EQ(region->targetVertices, fresh.region.targetVertices);
+  }
+}
+
+// The node keeps nothing: what it derives (the source side, the target side, a locator on each
+// canvas) is the framework's, and a new target canvas rebuilds only the target's part.
+TEST(RoiNode, DerivesTheSourceSideOnceAcrossTargetsAndKeepsNoState) {
+  auto source = flatSquare(30);
+  const Strokes s = strokes({{{0.3, 0.1}, 0.5, false}});
+  const NodeType* type = test::registry().find("geobrush.roi");
+  ASSERT_TRUE(type);
+  auto store = std::make_shared<DerivedStore>();
+  ParamMap params;
+  params["resolution"] = 80;
+  auto strokesValue = std::make_shared<const Strokes>(s);
+  std::uint64_t builds = 0;
+  for (int step = 0; step < 3; ++step) {
+    SCOPED_TRACE(step);
+    const auto target = shifted(*source, {0.5 - 0.2 * step, 0.1});
+    auto node = type->create();  // a fresh instance each time: nothing is kept in the node
+    test::DirectContext ctx(
+        *type, {{"strokes", strokesValue}, {"source", source}, {"target", target}}, params, store);
+    node->compute(ctx);
+    const auto region = std::dynamic_pointer_cast<const Region2D>(ctx.outputs["region"]);
+    ASSERT_TRUE(region);
+    const RoiResult fresh = paintRegion(s, *source, *target, RoiOptions{80});
+    EXPECT_EQ(region->contentHash(), fresh.region.contentHash());
+    // The first step builds both sides and both locators; later ones the target's two.
+    EXPECT_EQ(store->builds() - builds, step == 0 ? 4u : 2u);
+    builds = store->builds();
   }
 }
 

@@ -2,8 +2,10 @@
 // canvas: the inverse map E^-1(u) and the local frame there.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "geobrush/canvas.hpp"
@@ -52,5 +54,10 @@ class DomainLocator {
   // canvas without boundary, which then answers from the nearest triangle.
   std::vector<std::uint8_t> outlineEdges_;
 };
+
+class Context;
+// The locator on the Parameterization of a node's input `port`, derived data (Context::derived)
+// that every node asking on the same value shares.
+std::shared_ptr<const DomainLocator> derivedLocator(Context& ctx, std::string_view port);
 
 }  // namespace geobrush
