@@ -307,6 +307,7 @@ struct Evaluator::Impl {
     const NodeType* type = nullptr;
     std::unique_ptr<Node> node;
   };
+  class Run;
 
   const NodeRegistry& registry;
   std::unordered_map<Hash, Entry> cache;
@@ -330,6 +331,308 @@ struct Evaluator::Impl {
     }
     return *slot.node;
   }
+};
+
+// One call of Evaluator::evaluate, in stages: plan (order, keys, the nodes needed), then each
+// node in order (a cached result, or its preparation and compute), then the files all together,
+// then what the cache keeps.
+class Evaluator::Impl::Run {
+ public:
+  Run(Evaluator& evaluator, const Graph& graph, const EvalOptions& options)
+      : evaluator_(evaluator),
+        impl_(*evaluator.impl_),
+        graph_(graph),
+        options_(options),
+        generation_(++impl_.generation),
+        baseDir_(graph.baseDir()),
+        outputDir_(impl_.outputDir(graph, options)) {
+    impl_.derived.nextGeneration();
+  }
+
+  EvalReport evaluate() {
+    if (!plan()) return std::move(report_);
+    queuePreparations();
+    for (const auto& name : order_)
+      if (needed_.count(name) && !evaluateNode(name)) break;
+    // Preparations under way for nodes this run did not reach (an input failed) end here.
+    for (auto& [name, preparation] : preparations_)
+      preparation.finish();
+    commitFiles();
+    retire();
+    return std::move(report_);
+  }
+
+ private:
+  // The order, the keys and the nodes needed; false (the report says why) where the graph
+  // cannot be evaluated.
+  bool plan() {
+    try {
+      order_ = topologicalOrder(graph_);
+      keys_ = evaluator_.nodeKeys(graph_, options_);
+      checkOutputPaths(graph_, impl_.registry, outputDir_);
+    } catch (const GraphError& e) {
+      fail(report_, e);
+      return false;
+    } catch (const std::exception& e) {
+      report_.ok = false;
+      report_.error = e.what();
+      return false;
+    }
+    sources_ = indexSources(graph_);
+    return selectNeeded();
+  }
+
+  // Pull: only the targets and what they depend on.
+  bool selectNeeded() {
+    if (options_.targets.empty()) {
+      needed_.insert(order_.begin(), order_.end());
+      return true;
+    }
+    std::vector<std::string> stack = options_.targets;
+    while (!stack.empty()) {
+      std::string name = stack.back();
+      stack.pop_back();
+      if (!graph_.nodes.count(name)) {
+        fail(report_, GraphError(graph_.file, name, "", "no node of that name to evaluate"));
+        return false;
+      }
+      if (!needed_.insert(name).second) continue;
+      for (auto it = sources_.lower_bound({name, ""});
+           it != sources_.end() && it->first.first == name; ++it)
+        stack.push_back(it->second.node);
+    }
+    return true;
+  }
+
+  const NodeType& typeOf(const std::string& name) const {
+    return *impl_.registry.find(graph_.nodes.at(name).type);
+  }
+
+  // The cached result under `key`, or none; with `settle`, a result that depends on a node's
+  // history is none.
+  Entry* cached(Hash key) {
+    auto hit = impl_.cache.find(key);
+    if (hit == impl_.cache.end() || (options_.settle && hit->second.history)) return nullptr;
+    return &hit->second;
+  }
+
+  // The key of the value on each connected input port among `ports`: its node's key and port.
+  InputKeys inputKeysOf(const std::string& name, const std::vector<std::string>& ports) const {
+    InputKeys inputKeys;
+    for (const auto& port : ports)
+      if (const Endpoint* from = findSource(sources_, name, port))
+        inputKeys[port] = Hasher().u64(keys_.at(from->node)).str(from->port).digest();
+    return inputKeys;
+  }
+
+  // Nodes that prepare (Node::prepare): each starts on another thread once the inputs it
+  // prepares from are ready while another of its inputs is not, so that it overlaps that input's
+  // computation; otherwise it runs just before the node's compute(). The outputs are the same.
+  void queuePreparations() {
+    for (const auto& name : order_)
+      if (needed_.count(name) && !typeOf(name).prepareInputs.empty() && !cached(keys_.at(name)))
+        waiting_.push_back(name);
+  }
+
+  Preparation& startPreparation(const std::string& name, bool ahead) {
+    const auto& [stableName, node] = *graph_.nodes.find(name);
+    const NodeType& type = typeOf(name);
+    Preparation& preparation = preparations_[stableName];
+    for (const auto& port : type.prepareInputs)
+      if (const Endpoint* from = findSource(sources_, stableName, port))
+        preparation.inputs[port] = results_.at(from->node).at(from->port);
+    preparation.context = std::make_unique<EvalContext>(
+        type, node, stableName, preparation.inputs, inputKeysOf(stableName, type.prepareInputs),
+        impl_.derived, baseDir_, outputDir_, options_, true);
+    Node& instance = impl_.instance(stableName, type, options_.settle);
+    if (ahead) {
+      try {
+        preparation.running = std::async(std::launch::async,
+                                         [&preparation, &instance] { preparation.run(instance); });
+        return preparation;
+      } catch (const std::system_error&) {
+        // No thread to spare: it runs here.
+      }
+    }
+    preparation.run(instance);
+    return preparation;
+  }
+
+  void startReadyPreparations() {
+    for (auto it = waiting_.begin(); it != waiting_.end();) {
+      const NodeType& type = typeOf(*it);
+      bool prepareReady = true, otherPending = false;
+      for (const auto& port : type.inputs) {
+        const Endpoint* from = findSource(sources_, *it, port.name);
+        if (!from) continue;
+        const bool ready = results_.count(from->node) > 0;
+        const auto& prepares = type.prepareInputs;
+        if (std::find(prepares.begin(), prepares.end(), port.name) != prepares.end())
+          prepareReady = prepareReady && ready;
+        else
+          otherPending = otherPending || !ready;
+      }
+      if (prepareReady && otherPending) {
+        startPreparation(*it, true);
+        it = waiting_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+
+  // One node: its cached result, or its computation. False where it failed: the run stops.
+  bool evaluateNode(const std::string& name) {
+    startReadyPreparations();
+    NodeRun run;
+    run.node = name;
+    run.type = typeOf(name).id;
+    run.key = keys_.at(name);
+    const bool ok =
+        cached(run.key) ? reuseCached(name, run, *cached(run.key)) : computeNode(name, run);
+    report_.runs.push_back(std::move(run));
+    return ok;
+  }
+
+  bool reuseCached(const std::string& name, NodeRun& run, Entry& entry) {
+    // A node of the same key computed earlier in this run: a preparation started for this one
+    // is not needed.
+    if (auto prepared = preparations_.find(name); prepared != preparations_.end())
+      prepared->second.finish();
+    entry.lastUsed = generation_;
+    run.cacheHit = true;
+    run.history = history_[name] = entry.history;
+    run.warnings = entry.warnings;
+    if (entry.failure) {
+      run.failed = true;
+      fail(report_, graph_, name, *entry.failure);
+      return false;
+    }
+    results_[name] = entry.outputs;
+    return true;
+  }
+
+  // The node's prepare() (run ahead, or now), then its compute().
+  bool computeNode(const std::string& name, NodeRun& run) {
+    const GraphNode& node = graph_.nodes.at(name);
+    const NodeType& type = typeOf(name);
+    Outputs inputs;
+    bool inputHistory = false;
+    for (const auto& port : type.inputs)
+      if (const Endpoint* from = findSource(sources_, name, port.name)) {
+        inputs[port.name] = results_[from->node].at(from->port);
+        inputHistory = inputHistory || history_[from->node];
+      }
+    EvalContext ctx(type, node, name, inputs, inputKeysOf(name, inputNames(type)), impl_.derived,
+                    baseDir_, outputDir_, options_);
+    std::optional<Failure> failure;
+    double preparedSeconds = 0;
+    const bool prepared = !type.prepareInputs.empty();
+    if (prepared) {
+      auto found = preparations_.find(name);
+      Preparation& preparation =
+          found != preparations_.end() ? found->second : startPreparation(name, false);
+      std::erase(waiting_, name);
+      preparation.finish();
+      failure = preparation.failure;
+      report_.cancelled = report_.cancelled || preparation.cancelled;
+      preparedSeconds = preparation.seconds;
+      run.warnings = preparation.context->warnings();
+    }
+    const auto start = std::chrono::steady_clock::now();
+    ++evaluator_.computeCount_;
+    if (!failure) {
+      bool cancelled = false;
+      failure = guarded(
+          [&] {
+            ctx.throwIfCancelled();
+            ctx.progress(0.0);
+            // A prepared node computes on the instance that prepared.
+            Node& instance = impl_.instance(name, type, options_.settle && !prepared);
+            instance.compute(ctx);
+            run.history = instance.usedHistory() || inputHistory;
+            for (const auto& port : type.outputs)
+              if (!ctx.outputs().count(port.name))
+                throw NodeError::output(port.name, "was not set by '" + type.id + "'");
+          },
+          cancelled);
+      report_.cancelled = report_.cancelled || cancelled;
+    }
+    run.seconds = preparedSeconds +
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    run.warnings.insert(run.warnings.end(), ctx.warnings().begin(), ctx.warnings().end());
+    for (auto& file : ctx.pending())
+      pendingFiles_.push_back(file);
+    if (failure) {
+      run.failed = true;
+      fail(report_, graph_, name, *failure);
+      // Deterministic failures are remembered; a cancelled run is not a result.
+      if (!report_.cancelled && ctx.pending().empty())
+        impl_.cache[run.key] = {{}, failure, run.warnings, generation_};
+      return false;
+    }
+    ctx.progress(1.0);
+    history_[name] = run.history;
+    Entry entry{ctx.outputs(), std::nullopt, run.warnings, generation_, run.history};
+    results_[name] = ctx.outputs();
+    if (ctx.pending().empty())
+      impl_.cache[run.key] = std::move(entry);
+    else
+      deferredEntries_.emplace_back(run.key, std::move(entry));
+    return true;
+  }
+
+  // The files of the run appear all together, or none of them; file writers' results are
+  // cached once theirs are in place.
+  void commitFiles() {
+    if (report_.ok) {
+      for (const auto& file : pendingFiles_) {
+        try {
+          replaceWithTemporary(file.tmp, file.target);
+        } catch (const std::runtime_error& e) {
+          fail(report_, GraphError(graph_.file, file.node, "", e.what()));
+          break;
+        }
+        report_.filesWritten.push_back(file.target);
+      }
+    }
+    std::error_code ec;
+    if (!report_.ok) {
+      for (const auto& file : pendingFiles_)
+        std::filesystem::remove(file.tmp, ec);
+    } else {
+      for (auto& [key, entry] : deferredEntries_)
+        impl_.cache[key] = std::move(entry);
+    }
+  }
+
+  // Keep what this run or the previous one used: toggling a param back and forth stays
+  // instant, and memory stays bounded by two graphs' worth.
+  void retire() {
+    std::erase_if(impl_.cache,
+                  [&](const auto& item) { return item.second.lastUsed + 1 < generation_; });
+    for (auto it = impl_.instances.begin(); it != impl_.instances.end();)
+      it = graph_.nodes.count(it->first) ? std::next(it) : impl_.instances.erase(it);
+    impl_.lastOutputs = std::move(results_);
+  }
+
+  Evaluator& evaluator_;
+  Impl& impl_;
+  const Graph& graph_;
+  const EvalOptions& options_;
+  const std::uint64_t generation_;
+  const std::filesystem::path baseDir_, outputDir_;
+  EvalReport report_;
+  std::vector<std::string> order_;  // every node, upstream first
+  std::map<std::string, Hash> keys_;
+  SourceIndex sources_;
+  std::set<std::string> needed_;  // the targets and what they depend on
+  std::map<std::string, Outputs> results_;
+  std::map<std::string, bool> history_;  // per node evaluated: NodeRun::history
+  std::vector<PendingFile> pendingFiles_;
+  std::vector<std::pair<Hash, Entry>> deferredEntries_;  // file writers: cached after commit
+  std::map<std::string, Preparation> preparations_;
+  std::vector<std::string> waiting_;  // preparing nodes not started yet, in evaluation order
 };
 
 Evaluator::Evaluator(const NodeRegistry& registry) : impl_(std::make_unique<Impl>(registry)) {}
@@ -393,259 +696,7 @@ std::map<std::string, Hash> Evaluator::nodeKeys(const Graph& graph,
 }
 
 EvalReport Evaluator::evaluate(const Graph& graph, const EvalOptions& options) {
-  EvalReport report;
-  Impl& impl = *impl_;
-  const std::uint64_t generation = ++impl.generation;
-  impl.derived.nextGeneration();
-
-  std::map<std::string, Hash> keys;
-  std::vector<std::string> order;
-  try {
-    order = topologicalOrder(graph);
-    keys = nodeKeys(graph, options);
-    checkOutputPaths(graph, impl.registry, impl.outputDir(graph, options));
-  } catch (const GraphError& e) {
-    fail(report, e);
-    return report;
-  } catch (const std::exception& e) {
-    report.ok = false;
-    report.error = e.what();
-    return report;
-  }
-
-  // Pull: only the targets and what they depend on.
-  const SourceIndex sources = indexSources(graph);
-  std::set<std::string> needed;
-  if (options.targets.empty()) {
-    needed.insert(order.begin(), order.end());
-  } else {
-    std::vector<std::string> stack = options.targets;
-    while (!stack.empty()) {
-      std::string name = stack.back();
-      stack.pop_back();
-      if (!graph.nodes.count(name)) {
-        fail(report, GraphError(graph.file, name, "", "no node of that name to evaluate"));
-        return report;
-      }
-      if (!needed.insert(name).second) continue;
-      for (auto it = sources.lower_bound({name, ""});
-           it != sources.end() && it->first.first == name; ++it)
-        stack.push_back(it->second.node);
-    }
-  }
-
-  const auto baseDir = graph.baseDir();
-  const auto outputDir = impl.outputDir(graph, options);
-  std::map<std::string, Outputs> results;
-  std::map<std::string, bool> history;  // per node evaluated: NodeRun::history
-  std::vector<PendingFile> pendingFiles;
-  std::vector<std::pair<Hash, Impl::Entry>> deferredEntries;  // file writers: cached after commit
-
-  // Nodes that prepare (Node::prepare): each starts on another thread once the inputs it prepares
-  // from are ready while another of its inputs is not, so that it overlaps that input's
-  // computation; otherwise it runs just before the node's compute(). The outputs are the same.
-  auto cacheHit = [&](Hash key) {
-    auto hit = impl.cache.find(key);
-    return hit != impl.cache.end() && !(options.settle && hit->second.history);
-  };
-  // The key of the value on each connected input port among `ports`: its node's key and port.
-  auto inputKeysOf = [&](const std::string& name, const std::vector<std::string>& ports) {
-    InputKeys inputKeys;
-    for (const auto& port : ports)
-      if (const Endpoint* from = findSource(sources, name, port))
-        inputKeys[port] = Hasher().u64(keys.at(from->node)).str(from->port).digest();
-    return inputKeys;
-  };
-  std::map<std::string, Preparation> preparations;
-  std::vector<std::string> waiting;  // preparing nodes not started yet, in evaluation order
-  for (const auto& name : order) {
-    if (!needed.count(name)) continue;
-    if (!impl.registry.find(graph.nodes.at(name).type)->prepareInputs.empty() &&
-        !cacheHit(keys.at(name)))
-      waiting.push_back(name);
-  }
-  auto startPreparation = [&](const std::string& name, bool ahead) -> Preparation& {
-    const auto& [stableName, node] = *graph.nodes.find(name);
-    const NodeType& type = *impl.registry.find(node.type);
-    Preparation& preparation = preparations[stableName];
-    for (const auto& port : type.prepareInputs)
-      if (const Endpoint* from = findSource(sources, stableName, port))
-        preparation.inputs[port] = results.at(from->node).at(from->port);
-    preparation.context = std::make_unique<EvalContext>(
-        type, node, stableName, preparation.inputs, inputKeysOf(stableName, type.prepareInputs),
-        impl.derived, baseDir, outputDir, options, true);
-    Node& instance = impl.instance(stableName, type, options.settle);
-    if (ahead) {
-      try {
-        preparation.running = std::async(std::launch::async,
-                                         [&preparation, &instance] { preparation.run(instance); });
-        return preparation;
-      } catch (const std::system_error&) {
-        // No thread to spare: it runs here.
-      }
-    }
-    preparation.run(instance);
-    return preparation;
-  };
-  auto startReadyPreparations = [&] {
-    for (auto it = waiting.begin(); it != waiting.end();) {
-      const NodeType& type = *impl.registry.find(graph.nodes.at(*it).type);
-      bool prepareReady = true, otherPending = false;
-      for (const auto& port : type.inputs) {
-        const Endpoint* from = findSource(sources, *it, port.name);
-        if (!from) continue;
-        const bool ready = results.count(from->node) > 0;
-        const auto& prepares = type.prepareInputs;
-        if (std::find(prepares.begin(), prepares.end(), port.name) != prepares.end())
-          prepareReady = prepareReady && ready;
-        else
-          otherPending = otherPending || !ready;
-      }
-      if (prepareReady && otherPending) {
-        startPreparation(*it, true);
-        it = waiting.erase(it);
-      } else {
-        ++it;
-      }
-    }
-  };
-
-  for (const auto& name : order) {
-    if (!needed.count(name)) continue;
-    startReadyPreparations();
-    const GraphNode& node = graph.nodes.at(name);
-    const NodeType& type = *impl.registry.find(node.type);
-    const Hash key = keys.at(name);
-    NodeRun run;
-    run.node = name;
-    run.type = type.id;
-    run.key = key;
-
-    Outputs inputs;
-    bool inputHistory = false;
-    for (const auto& port : type.inputs)
-      if (const Endpoint* from = findSource(sources, name, port.name)) {
-        inputs[port.name] = results[from->node].at(from->port);
-        inputHistory = inputHistory || history[from->node];
-      }
-
-    auto hit = impl.cache.find(key);
-    if (hit != impl.cache.end() && options.settle && hit->second.history) hit = impl.cache.end();
-    if (hit != impl.cache.end()) {
-      // A node of the same key computed earlier in this run: a preparation started for this one
-      // is not needed.
-      if (auto prepared = preparations.find(name); prepared != preparations.end())
-        prepared->second.finish();
-      hit->second.lastUsed = generation;
-      run.cacheHit = true;
-      run.history = history[name] = hit->second.history;
-      run.warnings = hit->second.warnings;
-      if (hit->second.failure) {
-        run.failed = true;
-        fail(report, graph, name, *hit->second.failure);
-        report.runs.push_back(std::move(run));
-        break;
-      }
-      results[name] = hit->second.outputs;
-      report.runs.push_back(std::move(run));
-      continue;
-    }
-
-    EvalContext ctx(type, node, name, inputs, inputKeysOf(name, inputNames(type)), impl.derived,
-                    baseDir, outputDir, options);
-    std::optional<Failure> failure;
-    double preparedSeconds = 0;
-    bool prepared = false;
-    if (!type.prepareInputs.empty()) {
-      auto found = preparations.find(name);
-      Preparation& preparation =
-          found != preparations.end() ? found->second : startPreparation(name, false);
-      std::erase(waiting, name);
-      preparation.finish();
-      failure = preparation.failure;
-      report.cancelled = report.cancelled || preparation.cancelled;
-      preparedSeconds = preparation.seconds;
-      run.warnings = preparation.context->warnings();
-      prepared = true;
-    }
-    const auto start = std::chrono::steady_clock::now();
-    ++computeCount_;
-    if (!failure) {
-      bool cancelled = false;
-      failure = guarded(
-          [&] {
-            ctx.throwIfCancelled();
-            ctx.progress(0.0);
-            // A prepared node computes on the instance that prepared.
-            Node& instance = impl.instance(name, type, options.settle && !prepared);
-            instance.compute(ctx);
-            run.history = instance.usedHistory() || inputHistory;
-            for (const auto& port : type.outputs)
-              if (!ctx.outputs().count(port.name))
-                throw NodeError::output(port.name, "was not set by '" + type.id + "'");
-          },
-          cancelled);
-      report.cancelled = report.cancelled || cancelled;
-    }
-    run.seconds = preparedSeconds +
-                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    run.warnings.insert(run.warnings.end(), ctx.warnings().begin(), ctx.warnings().end());
-    for (auto& file : ctx.pending())
-      pendingFiles.push_back(file);
-
-    if (failure) {
-      run.failed = true;
-      fail(report, graph, name, *failure);
-      // Deterministic failures are remembered; a cancelled run is not a result.
-      if (!report.cancelled && ctx.pending().empty())
-        impl.cache[key] = {{}, failure, run.warnings, generation};
-      report.runs.push_back(std::move(run));
-      break;
-    }
-    ctx.progress(1.0);
-    history[name] = run.history;
-    Impl::Entry entry{ctx.outputs(), std::nullopt, run.warnings, generation, run.history};
-    results[name] = ctx.outputs();
-    if (ctx.pending().empty())
-      impl.cache[key] = std::move(entry);
-    else
-      deferredEntries.emplace_back(key, std::move(entry));
-    report.runs.push_back(std::move(run));
-  }
-
-  // Preparations under way for nodes this run did not reach (an input failed) end here.
-  for (auto& [name, preparation] : preparations)
-    preparation.finish();
-
-  // The files of the run appear all together, or none of them.
-  std::error_code ec;
-  if (report.ok) {
-    for (const auto& file : pendingFiles) {
-      try {
-        replaceWithTemporary(file.tmp, file.target);
-      } catch (const std::runtime_error& e) {
-        fail(report, GraphError(graph.file, file.node, "", e.what()));
-        break;
-      }
-      report.filesWritten.push_back(file.target);
-    }
-  }
-  if (!report.ok) {
-    for (const auto& file : pendingFiles)
-      std::filesystem::remove(file.tmp, ec);
-  } else {
-    for (auto& [key, entry] : deferredEntries)
-      impl.cache[key] = std::move(entry);
-  }
-
-  // Keep what this run or the previous one used: toggling a param back and
-  // forth stays instant, and memory stays bounded by two graphs' worth.
-  std::erase_if(impl.cache,
-                [&](const auto& item) { return item.second.lastUsed + 1 < generation; });
-  for (auto it = impl.instances.begin(); it != impl.instances.end();)
-    it = graph.nodes.count(it->first) ? std::next(it) : impl.instances.erase(it);
-  impl.lastOutputs = std::move(results);
-  return report;
+  return Impl::Run(*this, graph, options).evaluate();
 }
 
 CollectedMetrics collectMetrics(const Graph& graph, const NodeRegistry& registry,
