@@ -338,7 +338,7 @@ TEST(Primitive, RejectsInvalidOptionsNamingTheOption) {
   EXPECT_EQ(with(S::RoundedCube, [](auto& o) { o.minorRadius = 1.01; }), "minor_radius");
   EXPECT_EQ(with(S::Plane, [](auto& o) { o.resolution = 0; }), "resolution");
   EXPECT_EQ(with(S::Torus, [](auto& o) { o.resolution = 2; }), "resolution");
-  EXPECT_EQ(with(S::Sphere, [](auto& o) { o.resolution = 317; }), "resolution");
+  EXPECT_EQ(with(S::Sphere, [](auto& o) { o.resolution = 708; }), "resolution");
   EXPECT_EQ(with(S::Sphere, [](auto& o) { o.resolution = 2'000'000'000; }), "resolution");
   EXPECT_EQ(with(S::Plane, [](auto& o) { o.relief = -1; }), "relief");
   EXPECT_EQ(with(S::Sphere, [](auto& o) { o.relief = 1.0; }), "relief");
@@ -352,9 +352,10 @@ TEST(Primitive, RejectsInvalidOptionsNamingTheOption) {
             "relief");
   EXPECT_EQ(with(S::Plane, [](auto& o) { o.reliefFrequency = 0; }), "relief_frequency");
   try {
-    makePrimitive(options(S::Sphere, 317));
+    makePrimitive(options(S::Sphere, 708));
+    ADD_FAILURE() << "a sphere of 10,025,280 faces was made";
   } catch (const PrimitiveOptionError& e) {
-    EXPECT_STREQ(e.what(), "gives 2009780 faces for a sphere; at most 2000000 are allowed");
+    EXPECT_STREQ(e.what(), "gives 10025280 faces for a sphere; at most 10000000 are allowed");
   }
   // Unused settings are not checked: a plane ignores the minor radius.
   EXPECT_EQ(with(S::Plane, [](auto& o) { o.minorRadius = 5; }), "(accepted)");
