@@ -267,8 +267,9 @@ void BM_LiveBrush(benchmark::State& state) {
 }
 
 // The clone graph of the live-brush and drag benchmarks, prepared, as if read from `name` in a
-// temporary folder of that name.
-Graph cloneGraph(const std::string& name) {
+// temporary folder of that name. The target is a geodesic sphere of `targetResolution` segments
+// per icosahedron edge: 10 r^2 + 2 vertices (128: 163,842; 316: 998,562; 707: 4,998,492).
+Graph cloneGraph(const std::string& name, int targetResolution) {
   const auto dir = std::filesystem::temp_directory_path() / ("geobrush-" + name);
   std::filesystem::create_directories(dir);
   Graph graph = parseGraph(R"({
@@ -281,7 +282,7 @@ Graph cloneGraph(const std::string& name) {
       "source_map": {"type": "geobrush.gdem", "typeVersion": 1},
       "source_cage": {"type": "geobrush.cage_build", "typeVersion": 1},
       "target_mesh": {"type": "geobrush.primitive", "typeVersion": 1,
-        "params": {"shape": "sphere", "resolution": 128}},
+        "params": {"shape": "sphere"}},
       "target_map": {"type": "geobrush.dem", "typeVersion": 1,
         "params": {"origin": [0, 0, 1], "scale": 0.3}},
       "target_cage": {"type": "geobrush.cage_fit", "typeVersion": 1},
@@ -321,6 +322,7 @@ Graph cloneGraph(const std::string& name) {
       {"from": "membrane.offset", "to": "stitch.offset"}]
   })",
                            dir / (name + ".json"));
+  graph.nodes.at("target_mesh").params["resolution"] = targetResolution;
   prepareGraph(graph, test::registry());
   return graph;
 }
@@ -342,10 +344,10 @@ void setNodeCounters(benchmark::State& state, const std::map<std::string, double
 // cached, one dab appended to the strokes param per iteration and the paste evaluated. Unlike
 // BM_LiveBrush this includes every node a dab reaches (strokes, ROI correction, the warp's
 // partial draft) and the framework. The source is a 280^2 relief plane with a canvas of about
-// 50k vertices, the target a 163,842-vertex geodesic sphere. Counters: each node's mean time
-// per dab, from the evaluator's report.
+// 50k vertices, the target a geodesic sphere of argument 0's resolution (see cloneGraph).
+// Counters: each node's mean time per dab, from the evaluator's report, and the median dab.
 void BM_LiveBrushGraph(benchmark::State& state) {
-  Graph graph = cloneGraph("live-brush-graph");
+  Graph graph = cloneGraph("live-brush-graph", int(state.range(0)));
   Evaluator evaluator(test::registry());
   EvalOptions options;
   options.targets = {"stitch"};
@@ -357,13 +359,16 @@ void BM_LiveBrushGraph(benchmark::State& state) {
     return;
   }
   std::map<std::string, double> seconds;
+  std::vector<double> dabMs;
   std::size_t resultVertices = 0;
   int dab = 0;
   for (auto _ : state) {
     ++dab;
     dabs.insert(dabs.end(), {-0.3 + 0.02 * dab, -0.1 + 0.007 * dab, 0.12, 1});
     graph.nodes.at("strokes").params["dabs"] = dabs;
+    const auto start = std::chrono::steady_clock::now();
     const EvalReport report = evaluator.evaluate(graph, options);
+    dabMs.push_back(millisecondsSince(start));
     if (!report.ok) {
       state.SkipWithError(report.error.c_str());
       return;
@@ -375,6 +380,8 @@ void BM_LiveBrushGraph(benchmark::State& state) {
     state.ResumeTiming();
   }
   setNodeCounters(state, seconds);
+  std::sort(dabMs.begin(), dabMs.end());
+  state.counters["dab_median_ms"] = dabMs[dabMs.size() / 2];
   state.counters["result_vertices"] = double(resultVertices);
   state.counters["canvas_vertices"] =
       double(std::dynamic_pointer_cast<const Canvas>(evaluator.output("source_canvas", "canvas"))
@@ -389,10 +396,11 @@ void BM_LiveBrushGraph(benchmark::State& state) {
 // 0.004 rad (0.48 rad, about 1.4 times the target canvas' radius). Counters: each node's mean
 // time per move, from the evaluator's report, and the median, 90th percentile and largest move.
 //
-// Argument 1: the target canvas also covers the source cage's columns (target_map.source_cage
-// connected, as in the clone methods); 0: only the source map's disk and margin.
+// Argument 0, 1: the target canvas also covers the source cage's columns (target_map.source_cage
+// connected, as in the clone methods); 0: only the source map's disk and margin. Argument 1: the
+// target sphere's resolution (see cloneGraph).
 void BM_TargetMoveGraph(benchmark::State& state) {
-  Graph graph = cloneGraph("target-move-graph");
+  Graph graph = cloneGraph("target-move-graph", int(state.range(1)));
   if (state.range(0) == 1) {
     graph.connections.push_back({{"source_cage", "cage"}, {"target_map", "source_cage"}});
     prepareGraph(graph, test::registry());
@@ -439,13 +447,26 @@ void BM_TargetMoveGraph(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_LiveBrushGraph)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(30);
+// Targets of 164k, 1M and 5M vertices: a dab's cost should follow the region, not the target.
+BENCHMARK(BM_LiveBrushGraph)
+    ->Arg(128)
+    ->Arg(316)
+    ->Arg(707)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(30);
 BENCHMARK(BM_TargetMoveGraph)
-    ->Arg(0)
-    ->Arg(1)
+    ->Args({0, 128})
+    ->Args({1, 128})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(120);
+BENCHMARK(BM_TargetMoveGraph)
+    ->Args({1, 316})
+    ->Args({1, 707})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(30);
 BENCHMARK(BM_LiveBrush)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(30);
 BENCHMARK(BM_TargetMove)
     ->Unit(benchmark::kMillisecond)
