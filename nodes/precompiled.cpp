@@ -1,0 +1,1 @@
+// Compiles nodes/precompiled.hpp once, with the flags of the node libraries.
