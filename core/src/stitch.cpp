@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "geobrush/domain_locator.hpp"
 #include "geobrush/face_selection.hpp"
 #include "geobrush/loop_zip.hpp"
 #include "geobrush/submesh.hpp"
@@ -514,9 +515,11 @@ int growOpenPart(const TriMesh& mesh, std::vector<int>& ringOf, std::size_t want
 
 }  // namespace
 
-StitchBase stitchBase(const Parameterization& target, double openGrowth) {
+StitchBase stitchBase(const Parameterization& target, double openGrowth,
+                      std::shared_ptr<const DomainLocator> locator) {
   StitchBase base;
   pointAtCanvas(base, target);
+  base.locator = locator ? std::move(locator) : std::make_shared<const DomainLocator>(target);
   const TriMesh& mesh = meshOf(*target.canvas);
   base.openRing.assign(mesh.n_faces(), -1);
   for (int f : base.canvasFaceToMesh)
@@ -564,6 +567,7 @@ bool moveStitchBase(StitchBase& base, const Parameterization& target) {
     return false;
   }
   pointAtCanvas(base, target);
+  base.locator = std::make_shared<const DomainLocator>(target);
   base.canvasReach = reach;
   return true;
 }
@@ -714,14 +718,29 @@ TargetCut cutTarget(const Region2D& region, const Parameterization& target, cons
   return cut;
 }
 
+// Removes, besides, the target faces that R_in's outline passes through (its vertices' and its
+// edges' midpoints' faces in the domain): a target face with no corner in Q may still hold part
+// of R_in near dQ, on a target as coarse as the region is small a whole region, and a kept face
+// under the patch would overlap it.
+void cutUnderOutline(TargetCut& cut, const std::vector<Segment>& outline, const StitchBase& base) {
+  for (const Segment& edge : outline)
+    for (const Vector2d& u : {edge[0], Vector2d((edge[0] + edge[1]) / 2)}) {
+      const DomainHit hit = base.locator->locate(u);
+      if (!hit.inside) continue;
+      const int meshFace = base.canvasFaceToMesh[std::size_t(hit.face)];
+      char& kept = cut.kept[std::size_t(meshFace)];
+      if (!kept) continue;
+      kept = 0;
+      cut.removedFaces.push_back(meshFace);
+      cut.removedCanvasFaces.push_back(hit.face);
+    }
+}
+
 // The longest edge the seam refinement leaves along dQ, or 0 where the target is fine enough
 // there (see StitchOptions::seamRefinementRatio).
-double refinementLimit(const TriMesh& canvas, const PatchFaces& patch,
-                       const Parameterization& source, const TargetCut& cut,
-                       const Parameterization& target, double refinementRatio,
-                       std::vector<Segment>& outline) {
+double refinementLimit(const std::vector<Segment>& outline, const TargetCut& cut,
+                       const Parameterization& target, double refinementRatio) {
   if (refinementRatio <= 0) return 0;
-  outline = patchOutline(canvas, patch.faces, patch.selected, source.uv);
   const double sourceEdge = meanLength(outline);
   if (sourceEdge <= 0 || crossingEdgeLength(target.canvas->surface, cut.removedCanvasFaces,
                                             cut.covered, target.uv) <= refinementRatio * sourceEdge)
@@ -952,11 +971,11 @@ StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameteriza
   std::optional<StitchBase> ownBase;
   if (!base) base = &ownBase.emplace(stitchBase(target));
   TargetCut cut = cutTarget(region, target, *base, targetMesh);
+  std::vector<Segment> outline = patchOutline(canvas, patch.faces, patch.selected, source.uv);
+  cutUnderOutline(cut, outline, *base);
   // On a target coarser than the source, the faces along dQ are refined first; the band they
   // form replaces its target faces, and the rest stay whole.
-  std::vector<Segment> outline;
-  const double limit =
-      refinementLimit(canvas, patch, source, cut, target, refinementRatio, outline);
+  const double limit = refinementLimit(outline, cut, target, refinementRatio);
   std::optional<SeamBand> band;
   if (limit > 0) {
     refined = true;

@@ -40,7 +40,8 @@ class StitchNode final : public geobrush::Node {
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
     try {
       const auto base = ctx.derived("stitch_base", {"target"}, 0, [&] {
-        return std::make_shared<const geobrush::StitchBase>(geobrush::stitchBase(*target));
+        return std::make_shared<const geobrush::StitchBase>(
+            geobrush::stitchBase(*target, 0, geobrush::derivedLocator(ctx, "target")));
       });
       const bool newBase = base != base_;
       if (newBase) {

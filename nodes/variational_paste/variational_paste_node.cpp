@@ -60,7 +60,8 @@ class VariationalPasteNode final : public geobrush::Node {
     geobrush::VariationalPasteResult result;
     try {
       const auto base = ctx.derived("stitch_base", {"target"}, 0, [&] {
-        return std::make_shared<const geobrush::StitchBase>(geobrush::stitchBase(*target));
+        return std::make_shared<const geobrush::StitchBase>(
+            geobrush::stitchBase(*target, 0, geobrush::derivedLocator(ctx, "target")));
       });
       result = geobrush::variationalPaste(*region, *source, draft->surface, *target, options,
                                           base.get());

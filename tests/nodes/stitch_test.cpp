@@ -495,7 +495,7 @@ TEST(StitchNode, DraggingTheTargetCanvasGivesWhatAFreshStitchGives) {
         stitchPaste(*region, *source, source->canvas->surface, nullptr, *target);
     EXPECT_TRUE(test::sameHalfedgeStructure(mesh->surface, fresh.mesh));
   }
-  EXPECT_EQ(derived->builds(), 6u);  // a base per target canvas
+  EXPECT_EQ(derived->builds(), 12u);  // a base and a locator per target canvas
 }
 
 // A paste turned back into the target's outside part in place is what copyOutside makes, and a
@@ -577,6 +577,29 @@ TEST(Stitch, ACoarseTargetIsRefinedAlongTheSeamSoThatNoStripFolds) {
   expectOneManifoldDisc(refined.mesh);
   EXPECT_NEAR(test::surfaceArea(refined.mesh), 4.0, 1e-9);
   EXPECT_EQ(refined.seamLoops, 1u);
+}
+
+// A region smaller than the target's faces, inside one pair of them, covers no target vertex: the
+// target faces R_in's outline passes through are removed all the same, so that the patch replaces
+// them instead of overlapping them, with and without the seam refinement.
+TEST(Stitch, ARegionInsideOneCoarseFaceReplacesTheFacesUnderIt) {
+  auto source = flatSquare(40);
+  auto target = flatSquare(4);
+  const RoiResult roi =
+      paintRegion(strokes({{{0.3, 0.2}, 0.12, false}}), *source, *target, RoiOptions{96});
+  ASSERT_TRUE(roi.region.targetVertices.empty());
+  ASSERT_FALSE(roi.region.sourceVertices.empty());
+  for (const StitchOptions& options : {StitchOptions(), refining()}) {
+    const StitchResult result = stitchPaste(roi.region, *source, source->canvas->surface, nullptr,
+                                            *target, nullptr, options);
+    EXPECT_GT(result.removedFaces, 0u);
+    EXPECT_EQ(result.seamLoops, 1u);
+    expectOneManifoldDisc(result.mesh);
+    // The square covered once: no face overlaps another.
+    EXPECT_NEAR(test::surfaceArea(result.mesh), 4.0, 1e-9);
+    for (double area : projectedAreas(result.mesh))
+      EXPECT_GT(area, 0);
+  }
 }
 
 // The vertices the refinement adds lie on the target's faces and come from neither mesh.

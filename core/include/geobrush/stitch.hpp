@@ -1,13 +1,15 @@
 // Stitching (GeoBrush paper section 4.4, Fig. 6d): the source ROI R_in, each vertex v moved to
-// x~(E_s(v)) + G(v), replaces the target faces inside Q, and the gap between the two boundaries
-// is triangulated in the parameter domain, so that the result is one manifold mesh whose seam
-// shares vertices.
+// x~(E_s(v)) + G(v), replaces the target faces inside Q (those at a vertex in Q, and those R_in's
+// outline passes through), and the gap between the two boundaries is triangulated in the
+// parameter domain, so that the result is one manifold mesh whose seam shares vertices.
 #pragma once
 
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
 #include "geobrush/canvas.hpp"
+#include "geobrush/domain_locator.hpp"
 #include "geobrush/region.hpp"
 #include "geobrush/submesh.hpp"
 
@@ -52,7 +54,9 @@ struct StitchBase {
   std::vector<int> canvasToMesh;      // target canvas vertex -> target mesh vertex
   std::vector<int> meshToCanvas;      // target mesh vertex -> target canvas vertex, or -1
   std::vector<int> canvasFaceToMesh;  // target canvas face -> target mesh face
-  std::vector<int> openMeshFaces;     // the target mesh faces of the open part, increasing
+  // On the target parameterization: which target faces R_in's outline passes through.
+  std::shared_ptr<const DomainLocator> locator;
+  std::vector<int> openMeshFaces;  // the target mesh faces of the open part, increasing
   // Per target mesh face: the ring of the open part it lies in (0: the faces of the canvas the
   // base was made for), or -1 outside it.
   std::vector<int> openRing;
@@ -70,8 +74,10 @@ struct StitchBase {
 };
 // `openGrowth` > 0 grows the open part beyond the canvas' faces, ring of faces by ring, until it
 // holds (1 + openGrowth) times as many faces (or the canvas' whole connected part): room for the
-// canvas to move. Throws StitchError when the canvas does not map onto its mesh.
-StitchBase stitchBase(const Parameterization& target, double openGrowth = 0);
+// canvas to move. Throws StitchError when the canvas does not map onto its mesh. `locator`, a
+// locator on `target` (one other nodes share), is made where null.
+StitchBase stitchBase(const Parameterization& target, double openGrowth = 0,
+                      std::shared_ptr<const DomainLocator> locator = nullptr);
 
 // Points `base` at `target`, another canvas on the mesh it was made for, keeping its outside
 // part: a move of the target canvas then costs the canvas' size rather than the mesh's. Returns
