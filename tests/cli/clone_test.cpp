@@ -269,6 +269,40 @@ TEST(Clone, TheEmdMethodMovesTheTargetsOwnVerticesIntoAValidPaste) {
   }
 }
 
+// A region about as small as the target's triangles (a relief plane onto a 642-vertex sphere)
+// covers one target vertex or none: the target faces under R_in's outline are replaced all the
+// same, and the paste is valid at every radius.
+TEST(Clone, ASmallRegionOnACoarseSphereIsAValidPaste) {
+  const auto out = test::tempDir("clone-coarse-sphere");
+  {
+    std::ofstream graph(out / "meshes.json");
+    graph << R"({"format": "geobrush-graph", "formatVersion": 1,
+      "nodes": {
+        "sphere": {"type": "geobrush.primitive", "typeVersion": 1,
+                   "params": {"shape": "sphere", "resolution": 8}},
+        "plane": {"type": "geobrush.primitive", "typeVersion": 1,
+                  "params": {"shape": "plane", "resolution": 32, "size": 2.0, "relief": 0.05}},
+        "save_sphere": {"type": "geobrush.save_mesh", "typeVersion": 1,
+                        "params": {"path": "sphere.obj"}},
+        "save_plane": {"type": "geobrush.save_mesh", "typeVersion": 1,
+                       "params": {"path": "plane.obj"}}},
+      "connections": [{"from": "sphere.mesh", "to": "save_sphere.mesh"},
+                      {"from": "plane.mesh", "to": "save_plane.mesh"}]})";
+  }
+  const auto meshes = runCli({"run", (out / "meshes.json").string(), "--quiet"});
+  ASSERT_EQ(meshes.status, 0) << meshes.err;
+  for (const char* radius : {"0.1", "0.15", "0.2"}) {
+    SCOPED_TRACE(radius);
+    const auto result =
+        runCli({"clone", "--source", (out / "plane.obj").string(), "--source-point", "0,0,0",
+                "--radius", radius, "--target", (out / "sphere.obj").string(), "--target-point",
+                "0,0,1", "-o", (out / "paste.obj").string()});
+    ASSERT_EQ(result.status, 0) << result.err;
+    EXPECT_EQ(metric(result.err, "metrics.manifold"), 1);
+    EXPECT_EQ(metric(result.err, "metrics.new_self_intersections"), 0);
+  }
+}
+
 TEST(Clone, AnInvalidPasteFailsAndWritesNothingUnlessAskedTo) {
   const auto out = test::tempDir("clone-invalid");
   const Clone onEarTip{"mountain.obj",    "0.068548,19.73209,0.029055",  "6",
