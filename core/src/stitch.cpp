@@ -444,18 +444,11 @@ const TriMesh& meshOf(const Canvas& canvas) {
   return canvas.source ? canvas.source->surface : canvas.surface;
 }
 
-// Fills the base's canvas maps for `target`'s canvas, clearing the previous canvas' entries of
-// meshToCanvas (sized for the mesh already, or made so).
-void pointAtCanvas(StitchBase& base, const Parameterization& target) {
+// Fills the base's maps between `target`'s canvas and its mesh.
+void mapCanvas(StitchBase& base, const Parameterization& target) {
   if (!target.canvas) throw StitchError("the target parameterization has no canvas");
   const Canvas& canvas = *target.canvas;
   const TriMesh& mesh = meshOf(canvas);
-  if (base.meshToCanvas.size() != mesh.n_vertices()) {
-    base.meshToCanvas.assign(mesh.n_vertices(), -1);
-  } else {
-    for (int v : base.canvasToMesh)
-      base.meshToCanvas[std::size_t(v)] = -1;
-  }
   base.canvasToMesh = canvas.sourceVertex;
   base.canvasFaceToMesh = canvas.sourceFace;
   if (!canvas.source) {
@@ -464,72 +457,35 @@ void pointAtCanvas(StitchBase& base, const Parameterization& target) {
     base.canvasFaceToMesh.resize(canvas.surface.n_faces());
     std::iota(base.canvasFaceToMesh.begin(), base.canvasFaceToMesh.end(), 0);
   }
-  auto fail = [&](const char* what) {
-    base.canvasToMesh.clear();
-    base.canvasFaceToMesh.clear();
-    std::fill(base.meshToCanvas.begin(), base.meshToCanvas.end(), -1);
-    throw StitchError(what);
-  };
   if (base.canvasToMesh.size() != canvas.surface.n_vertices() ||
       base.canvasFaceToMesh.size() != canvas.surface.n_faces() ||
       target.uv.size() != canvas.surface.n_vertices())
-    fail("the target canvas does not map its vertices and faces to the target mesh");
+    throw StitchError("the target canvas does not map its vertices and faces to the target mesh");
   for (int v : base.canvasToMesh)
     if (v < 0 || std::size_t(v) >= mesh.n_vertices())
-      fail("the target canvas maps a vertex outside the target mesh");
+      throw StitchError("the target canvas maps a vertex outside the target mesh");
   for (int f : base.canvasFaceToMesh)
     if (f < 0 || std::size_t(f) >= mesh.n_faces())
-      fail("the target canvas maps a face outside the target mesh");
+      throw StitchError("the target canvas maps a face outside the target mesh");
+  base.meshToCanvas.assign(mesh.n_vertices(), -1);
   for (std::size_t c = 0; c < base.canvasToMesh.size(); ++c)
     base.meshToCanvas[std::size_t(base.canvasToMesh[c])] = int(c);
 }
 
-// Grows the open faces ring by ring (the faces at a corner of an open face), numbering each ring,
-// until there are `wanted` or no ring adds any. Returns the rings grown.
-int growOpenPart(const TriMesh& mesh, std::vector<int>& ringOf, std::size_t wanted) {
-  std::vector<int> ring;
-  for (auto f : mesh.faces())
-    if (ringOf[std::size_t(f.idx())] >= 0) ring.push_back(f.idx());
-  std::size_t count = ring.size();
-  std::vector<char> seen(mesh.n_vertices(), 0);
-  int rings = 0;
-  while (count < wanted && !ring.empty()) {
-    std::vector<int> next;
-    for (int f : ring)
-      for (auto v : mesh.fv_range(TriMesh::FaceHandle(f))) {
-        if (seen[std::size_t(v.idx())]) continue;
-        seen[std::size_t(v.idx())] = 1;
-        for (auto g : mesh.vf_range(v))
-          if (ringOf[std::size_t(g.idx())] < 0) {
-            ringOf[std::size_t(g.idx())] = rings + 1;
-            next.push_back(g.idx());
-          }
-      }
-    if (next.empty()) break;
-    ++rings;
-    count += next.size();
-    ring = std::move(next);
-  }
-  return rings;
-}
-
 }  // namespace
 
-StitchBase stitchBase(const Parameterization& target, double openGrowth,
+StitchBase stitchBase(const Parameterization& target,
                       std::shared_ptr<const DomainLocator> locator) {
   StitchBase base;
-  pointAtCanvas(base, target);
+  mapCanvas(base, target);
   base.locator = locator ? std::move(locator) : std::make_shared<const DomainLocator>(target);
   const TriMesh& mesh = meshOf(*target.canvas);
-  base.openRing.assign(mesh.n_faces(), -1);
+  std::vector<char> open(mesh.n_faces(), 0);
   for (int f : base.canvasFaceToMesh)
-    base.openRing[std::size_t(f)] = 0;
-  if (openGrowth > 0)
-    base.openRings = growOpenPart(
-        mesh, base.openRing, std::size_t(double(base.canvasFaceToMesh.size()) * (1 + openGrowth)));
+    open[std::size_t(f)] = 1;
   std::vector<int> outsideFaces;
-  for (std::size_t f = 0; f < base.openRing.size(); ++f)
-    (base.openRing[f] >= 0 ? base.openMeshFaces : outsideFaces).push_back(int(f));
+  for (std::size_t f = 0; f < open.size(); ++f)
+    (open[f] ? base.openMeshFaces : outsideFaces).push_back(int(f));
   base.outsideFaces = appendFaces(base.outside, mesh, outsideFaces);
   std::vector<char> openVertex(mesh.n_vertices(), 0);
   for (int f : base.openMeshFaces)
@@ -548,28 +504,6 @@ StitchBase stitchBase(const Parameterization& target, double openGrowth,
   base.borderHalfedges.erase(std::unique(base.borderHalfedges.begin(), base.borderHalfedges.end()),
                              base.borderHalfedges.end());
   return base;
-}
-
-bool moveStitchBase(StitchBase& base, const Parameterization& target) {
-  if (!target.canvas) throw StitchError("the target parameterization has no canvas");
-  const Canvas& canvas = *target.canvas;
-  const TriMesh& mesh = meshOf(canvas);
-  if (mesh.n_faces() != base.openRing.size() || mesh.n_vertices() != base.meshToCanvas.size())
-    throw StitchError("the target canvas lies on another mesh than the stitch base's");
-  int reach = 0;
-  if (canvas.source) {
-    for (int f : canvas.sourceFace) {
-      if (f < 0 || std::size_t(f) >= base.openRing.size() || base.openRing[std::size_t(f)] < 0)
-        return false;
-      reach = std::max(reach, base.openRing[std::size_t(f)]);
-    }
-  } else if (base.openMeshFaces.size() != mesh.n_faces()) {
-    return false;
-  }
-  pointAtCanvas(base, target);
-  base.locator = std::make_shared<const DomainLocator>(target);
-  base.canvasReach = reach;
-  return true;
 }
 
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
@@ -687,7 +621,7 @@ TargetCut cutTarget(const Region2D& region, const Parameterization& target, cons
   const TriMesh& targetCanvas = target.canvas->surface;
   if (base.canvasToMesh.size() != targetCanvas.n_vertices() ||
       base.canvasFaceToMesh.size() != targetCanvas.n_faces() ||
-      base.openRing.size() != targetMesh.n_faces())
+      base.meshToCanvas.size() != targetMesh.n_vertices())
     throw StitchError("the stitch base was made for another target canvas");
   std::vector<char> outerBoundary(targetCanvas.n_vertices(), 0);
   for (int v : target.canvas->boundary)

@@ -41,7 +41,7 @@ class StitchNode final : public geobrush::Node {
     try {
       const auto base = ctx.derived("stitch_base", {"target"}, 0, [&] {
         return std::make_shared<const geobrush::StitchBase>(
-            geobrush::stitchBase(*target, 0, geobrush::derivedLocator(ctx, "target")));
+            geobrush::stitchBase(*target, geobrush::derivedLocator(ctx, "target")));
       });
       const bool newBase = base != base_;
       if (newBase) {

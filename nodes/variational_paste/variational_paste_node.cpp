@@ -61,7 +61,7 @@ class VariationalPasteNode final : public geobrush::Node {
     try {
       const auto base = ctx.derived("stitch_base", {"target"}, 0, [&] {
         return std::make_shared<const geobrush::StitchBase>(
-            geobrush::stitchBase(*target, 0, geobrush::derivedLocator(ctx, "target")));
+            geobrush::stitchBase(*target, geobrush::derivedLocator(ctx, "target")));
       });
       result = geobrush::variationalPaste(*region, *source, draft->surface, *target, options,
                                           base.get());

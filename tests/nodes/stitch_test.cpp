@@ -399,76 +399,8 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   EXPECT_EQ(made[9], made[8]);
 }
 
-// Each face as its three corner points, starting at the least, the faces sorted: the mesh up to
-// the order of its elements.
-std::vector<std::array<double, 9>> unorderedFaces(const TriMesh& mesh) {
-  std::vector<std::array<double, 9>> faces;
-  for (auto f : mesh.faces()) {
-    std::vector<TriMesh::Point> c;
-    for (auto v : mesh.fv_range(f))
-      c.push_back(mesh.point(v));
-    auto less = [](const TriMesh::Point& a, const TriMesh::Point& b) {
-      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-    };
-    std::rotate(c.begin(), std::min_element(c.begin(), c.end(), less), c.end());
-    std::array<double, 9> face;
-    for (int k = 0; k < 9; ++k)
-      face[std::size_t(k)] = c[std::size_t(k / 3)][k % 3];
-    faces.push_back(face);
-  }
-  std::sort(faces.begin(), faces.end());
-  return faces;
-}
-
-// A base grown for a moving canvas holds the canvas and (1 + growth) times its faces; it serves
-// the canvases inside its open part, and pastes through it are what a fresh stitch makes up to
-// the order of their elements; a canvas that leaves the open part needs a new base.
-TEST(Stitch, AMovedBaseServesTheCanvasesInsideItsOpenPart) {
-  auto source = flatSquare(24);
-  constexpr int n = 40;
-  const MeshPtr square = test::heightGrid(n, [](double, double) { return 0.0; });
-  const auto first = flatDiscAround(square, n, 20, 20, 0.7);
-  const StitchBase exact = stitchBase(*first);
-  EXPECT_TRUE(exact.openIsCanvas());
-  StitchBase base = stitchBase(*first, 1.0);
-  EXPECT_FALSE(base.openIsCanvas());
-  EXPECT_GE(base.openMeshFaces.size(), 2 * first->canvas->surface.n_faces());
-  for (int f : first->canvas->sourceFace)
-    EXPECT_EQ(base.openRing[std::size_t(f)], 0);
-  const Strokes painted = strokes({{{0.0, 0.05}, 0.2, false}});
-  int moved = 0;
-  for (int step = 1; step <= 8; ++step) {
-    SCOPED_TRACE(step);
-    const auto target = flatDiscAround(square, n, 20 + step, 20, 0.7);
-    if (!moveStitchBase(base, *target)) {
-      // About two fifths of the radius (five quads of the 0.7 disc's fourteen) keep it inside.
-      EXPECT_GT(step, 3);
-      break;
-    }
-    ++moved;
-    EXPECT_GE(base.canvasReach, 1);
-    EXPECT_LE(base.canvasReach, base.openRings);
-    const Region2D region = paintRegion(painted, *source, *target, RoiOptions{64}).region;
-    const StitchResult viaMoved =
-        stitchPaste(region, *source, source->canvas->surface, nullptr, *target, &base);
-    const StitchResult fresh =
-        stitchPaste(region, *source, source->canvas->surface, nullptr, *target);
-    EXPECT_TRUE(viaMoved.startsWithOutside);
-    EXPECT_EQ(viaMoved.mesh.n_vertices(), fresh.mesh.n_vertices());
-    EXPECT_EQ(viaMoved.removedFaces, fresh.removedFaces);
-    EXPECT_EQ(unorderedFaces(viaMoved.mesh), unorderedFaces(fresh.mesh));
-    EXPECT_EQ(test::topology(viaMoved.mesh).nonManifoldVertices, 0u);
-  }
-  EXPECT_GE(moved, 3);
-  EXPECT_LT(moved, 8);
-  const auto other = flatSquare(7);
-  EXPECT_THROW(moveStitchBase(base, *other), StitchError);
-}
-
-// Dragging the target canvas over one mesh: the node keeps a base grown around the canvas and the
-// results it reclaims, and makes the next base ahead; each result is a fresh stitch's up to the
-// order of its elements, and the node says so (usedHistory), so that a settled evaluation makes
-// it afresh.
+// Dragging the target canvas over one mesh: each move's base is derived data for its canvas, and
+// each result is a fresh stitch's, element for element, with no history used.
 TEST(StitchNode, DraggingTheTargetCanvasGivesWhatAFreshStitchGives) {
   const NodeType* type = test::registry().find("geobrush.stitch");
   ASSERT_TRUE(type);

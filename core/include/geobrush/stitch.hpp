@@ -44,12 +44,9 @@ struct StitchResult {
   bool startsWithOutside = false;
 };
 
-// How the target canvas sits in its mesh, and the mesh outside an open part that holds the
-// canvas, which no paste changes: each result starts as a copy of `outside`, and the open faces
-// that stay are joined to it. The open part is the canvas' faces; a base grown for a canvas that
-// moves (see stitchBase) holds faces around the canvas too, so that it serves the canvases of a
-// drag until one leaves it (see moveStitchBase). Results are the same but for the order of their
-// elements.
+// How the target canvas sits in its mesh, and the mesh outside the canvas' faces (the open part),
+// which no paste changes: each result starts as a copy of `outside`, and the open faces that stay
+// are joined to it.
 struct StitchBase {
   std::vector<int> canvasToMesh;      // target canvas vertex -> target mesh vertex
   std::vector<int> meshToCanvas;      // target mesh vertex -> target canvas vertex, or -1
@@ -57,41 +54,24 @@ struct StitchBase {
   // On the target parameterization: which target faces R_in's outline passes through.
   std::shared_ptr<const DomainLocator> locator;
   std::vector<int> openMeshFaces;  // the target mesh faces of the open part, increasing
-  // Per target mesh face: the ring of the open part it lies in (0: the faces of the canvas the
-  // base was made for), or -1 outside it.
-  std::vector<int> openRing;
-  int openRings = 0;           // rings grown beyond that canvas
-  int canvasReach = 0;         // the outermost ring that the canvas pointed at reaches
-  TriMesh outside;             // the target mesh's faces outside the open part
-  AppendedFaces outsideFaces;  // how `outside` maps to the target mesh
+  TriMesh outside;                 // the target mesh's faces outside the open part
+  AppendedFaces outsideFaces;      // how `outside` maps to the target mesh
   // The entries of `outside` that a paste changes when it joins faces to it: its vertices that
   // are corners of open faces too, and every halfedge at one of them.
   std::vector<int> borderVertices, borderHalfedges;
-
-  // Whether the open part is the canvas' faces alone, as a base made for the canvas with no
-  // growth has it: results then do not depend on the canvases the base served before.
-  bool openIsCanvas() const { return openMeshFaces.size() == canvasFaceToMesh.size(); }
 };
-// `openGrowth` > 0 grows the open part beyond the canvas' faces, ring of faces by ring, until it
-// holds (1 + openGrowth) times as many faces (or the canvas' whole connected part): room for the
-// canvas to move. Throws StitchError when the canvas does not map onto its mesh. `locator`, a
-// locator on `target` (one other nodes share), is made where null.
-StitchBase stitchBase(const Parameterization& target, double openGrowth = 0,
+// Throws StitchError when the canvas does not map onto its mesh. `locator`, a locator on `target`
+// (one other nodes share), is made where null.
+StitchBase stitchBase(const Parameterization& target,
                       std::shared_ptr<const DomainLocator> locator = nullptr);
-
-// Points `base` at `target`, another canvas on the mesh it was made for, keeping its outside
-// part: a move of the target canvas then costs the canvas' size rather than the mesh's. Returns
-// false, `base` unchanged, where the open part does not hold every face of the new canvas. Throws
-// StitchError when the canvas does not map onto the base's mesh.
-bool moveStitchBase(StitchBase& base, const Parameterization& target);
 
 // `draft` is G(P_s): the source canvas surface with its vertices warped (same connectivity).
 // `offset` is the membrane x~ on the region's grid, or null to paste G alone (x~ = 0). An empty
 // region gives the target mesh unchanged. Throws StitchError when the draft does not match the
 // source canvas, the offset is undefined at a vertex of R_in, the region reaches the edge of the
 // target canvas, or the two boundaries cannot be paired loop by loop. `base`, when given, must be
-// made for target's mesh and point at its canvas (stitchBase, moveStitchBase). Where the seam
-// refinement (see StitchOptions) cannot make a valid seam, the paste is made without it.
+// stitchBase(target). Where the seam refinement (see StitchOptions) cannot make a valid seam, the
+// paste is made without it.
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const TriMesh& draft, const Field2D* offset,
                          const Parameterization& target, const StitchBase* base = nullptr,
