@@ -1,6 +1,7 @@
 #include "geobrush/exponential_map.hpp"
 
 #include "geobrush/parallel.hpp"
+#include "geobrush/simd.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -195,37 +196,12 @@ struct WeightedSum {
 
 // Eq. 1 at v: the sum of n(w) / (|w - v|^2 + eps) over the boundary samples w, and the sum of
 // the weights. Lane j sums the samples j, j + 4, ...; the lanes are added in a fixed order, so
-// the result depends on v alone.
-WeightedSum equationOneSum(const BoundaryNormals& b, const Eigen::Vector3d& v, double eps) {
-  constexpr int kLanes = BoundaryNormals::kLanes;
-  using Lanes = Eigen::Array<double, kLanes, 1>;
-  Lanes sumX = Lanes::Zero(), sumY = Lanes::Zero(), sumZ = Lanes::Zero(), sumW = Lanes::Zero();
-  for (Eigen::Index i = 0; i < b.x.size(); i += kLanes) {
-    const Lanes dx = b.x.segment<kLanes>(i) - v.x();
-    const Lanes dy = b.y.segment<kLanes>(i) - v.y();
-    const Lanes dz = b.z.segment<kLanes>(i) - v.z();
-    const Lanes w = (dx * dx + dy * dy + dz * dz + eps).inverse();
-    sumX += w * b.nx.segment<kLanes>(i);
-    sumY += w * b.ny.segment<kLanes>(i);
-    sumZ += w * b.nz.segment<kLanes>(i);
-    sumW += w;
-  }
-  auto total = [](const Lanes& l) { return (l[0] + l[1]) + (l[2] + l[3]); };
-  return {{total(sumX), total(sumY), total(sumZ)}, total(sumW)};
-}
-
-using EquationOneSum = WeightedSum (*)(const BoundaryNormals&, const Eigen::Vector3d&, double);
-
-#if defined(__GNUC__) && defined(__x86_64__)
-// The build targets plain x86-64, so Eigen's packets hold two lanes. Where the CPU has AVX2, the
-// four lanes fit one register: the same operations on the same lanes, without fused
-// multiply-adds, so the sums are bit-identical to equationOneSum's.
-using FourLanes = double __attribute__((vector_size(4 * sizeof(double))));
-
-__attribute__((target("avx2"))) WeightedSum equationOneSumAvx2(const BoundaryNormals& b,
-                                                               const Eigen::Vector3d& v,
-                                                               double eps) {
+// the result depends on v alone. Four lanes fill one AVX2 register under simd::fastest, two
+// SSE2 registers elsewhere: the same operations on the same lanes.
+[[gnu::always_inline]] inline WeightedSum equationOneSum(const BoundaryNormals& b,
+                                                         const Eigen::Vector3d& v, double eps) {
   static_assert(BoundaryNormals::kLanes == 4);
+  using FourLanes = double __attribute__((vector_size(4 * sizeof(double))));
   FourLanes sumX = {}, sumY = {}, sumZ = {}, sumW = {};
   FourLanes x, y, z, nx, ny, nz;
   for (Eigen::Index i = 0; i < b.x.size(); i += 4) {
@@ -242,23 +218,9 @@ __attribute__((target("avx2"))) WeightedSum equationOneSumAvx2(const BoundaryNor
     sumZ += w * nz;
     sumW += w;
   }
-  auto total = [](const double* l) { return (l[0] + l[1]) + (l[2] + l[3]); };
-  double lanes[4][4];
-  std::memcpy(lanes[0], &sumX, sizeof sumX);
-  std::memcpy(lanes[1], &sumY, sizeof sumY);
-  std::memcpy(lanes[2], &sumZ, sizeof sumZ);
-  std::memcpy(lanes[3], &sumW, sizeof sumW);
-  return {{total(lanes[0]), total(lanes[1]), total(lanes[2])}, total(lanes[3])};
+  auto total = [](const FourLanes& l) { return (l[0] + l[1]) + (l[2] + l[3]); };
+  return {{total(sumX), total(sumY), total(sumZ)}, total(sumW)};
 }
-
-EquationOneSum fastestEquationOneSum() {
-  return __builtin_cpu_supports("avx2") ? equationOneSumAvx2 : equationOneSum;
-}
-#else
-EquationOneSum fastestEquationOneSum() {
-  return equationOneSum;
-}
-#endif
 
 // `items` sorted stably by key(item) in [0, keyCount), and where each key's run starts
 // (keyCount + 1 entries).
@@ -604,15 +566,16 @@ std::vector<Eigen::Vector3d> equationOneNormals(const std::vector<Eigen::Vector3
     onBoundary[b] = 1;
   std::vector<Eigen::Vector3d> normals = surface;
   std::vector<char> cancelled(p.size(), 0);
-  const EquationOneSum boundarySum = fastestEquationOneSum();
   // Each vertex sums over the whole boundary: blocks of 64 keep the threads evenly loaded.
   parallelBlocks(p.size(), 64, threads, [&](std::size_t first, std::size_t last) {
-    for (std::size_t i = first; i < last; ++i) {
-      if (onBoundary[i]) continue;
-      const WeightedSum sum = boundarySum(boundary, p[i], eps);
-      cancelled[i] = !(sum.normal.norm() > 1e-9 * sum.weight);
-      if (!cancelled[i]) normals[i] = sum.normal.normalized();
-    }
+    simd::fastest([&] {
+      for (std::size_t i = first; i < last; ++i) {
+        if (onBoundary[i]) continue;
+        const WeightedSum sum = equationOneSum(boundary, p[i], eps);
+        cancelled[i] = !(sum.normal.norm() > 1e-9 * sum.weight);
+        if (!cancelled[i]) normals[i] = sum.normal.normalized();
+      }
+    });
   });
   const auto bad = std::find(cancelled.begin(), cancelled.end(), 1);
   if (bad != cancelled.end()) {

@@ -1,6 +1,7 @@
 #include "gc_warp.hpp"
 
 #include "geobrush/parallel.hpp"
+#include "geobrush/simd.hpp"
 #include "green_kernel.hpp"
 
 #include <Eigen/Geometry>
@@ -369,14 +370,6 @@ class ScalarPoint {
 // every bit of the result, is the same for any thread count.
 constexpr std::size_t kBlock = 64;
 
-bool vectorKernelAvailable() {
-#if defined(__x86_64__)
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#else
-  return false;
-#endif
-}
-
 }  // namespace
 
 GreenCoordinatesResult computeGreenCoordinates(const TriMesh& cage,
@@ -385,7 +378,7 @@ GreenCoordinatesResult computeGreenCoordinates(const TriMesh& cage,
   checkCage(cage);
   const PreparedCage prepared(cage, options.epsilon);
   const green_kernel::Cage kernelCage = prepared.kernelView();
-  const bool vectorized = vectorKernelAvailable();
+  const bool vectorized = simd::hasAvx2Fma();
 
   GreenCoordinatesResult result;
   const auto n = Eigen::Index(points.size());

@@ -1,6 +1,5 @@
-// The inner loop of the Green-coordinates precompute in plain arrays, so that a vectorized
-// version can be compiled on its own (nodes/gc_warp/green_kernel_avx2.cpp) without templates
-// shared with the rest of the program.
+// The inner loop of the Green-coordinates precompute in plain arrays, so that its AVX2 + FMA
+// version (nodes/gc_warp/green_kernel_avx2.cpp) shares no templates with the rest of the program.
 #pragma once
 
 namespace geobrush::green_kernel {
@@ -33,10 +32,8 @@ inline long fourPointsScratchSize(const Cage& cage) {
   return 4L * (5L * cage.vertexCount + cage.edgeCount);
 }
 
-// Whether this processor runs fourPoints (x86-64 with AVX2 and FMA).
-bool fourPointsAvailable();
-
-// The phi and psi rows of four points at once, one point per vector lane. Returns false, with
+// The phi and psi rows of four points at once, one point per vector lane, where
+// simd::hasAvx2Fma(). Returns false, with
 // the rows unspecified, when a point lies within the tolerance of a face's plane: those points
 // need the scalar path, which gives points on the cage their interior limits. `inside` tells
 // whether each point's total solid angle is 4 pi.

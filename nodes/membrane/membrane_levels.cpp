@@ -7,14 +7,10 @@
 #include <utility>
 
 #include "geobrush/parallel.hpp"
+#include "geobrush/simd.hpp"
 
-// The kernels are compiled twice, for AVX2 and for the baseline, and the loader picks one. Without
-// FMA contraction both round alike, so the results do not depend on the machine's choice.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define GEOBRUSH_MEMBRANE_KERNEL [[gnu::target_clones("avx2", "default"), gnu::flatten]]
-#else
-#define GEOBRUSH_MEMBRANE_KERNEL
-#endif
+// Every kernel below runs through simd::fastest: compiled for AVX2 and for the baseline, the
+// same arithmetic in both (geobrush/simd.hpp).
 
 namespace geobrush::membrane_detail {
 namespace {
@@ -141,7 +137,7 @@ void gatherColumns(const Level& fine, int centerX, int centerY, const GalerkinWi
 // Row (coarseX, coarseY) of R A P from the fine level's rows and mask: exact also where the mask
 // cuts the B-splines short. w = A P e_I is gathered on the fine window it can reach, then
 // restricted to the coarse stencil one axis at a time.
-GEOBRUSH_MEMBRANE_KERNEL Stencil galerkinRow(const Level& fine, int coarseX, int coarseY) {
+Stencil galerkinRowOnce(const Level& fine, int coarseX, int coarseY) {
   constexpr int kWindow = kGalerkinWindow;
   constexpr int kSide = kGalerkinSide;
   const int centerX = fineOf(coarseX), centerY = fineOf(coarseY);
@@ -170,6 +166,10 @@ GEOBRUSH_MEMBRANE_KERNEL Stencil galerkinRow(const Level& fine, int coarseX, int
     for (int gx = 0; gx < kSide; ++gx)
       w[std::size_t(gy)][std::size_t(gx)] *= unknown[std::size_t(gy)][std::size_t(gx)];
   return restrictWindow(w);
+}
+
+Stencil galerkinRow(const Level& fine, int coarseX, int coarseY) {
+  return simd::fastest([&] { return galerkinRowOnce(fine, coarseX, coarseY); });
 }
 
 // Box dilation of `marks` by `radius` nodes (Chebyshev distance): separable, each pass an OR of
@@ -608,10 +608,6 @@ double largestRitzValue(const Level& level) {
   return tridiagonal.eigenvalues().maxCoeff();
 }
 
-}  // namespace
-
-namespace {
-
 template <typename T>
 void restrictRows(const Level& fine, const Level& coarse, const T* fineValues, T* coarseValues) {
   std::vector<T> columnSums(std::size_t(fine.grid.stride()));
@@ -678,29 +674,6 @@ void prolongRows(const Level& coarse, const Level& fine, const T* coarseValues, 
   }
 }
 
-}  // namespace
-
-// The exported kernels in both precisions.
-GEOBRUSH_MEMBRANE_KERNEL void applyOperator(const Level& level, const double* x, double* out) {
-  applyOperatorRows(level, x, out);
-}
-GEOBRUSH_MEMBRANE_KERNEL void applyOperator(const Level& level, const float* x, float* out) {
-  applyOperatorRows(level, x, out);
-}
-GEOBRUSH_MEMBRANE_KERNEL void subtractOperator(const Level& level, const double* base,
-                                               const double* x, double* out) {
-  subtractOperatorRows(level, base, x, out);
-}
-GEOBRUSH_MEMBRANE_KERNEL void subtractOperator(const Level& level, const float* base,
-                                               const float* x, float* out) {
-  subtractOperatorRows(level, base, x, out);
-}
-GEOBRUSH_MEMBRANE_KERNEL void chebyshevStep(const Level& level, const float* b, const float* x,
-                                            float* xNext, float* d, float keep, float gain) {
-  chebyshevStepRows(level, b, x, xNext, d, keep, gain);
-}
-namespace {
-
 // Adds a[i] b[i] for i in [begin, end) to four interleaved sums, the first at begin.
 [[gnu::always_inline]] inline void addProducts(const double* a, const double* b, int begin, int end,
                                                std::array<double, 4>& sums) {
@@ -716,15 +689,14 @@ double total(const std::array<double, 4>& sums) {
   return (sums[0] + sums[1]) + (sums[2] + sums[3]);
 }
 
-}  // namespace
-
-GEOBRUSH_MEMBRANE_KERNEL double dotProduct(const Level& level, const double* a, const double* b) {
+double dotProductRows(const Level& level, const double* a, const double* b) {
   std::array<double, 4> sums{};
   for (const RowSpan& span : level.spans)
     addProducts(a, b, span.begin, span.end, sums);
   return total(sums);
 }
-GEOBRUSH_MEMBRANE_KERNEL double applyOperatorDot(const Level& level, const double* p, double* q) {
+
+double applyOperatorDotRows(const Level& level, const double* p, double* q) {
   const double* mask = level.mask.data();
   std::array<double, 4> sums{};
   forEachOperatorRow(level, p, [&](int begin, int length, const double* rowSums) {
@@ -734,8 +706,9 @@ GEOBRUSH_MEMBRANE_KERNEL double applyOperatorDot(const Level& level, const doubl
   });
   return total(sums);
 }
-GEOBRUSH_MEMBRANE_KERNEL double updateResidual(const Level& level, double alpha, const double* p,
-                                               const double* q, double* x, double* r) {
+
+double updateResidualRows(const Level& level, double alpha, const double* p, const double* q,
+                          double* x, double* r) {
   std::array<double, 4> sums{};
   for (const RowSpan& span : level.spans) {
     for (int i = span.begin; i < span.end; ++i) {
@@ -746,14 +719,8 @@ GEOBRUSH_MEMBRANE_KERNEL double updateResidual(const Level& level, double alpha,
   }
   return total(sums);
 }
-double rowProduct(const Level& level, const double* x, int node) {
-  return rowProductAt(level, x, node);
-}
-float rowProduct(const Level& level, const float* x, int node) {
-  return rowProductAt(level, x, node);
-}
-GEOBRUSH_MEMBRANE_KERNEL void sweepBand(const Level& level, const float* b, float* x, bool forward,
-                                        int sweeps) {
+
+void sweepBandNodes(const Level& level, const float* b, float* x, bool forward, int sweeps) {
   const float* inverseDiagonal = level.single.inverseDiagonal.data();
   const int* band = level.band.data();
   const int count = int(level.band.size());
@@ -763,21 +730,60 @@ GEOBRUSH_MEMBRANE_KERNEL void sweepBand(const Level& level, const float* b, floa
       x[node] += (b[node] - sweepRowProduct(level, x, node)) * inverseDiagonal[node];
     }
 }
-GEOBRUSH_MEMBRANE_KERNEL void restrictToCoarse(const Level& fine, const Level& coarse,
-                                               const double* fineValues, double* coarseValues) {
-  restrictRows(fine, coarse, fineValues, coarseValues);
+
+}  // namespace
+
+// The exported kernels in both precisions.
+void applyOperator(const Level& level, const double* x, double* out) {
+  simd::fastest([&] { applyOperatorRows(level, x, out); });
 }
-GEOBRUSH_MEMBRANE_KERNEL void restrictToCoarse(const Level& fine, const Level& coarse,
-                                               const float* fineValues, float* coarseValues) {
-  restrictRows(fine, coarse, fineValues, coarseValues);
+void applyOperator(const Level& level, const float* x, float* out) {
+  simd::fastest([&] { applyOperatorRows(level, x, out); });
 }
-GEOBRUSH_MEMBRANE_KERNEL void prolongAdd(const Level& coarse, const Level& fine,
-                                         const double* coarseValues, double* fineValues) {
-  prolongRows(coarse, fine, coarseValues, fineValues);
+void subtractOperator(const Level& level, const double* base, const double* x, double* out) {
+  simd::fastest([&] { subtractOperatorRows(level, base, x, out); });
 }
-GEOBRUSH_MEMBRANE_KERNEL void prolongAdd(const Level& coarse, const Level& fine,
-                                         const float* coarseValues, float* fineValues) {
-  prolongRows(coarse, fine, coarseValues, fineValues);
+void subtractOperator(const Level& level, const float* base, const float* x, float* out) {
+  simd::fastest([&] { subtractOperatorRows(level, base, x, out); });
+}
+void chebyshevStep(const Level& level, const float* b, const float* x, float* xNext, float* d,
+                   float keep, float gain) {
+  simd::fastest([&] { chebyshevStepRows(level, b, x, xNext, d, keep, gain); });
+}
+double dotProduct(const Level& level, const double* a, const double* b) {
+  return simd::fastest([&] { return dotProductRows(level, a, b); });
+}
+double applyOperatorDot(const Level& level, const double* p, double* q) {
+  return simd::fastest([&] { return applyOperatorDotRows(level, p, q); });
+}
+double updateResidual(const Level& level, double alpha, const double* p, const double* q, double* x,
+                      double* r) {
+  return simd::fastest([&] { return updateResidualRows(level, alpha, p, q, x, r); });
+}
+double rowProduct(const Level& level, const double* x, int node) {
+  return rowProductAt(level, x, node);
+}
+float rowProduct(const Level& level, const float* x, int node) {
+  return rowProductAt(level, x, node);
+}
+void sweepBand(const Level& level, const float* b, float* x, bool forward, int sweeps) {
+  simd::fastest([&] { sweepBandNodes(level, b, x, forward, sweeps); });
+}
+void restrictToCoarse(const Level& fine, const Level& coarse, const double* fineValues,
+                      double* coarseValues) {
+  simd::fastest([&] { restrictRows(fine, coarse, fineValues, coarseValues); });
+}
+void restrictToCoarse(const Level& fine, const Level& coarse, const float* fineValues,
+                      float* coarseValues) {
+  simd::fastest([&] { restrictRows(fine, coarse, fineValues, coarseValues); });
+}
+void prolongAdd(const Level& coarse, const Level& fine, const double* coarseValues,
+                double* fineValues) {
+  simd::fastest([&] { prolongRows(coarse, fine, coarseValues, fineValues); });
+}
+void prolongAdd(const Level& coarse, const Level& fine, const float* coarseValues,
+                float* fineValues) {
+  simd::fastest([&] { prolongRows(coarse, fine, coarseValues, fineValues); });
 }
 
 Level finestLevel(int width, int height, const std::vector<std::uint8_t>& inside,
