@@ -25,26 +25,46 @@ else
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
 fi
-status=0
-for target in "$build"/fuzz/fuzz_*; do
+# One target: its summary line, or its failure with the log's tail and the inputs that failed
+# (copied next to the target), into $work/$name.result.
+fuzz_one() {
+  local target=$1 name
   name=$(basename "$target")
   mkdir -p "$work/$name"
-  dict="$here/$name.dict"
-  options=(-timeout=1 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1
-           -artifact_prefix="$work/$name-" "$budget")
+  local dict="$here/$name.dict"
+  local options=(-timeout=1 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1
+                 -artifact_prefix="$work/$name-" "$budget")
   [[ -f $dict ]] && options+=(-dict="$dict")
   # shellcheck disable=SC2046
   if "$target" "${options[@]}" "$work/$name" $(corpus_of "$name") >"$work/$name.log" 2>&1; then
+    local runs rss
     runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$work/$name.log" | grep -o '[0-9]*$')
     rss=$(grep -o 'stat::peak_rss_mb: *[0-9]*' "$work/$name.log" | grep -o '[0-9]*$')
-    echo "$name: ok, $runs runs, peak RSS $rss MB"
+    echo "$name: ok, $runs runs, peak RSS $rss MB" >"$work/$name.result"
   else
-    status=1
-    echo "$name: FAILED"
-    tail -n 60 "$work/$name.log"
-    for artifact in "$work/$name"-*; do
-      [[ -e $artifact ]] && echo "input: $artifact ($(wc -c <"$artifact") bytes)" && cp "$artifact" "$build/fuzz/"
-    done
+    {
+      echo "$name: FAILED"
+      tail -n 60 "$work/$name.log"
+      for artifact in "$work/$name"-*; do
+        [[ -e $artifact ]] && echo "input: $artifact ($(wc -c <"$artifact") bytes)" &&
+          cp "$artifact" "$build/fuzz/"
+      done
+    } >"$work/$name.result"
   fi
+}
+
+# The targets run side by side, one per processor; each is single-threaded.
+slots=$(nproc)
+targets=("$build"/fuzz/fuzz_*)
+for target in "${targets[@]}"; do
+  while (($(jobs -rp | wc -l) >= slots)); do wait -n || true; done
+  fuzz_one "$target" &
+done
+wait
+status=0
+for target in "${targets[@]}"; do
+  result="$work/$(basename "$target").result"
+  if [[ -f $result ]]; then cat "$result"; else echo "$(basename "$target"): FAILED, no result"; status=1; fi
+  grep -q ': FAILED' "$result" 2>/dev/null && status=1
 done
 exit $status
