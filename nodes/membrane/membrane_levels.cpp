@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <utility>
 
 #include "geobrush/parallel.hpp"
@@ -301,81 +302,95 @@ struct Coefficients<float> {
   static const float* regular(const Level& level) { return level.single.regular.data(); }
 };
 
-// (S x) at node i for the level's regular stencil S: written out for the finest level's plate
-// and Laplace stencils, 49 taps for the Galerkin ones. Always inlined: a call in the kernels'
-// loops would stop their vectorization.
-template <typename T>
-[[gnu::always_inline]] inline T plateSum(const T* x, int i, int s) {
-  return T(20) * x[i] - T(8) * (x[i - 1] + x[i + 1] + x[i - s] + x[i + s]) +
-         T(2) * (x[i - s - 1] + x[i - s + 1] + x[i + s - 1] + x[i + s + 1]) +
-         (x[i - 2] + x[i + 2] + x[i - 2 * s] + x[i + 2 * s]);
-}
+// The stencils: (S x) at node i of a padded array x with row stride s, one type per form of S,
+// each summing in its own fixed order. Always inlined: a call in the kernels' loops would stop
+// their vectorization.
 
-template <typename T>
-[[gnu::always_inline]] inline T laplaceSum(const T* x, int i, int s) {
-  return T(4) * x[i] - (x[i - 1] + x[i + 1] + x[i - s] + x[i + s]);
-}
-
-// One stencil row at a time, as regularRowSums does.
-template <typename T>
-[[gnu::always_inline]] inline T fullSum(const T* x, int i, int s, const T* weights) {
-  T sum = 0;
-  for (int dy = -kReach; dy <= kReach; ++dy) {
-    const T* row = x + i + dy * s;
-    const T* w = weights + stencilSlot(0, dy);
-    sum += w[-3] * row[-3] + w[-2] * row[-2] + w[-1] * row[-1] + w[0] * row[0] + w[1] * row[1] +
-           w[2] * row[2] + w[3] * row[3];
+// The finest level's 13-point plate (Delta^2 of the 5-point Laplacian), written out.
+struct PlateTaps {
+  template <typename T>
+  [[gnu::always_inline]] T at(const T* x, int i, int s) const {
+    return T(20) * x[i] - T(8) * (x[i - 1] + x[i + 1] + x[i - s] + x[i + s]) +
+           T(2) * (x[i - s - 1] + x[i - s + 1] + x[i + s - 1] + x[i + s + 1]) +
+           (x[i - 2] + x[i + 2] + x[i - 2 * s] + x[i + 2 * s]);
   }
-  return sum;
-}
+};
+
+// The plate for a Gauss-Seidel sweep, whose previous steps have just written the nodes to the
+// left or right of i: those taps come last, so that the sweep's chain of dependent operations
+// (store, load, multiply, add) stays short.
+struct PlateSweepTaps {
+  template <typename T>
+  [[gnu::always_inline]] T at(const T* x, int i, int s) const {
+    const T others = T(20) * x[i] - T(8) * (x[i - s] + x[i + s]) +
+                     T(2) * (x[i - s - 1] + x[i - s + 1] + x[i + s - 1] + x[i + s + 1]) +
+                     (x[i - 2 * s] + x[i + 2 * s]);
+    return others + (T(-8) * (x[i - 1] + x[i + 1]) + (x[i - 2] + x[i + 2]));
+  }
+};
+
+// The finest level's 5-point Laplacian, written out.
+struct LaplaceTaps {
+  template <typename T>
+  [[gnu::always_inline]] T at(const T* x, int i, int s) const {
+    return T(4) * x[i] - (x[i - 1] + x[i + 1] + x[i - s] + x[i + s]);
+  }
+};
+
+// 49 weights (a coarse level's regular stencil, or a custom row in double), one stencil row at a
+// time.
+template <typename T>
+struct WeightTaps {
+  const T* weights;
+  bool mirrored;  // w(dx, dy) = w(-dx, dy) = w(dx, -dy), exactly
+  [[gnu::always_inline]] T at(const T* x, int i, int s) const {
+    T sum = 0;
+    for (int dy = -kReach; dy <= kReach; ++dy) {
+      const T* row = x + i + dy * s;
+      const T* w = weights + stencilSlot(0, dy);
+      sum += w[-3] * row[-3] + w[-2] * row[-2] + w[-1] * row[-1] + w[0] * row[0] + w[1] * row[1] +
+             w[2] * row[2] + w[3] * row[3];
+    }
+    return sum;
+  }
+};
 
 // A custom row in single precision from its padded weights: eight lanes summed down the stencil
-// rows, then added pairwise. Plain code in a fixed order, so the vectorized and the baseline build
-// round alike.
-[[gnu::always_inline]] inline float paddedSum(const float* x, int i, int s, const float* weights) {
-  std::array<float, kPaddedSide> lanes{};
-  for (int dy = -kReach; dy <= kReach; ++dy) {
-    const float* row = x + i + dy * s - kReach;
-    const float* w = weights + (dy + kReach) * kPaddedSide;
-    for (int k = 0; k < kPaddedSide; ++k)
-      lanes[std::size_t(k)] += w[k] * row[k];
+// rows, then added pairwise. Plain code in a fixed order, so that every build rounds alike.
+struct PaddedTaps {
+  const float* weights;
+  [[gnu::always_inline]] float at(const float* x, int i, int s) const {
+    std::array<float, kPaddedSide> lanes{};
+    for (int dy = -kReach; dy <= kReach; ++dy) {
+      const float* row = x + i + dy * s - kReach;
+      const float* w = weights + (dy + kReach) * kPaddedSide;
+      for (int k = 0; k < kPaddedSide; ++k)
+        lanes[std::size_t(k)] += w[k] * row[k];
+    }
+    return ((lanes[0] + lanes[4]) + (lanes[2] + lanes[6])) +
+           ((lanes[1] + lanes[5]) + (lanes[3] + lanes[7]));
   }
-  return ((lanes[0] + lanes[4]) + (lanes[2] + lanes[6])) +
-         ((lanes[1] + lanes[5]) + (lanes[3] + lanes[7]));
+};
+
+// sum[i] = (S x)[center + i] for i < length, a grid row at a time: node by node for the
+// written-out stencils...
+template <typename Taps, typename T>
+[[gnu::always_inline]] inline void rowSums(const Taps& taps, const T* center, int length, int s,
+                                           T* sum) {
+  for (int i = 0; i < length; ++i)
+    sum[i] = taps.at(center, i, s);
 }
 
-// The custom row c at node i: in double as written, in float padded.
-[[gnu::always_inline]] inline double customSum(const Level& level, const double* x, int i, int c) {
-  return fullSum(x, i, level.grid.stride(), level.customRows[std::size_t(c)].weights.data());
-}
-[[gnu::always_inline]] inline float customSum(const Level& level, const float* x, int i, int c) {
-  return paddedSum(x, i, level.grid.stride(), level.single.customPadded[std::size_t(c)].data());
-}
-
-// sum[i] = (S x)[begin + i] for i < length. The 49-tap stencil is applied one stencil row at a
-// time: seven weights in registers and seven streams, which vectorizes well (several times faster
-// than 49 taps per node).
+// ...and for 49 weights one stencil row at a time: seven weights in registers and seven streams,
+// which vectorizes well (several times faster than 49 taps per node), in the order of
+// WeightTaps::at.
 template <typename T>
-void regularRowSums(const Level& level, const T* x, int begin, int length, T* sum) {
-  const int s = level.grid.stride();
-  const T* center = x + begin;
-  switch (level.shape) {
-    case StencilShape::Plate:
-      for (int i = 0; i < length; ++i)
-        sum[i] = plateSum(center, i, s);
-      return;
-    case StencilShape::Laplace:
-      for (int i = 0; i < length; ++i)
-        sum[i] = laplaceSum(center, i, s);
-      return;
-    case StencilShape::Full:
-      break;
-  }
-  const T* weights = Coefficients<T>::regular(level);
-  if (level.mirrored) {
-    // w(dx, dy) = w(-dx, dy) = w(dx, -dy): the rows dy and -dy are added before they are
-    // weighted, and so are the columns dx and -dx, which saves a third of the arithmetic.
-    const T* w = weights + stencilSlot(0, 0);
+[[gnu::always_inline]] inline void rowSums(const WeightTaps<T>& taps, const T* center, int length,
+                                           int s, T* sum) {
+  if (taps.mirrored) {
+    // The rows dy and -dy are added before they are weighted, and so are the columns dx and
+    // -dx, which saves a third of the arithmetic.
+    const T* w = taps.weights + stencilSlot(0, 0);
     const T a0 = w[0], a1 = w[1], a2 = w[2], a3 = w[3];
     for (int i = 0; i < length; ++i)
       sum[i] = a0 * center[i] + a1 * (center[i - 1] + center[i + 1]) +
@@ -383,7 +398,7 @@ void regularRowSums(const Level& level, const T* x, int begin, int length, T* su
     for (int dy = 1; dy <= kReach; ++dy) {
       const T* up = center - dy * s;
       const T* down = center + dy * s;
-      const T* v = weights + stencilSlot(0, dy);
+      const T* v = taps.weights + stencilSlot(0, dy);
       const T b0 = v[0], b1 = v[1], b2 = v[2], b3 = v[3];
       for (int i = 0; i < length; ++i)
         sum[i] += b0 * (up[i] + down[i]) +
@@ -396,7 +411,7 @@ void regularRowSums(const Level& level, const T* x, int begin, int length, T* su
   std::fill(sum, sum + length, T(0));
   for (int dy = -kReach; dy <= kReach; ++dy) {
     const T* row = center + dy * s;
-    const T* w = weights + stencilSlot(0, dy);
+    const T* w = taps.weights + stencilSlot(0, dy);
     const T w0 = w[-3], w1 = w[-2], w2 = w[-1], w3 = w[0], w4 = w[1], w5 = w[2], w6 = w[3];
     for (int i = 0; i < length; ++i)
       sum[i] += w0 * row[i - 3] + w1 * row[i - 2] + w2 * row[i - 1] + w3 * row[i] +
@@ -404,145 +419,135 @@ void regularRowSums(const Level& level, const T* x, int begin, int length, T* su
   }
 }
 
-// Computes A x one grid row at a time into a scratch row and hands it to
-// finish(begin, length, sums): begin is the padded index of sums[0]. Every kernel that applies
-// the operator is one pass of this, so outputs may alias any input but x.
-template <typename T, typename Finish>
-void forEachOperatorRow(const Level& level, const T* x, Finish&& finish) {
-  std::vector<T> scratch(std::size_t(level.grid.width));
-  T* sums = scratch.data();
-  for (int row = 0; row < level.grid.height; ++row) {
-    const RowSpan span = level.spans[std::size_t(row)];
-    const int length = span.end - span.begin;
-    if (length == 0) continue;
-    regularRowSums(level, x, span.begin, length, sums);
-    for (int c = level.customBegin[std::size_t(row)]; c < level.customBegin[std::size_t(row) + 1];
-         ++c) {
-      const int node = level.customRows[std::size_t(c)].node;
-      sums[node - span.begin] = customSum(level, x, node, c);
-    }
-    finish(span.begin, length, static_cast<const T*>(sums));
+// The custom row c's taps: as written in double, padded in float.
+inline WeightTaps<double> customTaps(const Level& level, int c, const double*) {
+  return {level.customRows[std::size_t(c)].weights.data(), false};
+}
+inline PaddedTaps customTaps(const Level& level, int c, const float*) {
+  return {level.single.customPadded[std::size_t(c)].data()};
+}
+
+// Calls body(taps) with the level's regular stencil in precision T; Sweep picks the plate's
+// order for Gauss-Seidel sweeps.
+template <typename T, bool Sweep = false, typename Body>
+[[gnu::always_inline]] inline void withRegularTaps(const Level& level, Body&& body) {
+  switch (level.shape) {
+    case StencilShape::Plate:
+      if constexpr (Sweep)
+        body(PlateSweepTaps{});
+      else
+        body(PlateTaps{});
+      return;
+    case StencilShape::Laplace:
+      body(LaplaceTaps{});
+      return;
+    case StencilShape::Full:
+      body(WeightTaps<T>{Coefficients<T>::regular(level), level.mirrored});
+      return;
   }
 }
+
+// (A x) at one node: its custom row where it has one, else the regular taps.
+template <typename Taps, typename T>
+[[gnu::always_inline]] inline T nodeSum(const Level& level, const Taps& regular, const T* x,
+                                        int node) {
+  const int custom = level.customOfNode[std::size_t(node)];
+  if (custom >= 0) return customTaps(level, custom, x).at(x, node, level.grid.stride());
+  return regular.at(x, node, level.grid.stride());
+}
+
+// use(i, sum) writes at node i alone and x is never written during a pass: the iterations of a
+// pass are independent, which the compiler cannot prove through use's pointers.
+#if defined(__clang__)
+#define GEOBRUSH_INDEPENDENT_ITERATIONS _Pragma("clang loop vectorize(assume_safety)")
+#elif defined(__GNUC__)
+#define GEOBRUSH_INDEPENDENT_ITERATIONS _Pragma("GCC ivdep")
+#else
+#define GEOBRUSH_INDEPENDENT_ITERATIONS
+#endif
+
+// The one stencil kernel: (A x)_i over the level's row spans in order, each node's sum handed to
+// use(i, sum), and use.rowEnd(begin, end) after each span. A level whose every row is its
+// written-out regular stencil (the finest level) sums each node in the loop that uses the sum;
+// the others first sum a grid row into a scratch row (rowSums) and patch its custom rows. Every
+// node gets the same arithmetic either way. x must not alias what use writes.
+template <typename T, typename Use>
+void forEachOperatorSum(const Level& level, const T* __restrict x, Use&& use) {
+  const int s = level.grid.stride();
+  withRegularTaps<T>(
+      level, [&](const auto& taps) __attribute__((always_inline)) {
+        using Taps = std::decay_t<decltype(taps)>;
+        if constexpr (!std::is_same_v<Taps, WeightTaps<T>>) {
+          if (level.customRows.empty()) {
+            for (const RowSpan& span : level.spans) {
+              GEOBRUSH_INDEPENDENT_ITERATIONS
+              for (int i = span.begin; i < span.end; ++i)
+                use(i, taps.at(x, i, s));
+              use.rowEnd(span.begin, span.end);
+            }
+            return;
+          }
+        }
+        std::vector<T> scratch(std::size_t(level.grid.width));
+        T* sums = scratch.data();
+        for (int row = 0; row < level.grid.height; ++row) {
+          const RowSpan span = level.spans[std::size_t(row)];
+          const int length = span.end - span.begin;
+          if (length == 0) continue;
+          rowSums(taps, x + span.begin, length, s, sums);
+          for (int c = level.customBegin[std::size_t(row)];
+               c < level.customBegin[std::size_t(row) + 1]; ++c) {
+            const int node = level.customRows[std::size_t(c)].node;
+            sums[node - span.begin] = customTaps(level, c, x).at(x, node, s);
+          }
+          GEOBRUSH_INDEPENDENT_ITERATIONS
+          for (int i = 0; i < length; ++i)
+            use(span.begin + i, sums[i]);
+          use.rowEnd(span.begin, span.end);
+        }
+      });
+}
+
+// A use of forEachOperatorSum that needs nothing at the end of a row.
+template <typename PerNode>
+struct NodeUse {
+  PerNode perNode;
+  [[gnu::always_inline]] void operator()(int i, auto sum) { perNode(i, sum); }
+  void rowEnd(int, int) {}
+};
+template <typename PerNode>
+NodeUse(PerNode) -> NodeUse<PerNode>;
 
 template <typename T>
 void applyOperatorRows(const Level& level, const T* x, T* out) {
   const T* mask = Coefficients<T>::mask(level);
-  forEachOperatorRow(level, x, [&](int begin, int length, const T* sums) {
-    for (int i = 0; i < length; ++i)
-      out[begin + i] = mask[begin + i] * sums[i];
-  });
-}
-
-// A level whose every row is its written-out regular stencil (the finest level: it has no custom
-// rows) needs no scratch row: the kernels below sum each node's stencil in the loop that uses the
-// sum, the same arithmetic in the same order (about a fifth faster).
-bool writtenOut(const Level& level) {
-  return level.shape != StencilShape::Full && level.customRows.empty();
-}
-
-template <StencilShape Shape, typename T>
-[[gnu::always_inline]] inline T writtenOutSum(const T* x, int i, int s) {
-  if constexpr (Shape == StencilShape::Plate)
-    return plateSum(x, i, s);
-  else
-    return laplaceSum(x, i, s);
+  forEachOperatorSum(level, x, NodeUse{[&](int i, T sum) { out[i] = mask[i] * sum; }});
 }
 
 // out may alias base: each node reads base before it writes out.
-template <StencilShape Shape, typename T>
-void subtractWrittenOut(const Level& level, const T* base, const T* __restrict x, T* out) {
-  const T* mask = Coefficients<T>::mask(level);
-  const int s = level.grid.stride();
-  for (const RowSpan& span : level.spans)
-    for (int i = span.begin; i < span.end; ++i)
-      out[i] = mask[i] * (base[i] - writtenOutSum<Shape>(x, i, s));
-}
-
 template <typename T>
 void subtractOperatorRows(const Level& level, const T* base, const T* x, T* out) {
-  if (writtenOut(level)) {
-    if (level.shape == StencilShape::Plate)
-      subtractWrittenOut<StencilShape::Plate>(level, base, x, out);
-    else
-      subtractWrittenOut<StencilShape::Laplace>(level, base, x, out);
-    return;
-  }
   const T* mask = Coefficients<T>::mask(level);
-  forEachOperatorRow(level, x, [&](int begin, int length, const T* sums) {
-    for (int i = 0; i < length; ++i)
-      out[begin + i] = mask[begin + i] * (base[begin + i] - sums[i]);
-  });
+  forEachOperatorSum(level, x, NodeUse{[&](int i, T sum) { out[i] = mask[i] * (base[i] - sum); }});
 }
 
 // inverseDiagonal is 0 off the unknowns, which keeps d and xNext at 0 there.
-template <StencilShape Shape>
-void chebyshevWrittenOut(const Level& level, const float* __restrict b, const float* __restrict x,
-                         float* __restrict xNext, float* __restrict d, float keep, float gain) {
-  const float* __restrict inverseDiagonal = level.single.inverseDiagonal.data();
-  const int s = level.grid.stride();
-  for (const RowSpan& span : level.spans)
-    for (int i = span.begin; i < span.end; ++i) {
-      d[i] = keep * d[i] + gain * inverseDiagonal[i] * (b[i] - writtenOutSum<Shape>(x, i, s));
-      xNext[i] = x[i] + d[i];
-    }
-}
-
 void chebyshevStepRows(const Level& level, const float* b, const float* x, float* xNext, float* d,
                        float keep, float gain) {
-  if (writtenOut(level)) {
-    if (level.shape == StencilShape::Plate)
-      chebyshevWrittenOut<StencilShape::Plate>(level, b, x, xNext, d, keep, gain);
-    else
-      chebyshevWrittenOut<StencilShape::Laplace>(level, b, x, xNext, d, keep, gain);
-    return;
-  }
   const float* inverseDiagonal = level.single.inverseDiagonal.data();
-  forEachOperatorRow(level, x, [&](int begin, int length, const float* sums) {
-    for (int i = begin; i < begin + length; ++i) {
-      d[i] = keep * d[i] + gain * inverseDiagonal[i] * (b[i] - sums[i - begin]);
-      xNext[i] = x[i] + d[i];
-    }
-  });
+  forEachOperatorSum(level, x, NodeUse{[&](int i, float sum) {
+                       d[i] = keep * d[i] + gain * inverseDiagonal[i] * (b[i] - sum);
+                       xNext[i] = x[i] + d[i];
+                     }});
 }
 
 template <typename T>
 T rowProductAt(const Level& level, const T* x, int node) {
-  const int stride = level.grid.stride();
-  const int custom = level.customOfNode[std::size_t(node)];
-  if (custom >= 0) return customSum(level, x, node, custom);
-  switch (level.shape) {
-    case StencilShape::Plate:
-      return plateSum(x, node, stride);
-    case StencilShape::Laplace:
-      return laplaceSum(x, node, stride);
-    case StencilShape::Full:
-      break;
-  }
-  return fullSum(x, node, stride, Coefficients<T>::regular(level));
-}
-
-// (A x) at one node for a Gauss-Seidel sweep, whose previous steps have just written the nodes
-// to the left or right of it. With the plate stencil those taps come last, so that the sweep's
-// chain of dependent operations (store, load, multiply, add) stays short. (Custom rows are summed
-// as paddedSum does: splitting off their centre row was slower.)
-[[gnu::always_inline]] inline float sweepRowProduct(const Level& level, const float* x, int i) {
-  const int s = level.grid.stride();
-  const int custom = level.customOfNode[std::size_t(i)];
-  if (custom >= 0) return customSum(level, x, i, custom);
-  switch (level.shape) {
-    case StencilShape::Plate: {
-      const float others = 20.0f * x[i] - 8.0f * (x[i - s] + x[i + s]) +
-                           2.0f * (x[i - s - 1] + x[i - s + 1] + x[i + s - 1] + x[i + s + 1]) +
-                           (x[i - 2 * s] + x[i + 2 * s]);
-      return others + (-8.0f * (x[i - 1] + x[i + 1]) + (x[i - 2] + x[i + 2]));
-    }
-    case StencilShape::Laplace:
-      return (4.0f * x[i] - (x[i - s] + x[i + s])) - (x[i - 1] + x[i + 1]);
-    case StencilShape::Full:
-      break;
-  }
-  return fullSum(x, i, s, level.single.regular.data());
+  T sum = 0;
+  withRegularTaps<T>(
+      level, [&](const auto& taps)
+                 __attribute__((always_inline)) { sum = nodeSum(level, taps, x, node); });
+  return sum;
 }
 
 // The largest Ritz value of D^-1/2 A D^-1/2 after a few Lanczos steps: from below, within a few
@@ -697,14 +702,16 @@ double dotProductRows(const Level& level, const double* a, const double* b) {
 }
 
 double applyOperatorDotRows(const Level& level, const double* p, double* q) {
-  const double* mask = level.mask.data();
-  std::array<double, 4> sums{};
-  forEachOperatorRow(level, p, [&](int begin, int length, const double* rowSums) {
-    for (int i = 0; i < length; ++i)
-      q[begin + i] = mask[begin + i] * rowSums[i];
-    addProducts(p, q, begin, begin + length, sums);
-  });
-  return total(sums);
+  struct Use {
+    const double* mask;
+    const double* p;
+    double* q;
+    std::array<double, 4> sums{};
+    [[gnu::always_inline]] void operator()(int i, double sum) { q[i] = mask[i] * sum; }
+    void rowEnd(int begin, int end) { addProducts(p, q, begin, end, sums); }
+  } use{level.mask.data(), p, q};
+  forEachOperatorSum(level, p, use);
+  return total(use.sums);
 }
 
 double updateResidualRows(const Level& level, double alpha, const double* p, const double* q,
@@ -724,11 +731,14 @@ void sweepBandNodes(const Level& level, const float* b, float* x, bool forward, 
   const float* inverseDiagonal = level.single.inverseDiagonal.data();
   const int* band = level.band.data();
   const int count = int(level.band.size());
-  for (int sweep = 0; sweep < sweeps; ++sweep)
-    for (int k = 0; k < count; ++k) {
-      const int node = band[forward ? k : count - 1 - k];
-      x[node] += (b[node] - sweepRowProduct(level, x, node)) * inverseDiagonal[node];
-    }
+  withRegularTaps<float, true>(
+      level, [&](const auto& taps) __attribute__((always_inline)) {
+        for (int sweep = 0; sweep < sweeps; ++sweep)
+          for (int k = 0; k < count; ++k) {
+            const int node = band[forward ? k : count - 1 - k];
+            x[node] += (b[node] - nodeSum(level, taps, x, node)) * inverseDiagonal[node];
+          }
+      });
 }
 
 }  // namespace
