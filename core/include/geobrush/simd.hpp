@@ -7,7 +7,9 @@
 // runs the lambda inlined (with everything it calls) into a copy built for AVX2 where the
 // processor has AVX2, and into a baseline copy elsewhere. Written with plain loops or GCC vector
 // types, both copies do the same arithmetic in the same order; AVX2 alone brings no fused
-// multiply-add, so they round alike and results never depend on the machine.
+// multiply-add, so they round alike and results never depend on the machine. `flatten` does not
+// always reach through generic lambdas and the function templates they call: mark those
+// [[gnu::always_inline]] where the kernel's speed depends on them, or they stay baseline code.
 //
 // Code written with AVX2 + FMA intrinsics marks its functions GEOBRUSH_TARGET_AVX2_FMA and runs
 // only where simd::hasAvx2Fma() says so, beside a scalar twin.
