@@ -32,6 +32,10 @@ Graph smallClone(const std::string& method) {
                                             {"dabs", std::vector<double>{0, 0, 0, 0.45}}};
   graph.nodes.at("strokes").params = {{"dabs", std::vector<double>{0, 0, 0.15, 1}}};
   graph.nodes.at("target_map").params = {{"origin", Vec3{0, 0, 1}}};
+  // A grid in proportion to these meshes (the default suits canvases of tens of thousands of
+  // vertices): the history evaluates the graph hundreds of times.
+  if (const auto roi = graph.nodes.find("roi"); roi != graph.nodes.end())
+    roi->second.params["resolution"] = std::int64_t(64);
   // Small images: a history writes hundreds.
   for (auto& [name, node] : graph.nodes)
     if (node.type == "geobrush.render") {
