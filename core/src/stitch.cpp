@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -13,6 +14,7 @@
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/face_selection.hpp"
 #include "geobrush/loop_zip.hpp"
+#include "geobrush/node.hpp"
 #include "geobrush/submesh.hpp"
 
 namespace geobrush {
@@ -474,36 +476,113 @@ void mapCanvas(StitchBase& base, const Parameterization& target) {
 
 }  // namespace
 
-StitchBase stitchBase(const Parameterization& target,
-                      std::shared_ptr<const DomainLocator> locator) {
+StitchOutside stitchOutside(const TriMesh& targetMesh, const std::vector<char>& open) {
+  if (open.size() != targetMesh.n_faces())
+    throw StitchError("the open part does not flag every target face");
+  StitchOutside outside;
+  std::vector<int> outsideFaces;
+  for (std::size_t f = 0; f < open.size(); ++f)
+    (open[f] ? outside.openMeshFaces : outsideFaces).push_back(int(f));
+  outside.faces = appendFaces(outside.mesh, targetMesh, outsideFaces);
+  std::vector<char> openVertex(targetMesh.n_vertices(), 0);
+  for (int f : outside.openMeshFaces)
+    for (auto v : targetMesh.fv_range(TriMesh::FaceHandle(f)))
+      openVertex[std::size_t(v.idx())] = 1;
+  const TriMesh& mesh = outside.mesh;
+  for (auto v : mesh.vertices()) {
+    if (!openVertex[std::size_t(outside.faces.sourceVertex[std::size_t(v.idx())])]) continue;
+    outside.borderVertices.push_back(v.idx());
+    for (auto h : mesh.voh_range(v)) {
+      outside.borderHalfedges.push_back(h.idx());
+      outside.borderHalfedges.push_back(mesh.opposite_halfedge_handle(h).idx());
+    }
+  }
+  std::sort(outside.borderHalfedges.begin(), outside.borderHalfedges.end());
+  outside.borderHalfedges.erase(
+      std::unique(outside.borderHalfedges.begin(), outside.borderHalfedges.end()),
+      outside.borderHalfedges.end());
+  return outside;
+}
+
+OpenCell openCellOf(const Canvas& canvas) {
+  double farthest = 0;
+  for (auto v : canvas.surface.vertices())
+    farthest = std::max(farthest, (pointOf(canvas.surface, v) - canvas.originPoint).norm());
+  // R: the next power of 2^(1/4) at or above the farthest vertex, so that a drag's canvases,
+  // whose extents differ a little, mostly share one.
+  const int quarterOctaves = int(std::ceil(4 * std::log2(std::max(farthest, 1e-300))));
+  const double radius = std::exp2(quarterOctaves / 4.0);
+  const double side = radius / 4;
+  OpenCell cell;
+  Hasher key;
+  key.u64(std::uint64_t(std::int64_t(quarterOctaves)));
+  for (int axis = 0; axis < 3; ++axis) {
+    const double index = std::floor(canvas.originPoint[axis] / side);
+    cell.center[axis] = (index + 0.5) * side;
+    key.u64(std::uint64_t(std::int64_t(index)));
+  }
+  cell.key = key.digest();
+  cell.radius = radius + side * std::sqrt(3.0) / 2;
+  return cell;
+}
+
+std::vector<char> openFaces(const TriMesh& mesh, const OpenCell& cell) {
+  std::vector<char> near(mesh.n_vertices(), 0);
+  for (auto v : mesh.vertices())
+    near[std::size_t(v.idx())] = (pointOf(mesh, v) - cell.center).norm() <= cell.radius;
+  std::vector<char> open(mesh.n_faces(), 0);
+  for (auto f : mesh.faces()) {
+    bool all = true;
+    for (auto v : mesh.fv_range(f))
+      all = all && near[std::size_t(v.idx())];
+    open[std::size_t(f.idx())] = all;
+  }
+  return open;
+}
+
+namespace {
+
+// Whether the outside's open part holds every face of the base's canvas.
+bool holdsCanvas(const StitchOutside& outside, const StitchBase& base) {
+  return std::all_of(base.canvasFaceToMesh.begin(), base.canvasFaceToMesh.end(), [&](int f) {
+    return std::binary_search(outside.openMeshFaces.begin(), outside.openMeshFaces.end(), f);
+  });
+}
+
+}  // namespace
+
+StitchBase stitchBase(const Parameterization& target, std::shared_ptr<const DomainLocator> locator,
+                      std::shared_ptr<const StitchOutside> outside) {
   StitchBase base;
   mapCanvas(base, target);
   base.locator = locator ? std::move(locator) : std::make_shared<const DomainLocator>(target);
+  if (outside && holdsCanvas(*outside, base)) {
+    base.outside = std::move(outside);
+    return base;
+  }
   const TriMesh& mesh = meshOf(*target.canvas);
   std::vector<char> open(mesh.n_faces(), 0);
   for (int f : base.canvasFaceToMesh)
     open[std::size_t(f)] = 1;
-  std::vector<int> outsideFaces;
-  for (std::size_t f = 0; f < open.size(); ++f)
-    (open[f] ? base.openMeshFaces : outsideFaces).push_back(int(f));
-  base.outsideFaces = appendFaces(base.outside, mesh, outsideFaces);
-  std::vector<char> openVertex(mesh.n_vertices(), 0);
-  for (int f : base.openMeshFaces)
-    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f)))
-      openVertex[std::size_t(v.idx())] = 1;
-  const TriMesh& outside = base.outside;
-  for (auto v : outside.vertices()) {
-    if (!openVertex[std::size_t(base.outsideFaces.sourceVertex[std::size_t(v.idx())])]) continue;
-    base.borderVertices.push_back(v.idx());
-    for (auto h : outside.voh_range(v)) {
-      base.borderHalfedges.push_back(h.idx());
-      base.borderHalfedges.push_back(outside.opposite_halfedge_handle(h).idx());
-    }
-  }
-  std::sort(base.borderHalfedges.begin(), base.borderHalfedges.end());
-  base.borderHalfedges.erase(std::unique(base.borderHalfedges.begin(), base.borderHalfedges.end()),
-                             base.borderHalfedges.end());
+  base.outside = std::make_shared<const StitchOutside>(stitchOutside(mesh, open));
   return base;
+}
+
+std::shared_ptr<const StitchBase> derivedStitchBase(Context& ctx, std::string_view port) {
+  const auto target = ctx.in<Parameterization>(port);
+  std::shared_ptr<const StitchOutside> outside;
+  if (target->canvas && target->canvas->source) {
+    const MeshPtr& mesh = target->canvas->source;
+    const OpenCell cell = openCellOf(*target->canvas);
+    outside = ctx.derivedFrom("stitch_outside", {mesh}, cell.key, [&] {
+      return std::make_shared<const StitchOutside>(
+          stitchOutside(mesh->surface, openFaces(mesh->surface, cell)));
+    });
+  }
+  return ctx.derived("stitch_base", {port}, 0, [&] {
+    return std::make_shared<const StitchBase>(
+        stitchBase(*target, derivedLocator(ctx, port), outside));
+  });
 }
 
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
@@ -537,25 +616,25 @@ void reserveForPaste(TriMesh& out, const TriMesh& targetMesh, const TriMesh& sou
 
 }  // namespace
 
-void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
-                 TriMesh& out) {
+void copyOutside(const StitchOutside& outside, const TriMesh& targetMesh,
+                 const TriMesh& sourceCanvas, TriMesh& out) {
   // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
   out.clear();
-  reserveForPaste(out, targetMesh, sourceCanvas, base.openMeshFaces.size());
-  out = base.outside;
+  reserveForPaste(out, targetMesh, sourceCanvas, outside.openMeshFaces.size());
+  out = outside.mesh;
 }
 
-void restoreOutside(const StitchBase& base, TriMesh& out) {
-  const TriMesh& outside = base.outside;
+void restoreOutside(const StitchOutside& part, TriMesh& out) {
+  const TriMesh& outside = part.mesh;
   if (out.n_vertices() < outside.n_vertices() || out.n_edges() < outside.n_edges() ||
       out.n_faces() < outside.n_faces())
     throw StitchError("the mesh to restore is smaller than the target's outside part");
   // Shrinking keeps the arrays' room: the next paste writes into memory already in use.
   out.resize(outside.n_vertices(), outside.n_edges(), outside.n_faces());
-  for (int v : base.borderVertices)
+  for (int v : part.borderVertices)
     out.set_halfedge_handle(TriMesh::VertexHandle(v),
                             outside.halfedge_handle(TriMesh::VertexHandle(v)));
-  for (int i : base.borderHalfedges) {
+  for (int i : part.borderHalfedges) {
     const auto h = TriMesh::HalfedgeHandle(i);
     out.set_vertex_handle(h, outside.to_vertex_handle(h));
     out.set_face_handle(h, outside.face_handle(h));
@@ -697,19 +776,22 @@ TargetPart addTargetPart(TriMesh& out, const TriMesh& targetMesh, const TriMesh&
                          bool outHoldsOutside) {
   // Copied connectivity, not add_face face by face, which takes several times longer on a large
   // target; with room for the patch and the seam strips.
-  auto reserve = [&] { reserveForPaste(out, targetMesh, sourceCanvas, base.openMeshFaces.size()); };
+  const StitchOutside& outside = *base.outside;
+  auto reserve = [&] {
+    reserveForPaste(out, targetMesh, sourceCanvas, outside.openMeshFaces.size());
+  };
   TargetPart part;
   std::vector<int> keptFaces;
-  for (int f : base.openMeshFaces)
+  for (int f : outside.openMeshFaces)
     (kept[std::size_t(f)] ? keptFaces : part.removedFaces).push_back(f);
   if (std::size_t(std::count(kept.begin(), kept.end(), 0)) == part.removedFaces.size()) {
     if (!outHoldsOutside) {
       // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
       reserve();
-      out = base.outside;
+      out = outside.mesh;
     }
-    part.faces = joinFaces(out, targetMesh, keptFaces, base.outsideFaces);
-    part.outToMesh = base.outsideFaces.sourceVertex;
+    part.faces = joinFaces(out, targetMesh, keptFaces, outside.faces);
+    part.outToMesh = outside.faces.sourceVertex;
     part.startsWithOutside = true;
   } else {
     keptFaces.clear();
@@ -891,8 +973,8 @@ StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameteriza
                         const Parameterization& target, const StitchBase* base,
                         bool outHoldsOutside, double refinementRatio, bool& refined) {
   refined = false;
-  if (outHoldsOutside && (!base || out.n_vertices() != base->outside.n_vertices() ||
-                          out.n_faces() != base->outside.n_faces()))
+  if (outHoldsOutside && (!base || out.n_vertices() != base->outside->mesh.n_vertices() ||
+                          out.n_faces() != base->outside->mesh.n_faces()))
     throw StitchError("the mesh to build into does not hold the target's outside part");
   if (!outHoldsOutside) out.clear();
   if (!source.canvas || !target.canvas) throw StitchError("the parameterizations have no canvases");

@@ -19,13 +19,13 @@ using geobrush::Parameterization;
 using geobrush::Region2D;
 
 // Every dab re-stitches into the same target: how the target canvas maps into its mesh (the
-// stitch base) is derived data the framework keeps per target parameterization. Every result
-// starts as the target outside the canvas (tens of megabytes on a large target): one of the
-// node's last results that nothing holds any more (an evaluator keeps two runs' outputs, so the
-// one of three dabs ago) is turned back into that part in place (restoreOutside, the border
-// alone); where none is free, the part is copied for the next dab on another thread, while the
-// nodes before the stitch (strokes, ROI, warp) work on that next dab. Either way the result is
-// the one a fresh node makes.
+// stitch base) is derived data the framework keeps per target parameterization, its outside part
+// shared by the canvases of a drag within one cell (derivedStitchBase). Every result starts as
+// that outside (tens of megabytes on a large target): one of the node's last results that nothing
+// holds any more (an evaluator keeps two runs' outputs, so the one of three edits ago) is turned
+// back into it in place (restoreOutside, the border alone); where none is free, the part is
+// copied for the next edit on another thread, while the nodes before the stitch (strokes, ROI,
+// warp) work on that next edit. Either way the result is the one a fresh node makes.
 class StitchNode final : public geobrush::Node {
  public:
   ~StitchNode() override { dropNext(); }
@@ -39,15 +39,12 @@ class StitchNode final : public geobrush::Node {
     const auto target = ctx.in<Parameterization>("target");
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
     try {
-      const auto base = ctx.derived("stitch_base", {"target"}, 0, [&] {
-        return std::make_shared<const geobrush::StitchBase>(
-            geobrush::stitchBase(*target, geobrush::derivedLocator(ctx, "target")));
-      });
-      const bool newBase = base != base_;
-      if (newBase) {
-        dropNext();  // the copy under way reads the old base
+      const auto base = geobrush::derivedStitchBase(ctx, "target");
+      const bool newOutside = base->outside != outside_;
+      if (newOutside) {
+        dropNext();  // the copy under way reads the old outside
         made_.clear();
-        base_ = base;
+        outside_ = base->outside;
       }
       std::shared_ptr<Mesh> mesh = reclaim();
       const bool reclaimed = mesh != nullptr;
@@ -57,12 +54,12 @@ class StitchNode final : public geobrush::Node {
       geobrush::StitchOptions options;
       options.seamRefinementRatio = ctx.param<double>("seam_refinement");
       geobrush::StitchResult result = geobrush::stitchLayoutInto(
-          mesh->surface, *region, *source, *target, base_.get(), prepared, options);
+          mesh->surface, *region, *source, *target, base.get(), prepared, options);
       made_.push_back({mesh, result.startsWithOutside});
       if (made_.size() > kKept) made_.pop_front();
-      // Where this dab found no result to reclaim, the next one is unlikely to: its outside part
-      // is copied now, unless the target moved (a drag moves it again).
-      if (!reclaimed && !newBase) prepareNext(target, source->canvas);
+      // Where this edit found no result to reclaim, the next one is unlikely to: its outside
+      // part is copied now, unless the outside changed (a drag changes it again).
+      if (!reclaimed && !newOutside) prepareNext(target, source->canvas);
       laid_ = Laid{std::move(mesh), std::move(result.map)};
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("region", e.what());
@@ -110,7 +107,7 @@ class StitchNode final : public geobrush::Node {
     std::shared_ptr<Mesh> mesh = std::move(free->mesh);
     made_.erase(free);
     dropNext();
-    geobrush::restoreOutside(*base_, mesh->surface);
+    geobrush::restoreOutside(*outside_, mesh->surface);
     mesh->vertexColors.clear();
     return mesh;
   }
@@ -118,11 +115,11 @@ class StitchNode final : public geobrush::Node {
   void prepareNext(std::shared_ptr<const Parameterization> target,
                    std::shared_ptr<const geobrush::Canvas> canvas) {
     dropNext();
-    next_ = std::async(std::launch::async, [base = base_, target, canvas] {
+    next_ = std::async(std::launch::async, [outside = outside_, target, canvas] {
       auto next = std::make_shared<Mesh>();
       const geobrush::TriMesh& targetMesh =
           target->canvas->source ? target->canvas->source->surface : target->canvas->surface;
-      geobrush::copyOutside(*base, targetMesh, canvas->surface, next->surface);
+      geobrush::copyOutside(*outside, targetMesh, canvas->surface, next->surface);
       return next;
     });
   }
@@ -135,9 +132,9 @@ class StitchNode final : public geobrush::Node {
     std::shared_ptr<Mesh> mesh;  // the paste with R_in at the source canvas' positions
     geobrush::PasteMap map;
   };
-  std::optional<Laid> laid_;                          // from prepare() to compute()
-  std::shared_ptr<const geobrush::StitchBase> base_;  // the base made_ and next_ belong to
-  std::future<std::shared_ptr<Mesh>> next_;           // the next result, its outside part copied
+  std::optional<Laid> laid_;                                // from prepare() to compute()
+  std::shared_ptr<const geobrush::StitchOutside> outside_;  // what made_ and next_ start as
+  std::future<std::shared_ptr<Mesh>> next_;  // the next result, its outside part copied
   static constexpr std::size_t kKept = 3;
   std::deque<Made> made_;  // the last kKept results, the oldest first
 };

@@ -59,10 +59,7 @@ class VariationalPasteNode final : public geobrush::Node {
     options.progress = [&ctx](double fraction) { ctx.progress(fraction); };
     geobrush::VariationalPasteResult result;
     try {
-      const auto base = ctx.derived("stitch_base", {"target"}, 0, [&] {
-        return std::make_shared<const geobrush::StitchBase>(
-            geobrush::stitchBase(*target, geobrush::derivedLocator(ctx, "target")));
-      });
+      const auto base = geobrush::derivedStitchBase(ctx, "target");
       result = geobrush::variationalPaste(*region, *source, draft->surface, *target, options,
                                           base.get());
     } catch (const geobrush::StitchError& e) {

@@ -250,7 +250,7 @@ void BM_LiveBrush(benchmark::State& state) {
     membraneOptions.hierarchy = solved.hierarchy;
     membraneMs += millisecondsSince(start);
     start = std::chrono::steady_clock::now();
-    if (holdsOutside) restoreOutside(stitchBaseOfTarget, result);
+    if (holdsOutside) restoreOutside(*stitchBaseOfTarget.outside, result);
     const StitchResult stitched = stitchPasteInto(result, roi.region, *source, draft, &offset,
                                                   targetParam, &stitchBaseOfTarget, holdsOutside);
     holdsOutside = stitched.startsWithOutside;

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
@@ -354,6 +356,14 @@ TEST(StitchNode, OutputsWhatStitchPasteMakes) {
 // a result of two dabs ago that nothing holds any more: each result is still what a fresh stitch
 // makes, halfedge for halfedge, dab after dab, with results held elsewhere, an empty region and a
 // change of target between them.
+// The base a node derives for `target` (derivedStitchBase): the outside of the canvas' cell.
+StitchBase freshNodeBase(const Parameterization& target) {
+  const TriMesh& mesh = target.canvas->source->surface;
+  return stitchBase(target, nullptr,
+                    std::make_shared<const StitchOutside>(
+                        stitchOutside(mesh, openFaces(mesh, openCellOf(*target.canvas)))));
+}
+
 TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   const NodeType* type = test::registry().find("geobrush.stitch");
   ASSERT_TRUE(type);
@@ -382,8 +392,9 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
     ASSERT_TRUE(mesh);
     made.push_back(mesh.get());
     if (dab == kHeld) held = mesh;
+    const StitchBase base = freshNodeBase(*target);
     const StitchResult fresh =
-        stitchPaste(*region, *source, source->canvas->surface, nullptr, *target);
+        stitchPaste(*region, *source, source->canvas->surface, nullptr, *target, &base);
     EXPECT_TRUE(test::sameHalfedgeStructure(mesh->surface, fresh.mesh));
     EXPECT_TRUE(test::topology(mesh->surface).nonManifoldVertices == 0);
   }
@@ -399,9 +410,10 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   EXPECT_EQ(made[9], made[8]);
 }
 
-// Dragging the target canvas over one mesh: each move's base is derived data for its canvas, and
-// each result is a fresh stitch's, element for element, with no history used.
-TEST(StitchNode, DraggingTheTargetCanvasGivesWhatAFreshStitchGives) {
+// Dragging the target canvas over one mesh: each move's base is derived data for its canvas, its
+// outside part shared by the moves within one cell, and each result is a fresh node's, element
+// for element, with no history used.
+TEST(StitchNode, DraggingTheTargetCanvasGivesWhatAFreshNodeGives) {
   const NodeType* type = test::registry().find("geobrush.stitch");
   ASSERT_TRUE(type);
   auto source = flatSquare(24);
@@ -411,23 +423,106 @@ TEST(StitchNode, DraggingTheTargetCanvasGivesWhatAFreshStitchGives) {
   const Strokes painted = strokes({{{0.0, 0.05}, 0.2, false}});
   const auto node = type->create();
   const auto derived = std::make_shared<DerivedStore>();
+  std::set<Hash> cells;
   for (int step = 0; step < 6; ++step) {
     SCOPED_TRACE(step);
     const auto target = flatDiscAround(square, n, 20 + step / 2, 20 + step % 2, 0.7);
+    cells.insert(openCellOf(*target->canvas).key);
     auto region =
         std::make_shared<Region2D>(paintRegion(painted, *source, *target, RoiOptions{64}).region);
-    test::DirectContext ctx(
-        *type, {{"region", region}, {"source", source}, {"draft", draft}, {"target", target}}, {},
-        derived);
+    const std::map<std::string, ValuePtr, std::less<>> inputs = {
+        {"region", region}, {"source", source}, {"draft", draft}, {"target", target}};
+    test::DirectContext ctx(*type, inputs, {}, derived);
     test::run(*node, ctx);
     const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
     ASSERT_TRUE(mesh);
     EXPECT_FALSE(node->usedHistory());
-    const StitchResult fresh =
-        stitchPaste(*region, *source, source->canvas->surface, nullptr, *target);
-    EXPECT_TRUE(test::sameHalfedgeStructure(mesh->surface, fresh.mesh));
+    const auto freshNode = type->create();
+    test::DirectContext fresh(*type, inputs, {}, std::make_shared<DerivedStore>());
+    test::run(*freshNode, fresh);
+    EXPECT_TRUE(test::sameHalfedgeStructure(
+        mesh->surface, std::dynamic_pointer_cast<const Mesh>(fresh.outputs.at("mesh"))->surface));
   }
-  EXPECT_EQ(derived->builds(), 12u);  // a base and a locator per target canvas
+  // A base and a locator per target canvas, and an outside per cell.
+  EXPECT_EQ(cells.size(), 1u);
+  EXPECT_EQ(derived->builds(), 12u + cells.size());
+}
+
+// The faces of a mesh as sorted triples of their corners' points, in sorted order: equal for
+// meshes that hold the same triangles in any order.
+std::vector<std::array<std::array<double, 3>, 3>> triangleSet(const TriMesh& mesh) {
+  std::vector<std::array<std::array<double, 3>, 3>> triangles;
+  for (auto f : mesh.faces()) {
+    std::array<std::array<double, 3>, 3> corners;
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) {
+      const auto& p = mesh.point(v);
+      corners[std::size_t(k++)] = {p[0], p[1], p[2]};
+    }
+    std::sort(corners.begin(), corners.end());
+    triangles.push_back(corners);
+  }
+  std::sort(triangles.begin(), triangles.end());
+  return triangles;
+}
+
+// An open part larger than the canvas (a cell's, as a drag shares it) gives the paste the canvas'
+// own open part gives: the same triangles, in another order.
+TEST(Stitch, AnOpenPartAroundTheCanvasGivesTheSamePaste) {
+  auto source = flatSquare(47);
+  const MeshPtr square = test::heightGrid(30, [](double, double) { return 0.0; });
+  for (int step = 0; step < 3; ++step) {
+    SCOPED_TRACE(step);
+    const auto target = flatDiscAround(square, 30, 13 + step, 15, 0.6);
+    const OpenCell cell = openCellOf(*target->canvas);
+    const auto outside = std::make_shared<const StitchOutside>(
+        stitchOutside(square->surface, openFaces(square->surface, cell)));
+    const StitchBase shared = stitchBase(*target, nullptr, outside);
+    ASSERT_EQ(shared.outside, outside);  // it holds the canvas
+    EXPECT_GT(outside->openMeshFaces.size(), target->canvas->surface.n_faces());
+    const StitchBase own = stitchBase(*target);
+    EXPECT_EQ(own.outside->openMeshFaces.size(), target->canvas->surface.n_faces());
+    const Region2D region =
+        paintRegion(strokes({{{0.05 * step, 0.0}, 0.25, false}}), *source, *target, RoiOptions{96})
+            .region;
+    const StitchResult a =
+        stitchPaste(region, *source, source->canvas->surface, nullptr, *target, &shared);
+    const StitchResult b =
+        stitchPaste(region, *source, source->canvas->surface, nullptr, *target, &own);
+    EXPECT_TRUE(a.startsWithOutside);
+    EXPECT_EQ(triangleSet(a.mesh), triangleSet(b.mesh));
+    EXPECT_EQ(test::topology(a.mesh).nonManifoldVertices, 0u);
+    EXPECT_EQ(test::topology(a.mesh).boundaryLoops, 1u);
+  }
+}
+
+// The cell of a disc canvas on a plane: R bounds the canvas within a quarter octave, the centre
+// is that of the cube of side R / 4 holding the origin, and its open part holds the canvas for an
+// origin anywhere in the cell.
+TEST(Stitch, AnOpenCellHoldsTheCanvasAndItsCellCentre) {
+  const MeshPtr square = test::heightGrid(40, [](double, double) { return 0.0; });
+  for (int i : {12, 20, 27}) {
+    SCOPED_TRACE(i);
+    const auto target = flatDiscAround(square, 40, i, 19, 0.5);
+    const Canvas& canvas = *target->canvas;
+    double farthest = 0;
+    for (auto v : canvas.surface.vertices())
+      farthest = std::max(farthest, (pointOf(canvas.surface, v) - canvas.originPoint).norm());
+    const OpenCell cell = openCellOf(canvas);
+    const double side = (cell.radius) / (4 + std::sqrt(3.0) / 2);  // radius = R + side sqrt(3) / 2
+    const double r = 4 * side;
+    EXPECT_GE(r, farthest);
+    EXPECT_LT(r, std::pow(2.0, 0.25) * farthest);
+    EXPECT_NEAR(std::log2(r) * 4, std::round(std::log2(r) * 4), 1e-9);
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_LE(std::abs(canvas.originPoint[axis] - cell.center[axis]), side / 2 + 1e-12);
+      const double index = cell.center[axis] / side - 0.5;
+      EXPECT_NEAR(index, std::round(index), 1e-9);
+    }
+    const std::vector<char> open = openFaces(square->surface, cell);
+    for (int f : canvas.sourceFace)
+      EXPECT_TRUE(open[std::size_t(f)]) << f;
+  }
 }
 
 // A paste turned back into the target's outside part in place is what copyOutside makes, and a
@@ -438,10 +533,10 @@ TEST(Stitch, APasteTurnedBackIntoTheOutsidePartIsItsCopy) {
     SCOPED_TRACE(n);
     const auto target = flatDiscOnSquare(n, 0.9);
     const StitchBase base = stitchBase(*target);
-    ASSERT_FALSE(base.borderVertices.empty());
+    ASSERT_FALSE(base.outside->borderVertices.empty());
     const TriMesh& targetMesh = target->canvas->source->surface;
     TriMesh outside, reused;
-    copyOutside(base, targetMesh, source->canvas->surface, outside);
+    copyOutside(*base.outside, targetMesh, source->canvas->surface, outside);
     const StitchOptions options = n == 8 ? refining() : StitchOptions{};
     std::vector<Dab> dabs;
     int refinedDabs = 0;
@@ -450,9 +545,9 @@ TEST(Stitch, APasteTurnedBackIntoTheOutsidePartIsItsCopy) {
       dabs.push_back({{-0.1 + 0.1 * dab, 0.05 * dab}, 0.25, false});
       const Region2D region = paintRegion(strokes(dabs), *source, *target, RoiOptions{96}).region;
       if (dab == 0) {
-        copyOutside(base, targetMesh, source->canvas->surface, reused);
+        copyOutside(*base.outside, targetMesh, source->canvas->surface, reused);
       } else {
-        restoreOutside(base, reused);
+        restoreOutside(*base.outside, reused);
       }
       EXPECT_TRUE(test::sameHalfedgeStructure(reused, outside));
       const StitchResult made = stitchPasteInto(reused, region, *source, source->canvas->surface,
@@ -469,7 +564,7 @@ TEST(Stitch, APasteTurnedBackIntoTheOutsidePartIsItsCopy) {
     EXPECT_EQ(refinedDabs > 0, n == 8);
   }
   TriMesh small;
-  EXPECT_THROW(restoreOutside(stitchBase(*flatDiscOnSquare(17, 0.8)), small), StitchError);
+  EXPECT_THROW(restoreOutside(*stitchBase(*flatDiscOnSquare(17, 0.8)).outside, small), StitchError);
 }
 
 // The longest edge of the seam faces.

@@ -1,6 +1,7 @@
 // The node API: declaring a node type and computing through a context.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
@@ -108,6 +109,25 @@ class Context {
       from.push_back(inputValue(port));
     }
     const auto made = derivedValue(key.digest(), from, [&]() -> std::shared_ptr<const void> {
+      return std::shared_ptr<T>(build());
+    });
+    return std::static_pointer_cast<T>(made);
+  }
+
+  // The same, derived from `values` that an input holds rather than from input ports (the mesh
+  // under a canvas, which has no framework key of its own): keyed by the values' identity. The
+  // entry keeps them alive, so that no other value takes one's address while it lives; results
+  // depend on `build` alone, never on whether an entry was found.
+  template <typename Build>
+  auto derivedFrom(std::string_view what, std::vector<ValuePtr> values, Hash extra,
+                   const Build& build) {
+    using Made = decltype(build());
+    using T = std::add_const_t<typename Made::element_type>;
+    Hasher key;
+    key.str(typeid(T).name()).str(what).u64(extra).str("by identity");
+    for (const ValuePtr& value : values)
+      key.u64(std::uint64_t(reinterpret_cast<std::uintptr_t>(value.get())));
+    const auto made = derivedValue(key.digest(), values, [&]() -> std::shared_ptr<const void> {
       return std::shared_ptr<T>(build());
     });
     return std::static_pointer_cast<T>(made);

@@ -6,14 +6,18 @@
 
 #include <memory>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include "geobrush/canvas.hpp"
 #include "geobrush/domain_locator.hpp"
+#include "geobrush/hash.hpp"
 #include "geobrush/region.hpp"
 #include "geobrush/submesh.hpp"
 
 namespace geobrush {
+
+class Context;
 
 class StitchError : public std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -44,26 +48,55 @@ struct StitchResult {
   bool startsWithOutside = false;
 };
 
-// How the target canvas sits in its mesh, and the mesh outside the canvas' faces (the open part),
-// which no paste changes: each result starts as a copy of `outside`, and the open faces that stay
-// are joined to it.
+// The target mesh outside an open part of its faces, which no paste into a canvas within the open
+// part changes: each result starts as a copy of `mesh`, and the open faces that stay are joined
+// to it.
+struct StitchOutside {
+  std::vector<int> openMeshFaces;  // the target mesh faces of the open part, increasing
+  TriMesh mesh;                    // the target mesh's faces outside the open part
+  AppendedFaces faces;             // how `mesh` maps to the target mesh
+  // The entries of `mesh` that a paste changes when it joins faces to it: its vertices that are
+  // corners of open faces too, and every halfedge at one of them.
+  std::vector<int> borderVertices, borderHalfedges;
+};
+// The outside of the faces marked in `open` (one flag per face of `targetMesh`).
+StitchOutside stitchOutside(const TriMesh& targetMesh, const std::vector<char>& open);
+
+// A region of space around a canvas' origin whose faces make an open part that holds the canvas
+// wherever in a cell of space its origin lies, so that the pastes of a drag within the cell share
+// one outside (derivedStitchBase). R bounds the canvas vertices' distance from the origin,
+// rounded up to a power of 2^(1/4); the cells are cubes of side R / 4 on a lattice through the
+// coordinate origin; the open part is the faces with every corner within R plus half the cell's
+// diagonal of the centre of the origin's cell. Equal keys give equal open parts of one mesh.
+struct OpenCell {
+  Hash key = 0;  // the cell and R
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double radius = 0;
+};
+OpenCell openCellOf(const Canvas& canvas);
+// Per face of `mesh`: whether it lies in the cell's open part.
+std::vector<char> openFaces(const TriMesh& mesh, const OpenCell& cell);
+
+// How the target canvas sits in its mesh, and the outside of an open part that holds the canvas'
+// faces.
 struct StitchBase {
   std::vector<int> canvasToMesh;      // target canvas vertex -> target mesh vertex
   std::vector<int> meshToCanvas;      // target mesh vertex -> target canvas vertex, or -1
   std::vector<int> canvasFaceToMesh;  // target canvas face -> target mesh face
   // On the target parameterization: which target faces R_in's outline passes through.
   std::shared_ptr<const DomainLocator> locator;
-  std::vector<int> openMeshFaces;  // the target mesh faces of the open part, increasing
-  TriMesh outside;                 // the target mesh's faces outside the open part
-  AppendedFaces outsideFaces;      // how `outside` maps to the target mesh
-  // The entries of `outside` that a paste changes when it joins faces to it: its vertices that
-  // are corners of open faces too, and every halfedge at one of them.
-  std::vector<int> borderVertices, borderHalfedges;
+  std::shared_ptr<const StitchOutside> outside;
 };
 // Throws StitchError when the canvas does not map onto its mesh. `locator`, a locator on `target`
-// (one other nodes share), is made where null.
+// (one other nodes share), is made where null. `outside`, where given and its open part holds
+// every canvas face, is shared; otherwise the open part is the canvas' faces.
 StitchBase stitchBase(const Parameterization& target,
-                      std::shared_ptr<const DomainLocator> locator = nullptr);
+                      std::shared_ptr<const DomainLocator> locator = nullptr,
+                      std::shared_ptr<const StitchOutside> outside = nullptr);
+// The stitch base of the target parameterization on `port` as derived data, its outside shared by
+// every canvas whose origin lies in one OpenCell: a drag builds a new outside only where the
+// canvas' origin crosses into another cell. The nodes that paste into a target share it.
+std::shared_ptr<const StitchBase> derivedStitchBase(Context& ctx, std::string_view port);
 
 // `draft` is G(P_s): the source canvas surface with its vertices warped (same connectivity).
 // `offset` is the membrane x~ on the region's grid, or null to paste G alone (x~ = 0). An empty
@@ -99,15 +132,15 @@ void placePatch(TriMesh& out, const PasteMap& map, const Parameterization& sourc
 // Throws StitchError unless `draft` has the source canvas' vertices and faces.
 void requireDraftOf(const TriMesh& draft, const Parameterization& source);
 
-// Copies the target's part outside the base's open part into `out`, with room for the rest of the
-// target and a paste from `sourceCanvas`: what every paste into this target starts from.
-void copyOutside(const StitchBase& base, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
-                 TriMesh& out);
+// Copies the target's part outside the open part into `out`, with room for the rest of the target
+// and a paste from `sourceCanvas`: what every paste into this target starts from.
+void copyOutside(const StitchOutside& outside, const TriMesh& targetMesh,
+                 const TriMesh& sourceCanvas, TriMesh& out);
 
 // Turns `out`, a paste into this base whose result startsWithOutside, back into the outside part
 // alone, as copyOutside makes it, in place: the paste's elements are dropped and the border
 // entries copied back, at a cost that follows the border rather than the mesh, and the arrays
 // keep their room. Throws StitchError when `out` is smaller than the outside part.
-void restoreOutside(const StitchBase& base, TriMesh& out);
+void restoreOutside(const StitchOutside& outside, TriMesh& out);
 
 }  // namespace geobrush
