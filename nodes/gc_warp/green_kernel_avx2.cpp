@@ -1,18 +1,17 @@
 // Four points per AVX2 vector: the same per-face terms as addFace in gc_warp.cpp (LLCO08
 // section 3), with the edge log integrals and solid angles of four points computed together.
-// Every function here is compiled for AVX2 + FMA (geobrush/simd.hpp) and runs only where
+// This file is compiled with -mavx2 -mfma (geobrush/simd.hpp says why) and runs only where
 // simd::hasAvx2Fma() says so.
-#include "geobrush/simd.hpp"
 #include "green_kernel.hpp"
 
-#if GEOBRUSH_SIMD_X86
+#if defined(__x86_64__) && defined(__AVX2__) && defined(__FMA__)
 
 #include <immintrin.h>
 
 // glibc's vector math library (libmvec), x86-64 vector function ABI, AVX2 variants: log and
 // atan2 of four doubles, within 4 ulp.
-extern "C" GEOBRUSH_TARGET_AVX2_FMA __m256d _ZGVdN4v_log(__m256d x);
-extern "C" GEOBRUSH_TARGET_AVX2_FMA __m256d _ZGVdN4vv_atan2(__m256d y, __m256d x);
+extern "C" __m256d _ZGVdN4v_log(__m256d x);
+extern "C" __m256d _ZGVdN4vv_atan2(__m256d y, __m256d x);
 
 namespace geobrush::green_kernel {
 namespace {
@@ -24,19 +23,19 @@ constexpr double kInvFourPi = 0.07957747154594767;  // 1 / (4 pi)
 constexpr double kFourPi = 12.566370614359172;
 constexpr double kMaxLogRatio = 1e300;
 
-GEOBRUSH_TARGET_AVX2_FMA inline v4d splat(double x) {
+inline v4d splat(double x) {
   return v4d{x, x, x, x};
 }
-GEOBRUSH_TARGET_AVX2_FMA inline v4d sqrt4(v4d x) {
+inline v4d sqrt4(v4d x) {
   return _mm256_sqrt_pd(x);
 }
-GEOBRUSH_TARGET_AVX2_FMA inline v4d abs4(v4d x) {
+inline v4d abs4(v4d x) {
   return _mm256_andnot_pd(splat(-0.0), x);
 }
-GEOBRUSH_TARGET_AVX2_FMA inline v4d select(v4l mask, v4d yes, v4d no) {
+inline v4d select(v4l mask, v4d yes, v4d no) {
   return _mm256_blendv_pd(no, yes, __m256d(mask));
 }
-GEOBRUSH_TARGET_AVX2_FMA inline bool any(v4l mask) {
+inline bool any(v4l mask) {
   return _mm256_movemask_pd(__m256d(mask)) != 0;
 }
 
@@ -47,7 +46,7 @@ struct VertexLanes {
 
 // edgeLogIntegral of gc_warp.cpp for four points: the integral of 1/r over the edge, each
 // branch free of the cancellation of R + s with s < 0.
-GEOBRUSH_TARGET_AVX2_FMA inline v4d edgeLog(v4d sa, double length, v4d ra, v4d rb, v4d r0sq) {
+inline v4d edgeLog(v4d sa, double length, v4d ra, v4d rb, v4d r0sq) {
   const v4d sb = sa + length;
   const v4l before = sa >= 0, after = sb <= 0;
   v4d num = select(before, rb + sb, select(after, ra - sa, (rb + sb) * (ra - sa)));
@@ -60,7 +59,7 @@ GEOBRUSH_TARGET_AVX2_FMA inline v4d edgeLog(v4d sa, double length, v4d ra, v4d r
 
 }  // namespace
 
-GEOBRUSH_TARGET_AVX2_FMA bool fourPoints(const Cage& cage, const double* const points[4],
+bool fourPoints(const Cage& cage, const double* const points[4],
                                          double* const phiRow[4], double* const psiRow[4],
                                          bool inside[4], double* scratch) {
   const int nv = cage.vertexCount, ne = cage.edgeCount, nf = cage.faceCount;

@@ -1,6 +1,7 @@
 // Vector code wider than the baseline x86-64 the build targets, by one mechanism for the whole
-// program: a kernel is compiled a second time for AVX2 through GCC's and Clang's target
-// attribute, and the processor's features, read once, choose the copy at run time.
+// program: a kernel is compiled a second time for AVX2, and the processor's features (hasAvx2,
+// hasAvx2Fma) choose the copy at run time. The copy is made by GCC's and Clang's target
+// attribute:
 //
 //   simd::fastest([&] { kernel(...); });
 //
@@ -11,18 +12,18 @@
 // always reach through generic lambdas and the function templates they call: mark those
 // [[gnu::always_inline]] where the kernel's speed depends on them, or they stay baseline code.
 //
-// Code written with AVX2 + FMA intrinsics marks its functions GEOBRUSH_TARGET_AVX2_FMA and runs
-// only where simd::hasAvx2Fma() says so, beside a scalar twin.
+// Code written with AVX2 + FMA intrinsics that calls glibc's vector math library (libmvec) is a
+// source file of its own compiled with -mavx2 -mfma, run only where simd::hasAvx2Fma() says so,
+// beside a scalar twin: Clang passes a second 256-bit argument wrongly to a function whose
+// declaration alone carries the target attribute, so such calls need the flags for the whole file.
 #pragma once
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define GEOBRUSH_SIMD_X86 1
 #define GEOBRUSH_TARGET_AVX2 __attribute__((target("avx2")))
-#define GEOBRUSH_TARGET_AVX2_FMA __attribute__((target("avx2,fma")))
 #else
 #define GEOBRUSH_SIMD_X86 0
 #define GEOBRUSH_TARGET_AVX2
-#define GEOBRUSH_TARGET_AVX2_FMA
 #endif
 
 namespace geobrush::simd {
