@@ -59,9 +59,8 @@ inline v4d edgeLog(v4d sa, double length, v4d ra, v4d rb, v4d r0sq) {
 
 }  // namespace
 
-bool fourPoints(const Cage& cage, const double* const points[4],
-                                         double* const phiRow[4], double* const psiRow[4],
-                                         bool inside[4], double* scratch) {
+bool fourPoints(const Cage& cage, const double* const points[4], double* const phiRow[4],
+                double* const psiRow[4], bool inside[4], double* scratch) {
   const int nv = cage.vertexCount, ne = cage.edgeCount, nf = cage.faceCount;
   auto* vertexLanes = reinterpret_cast<VertexLanes*>(scratch);
   auto* logIntegral = reinterpret_cast<v4d*>(scratch + 16L * nv);
