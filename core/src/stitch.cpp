@@ -510,7 +510,8 @@ OpenCell openCellOf(const Canvas& canvas) {
     farthest = std::max(farthest, (pointOf(canvas.surface, v) - canvas.originPoint).norm());
   // R: the next power of 2^(1/4) at or above the farthest vertex, so that a drag's canvases,
   // whose extents differ a little, mostly share one.
-  const int quarterOctaves = int(std::ceil(4 * std::log2(std::max(farthest, 1e-300))));
+  if (!(farthest > 1e-150 && farthest < 1e150) || !canvas.originPoint.allFinite()) return {};
+  const int quarterOctaves = int(std::ceil(4 * std::log2(farthest)));
   const double radius = std::exp2(quarterOctaves / 4.0);
   const double side = radius / 4;
   OpenCell cell;
@@ -518,6 +519,7 @@ OpenCell openCellOf(const Canvas& canvas) {
   key.u64(std::uint64_t(std::int64_t(quarterOctaves)));
   for (int axis = 0; axis < 3; ++axis) {
     const double index = std::floor(canvas.originPoint[axis] / side);
+    if (!(std::abs(index) < 0x1p62)) return {};  // a canvas far smaller than its distance
     cell.center[axis] = (index + 0.5) * side;
     key.u64(std::uint64_t(std::int64_t(index)));
   }
@@ -571,9 +573,9 @@ StitchBase stitchBase(const Parameterization& target, std::shared_ptr<const Doma
 std::shared_ptr<const StitchBase> derivedStitchBase(Context& ctx, std::string_view port) {
   const auto target = ctx.in<Parameterization>(port);
   std::shared_ptr<const StitchOutside> outside;
-  if (target->canvas && target->canvas->source) {
+  const OpenCell cell = target->canvas ? openCellOf(*target->canvas) : OpenCell{};
+  if (target->canvas && target->canvas->source && cell.key != 0) {
     const MeshPtr& mesh = target->canvas->source;
-    const OpenCell cell = openCellOf(*target->canvas);
     outside = ctx.derivedFrom("stitch_outside", {mesh}, cell.key, [&] {
       return std::make_shared<const StitchOutside>(
           stitchOutside(mesh->surface, openFaces(mesh->surface, cell)));

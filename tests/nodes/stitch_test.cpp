@@ -496,6 +496,24 @@ TEST(Stitch, AnOpenPartAroundTheCanvasGivesTheSamePaste) {
   }
 }
 
+// A canvas with no extent, or far from the coordinate origin for its size, has no cell: its base
+// opens its own faces.
+TEST(Stitch, ADegenerateCanvasHasNoOpenCell) {
+  Canvas point;
+  for (int k = 0; k < 3; ++k)
+    point.surface.add_vertex(TriMesh::Point(0.5, 0.5, 0.5));
+  point.originPoint = Eigen::Vector3d(0.5, 0.5, 0.5);
+  EXPECT_EQ(openCellOf(point).key, 0u);
+  Canvas far;
+  for (int k = 0; k < 3; ++k)
+    far.surface.add_vertex(TriMesh::Point(1e20, 0.5, k == 1 ? 0.501 : 0.5));
+  far.originPoint = Eigen::Vector3d(1e20, 0.5, 0.5);
+  EXPECT_EQ(openCellOf(far).key, 0u);
+  Canvas small = point;
+  small.surface.set_point(TriMesh::VertexHandle(1), TriMesh::Point(0.5, 0.5, 0.5 + 1e-3));
+  EXPECT_NE(openCellOf(small).key, 0u);
+}
+
 // The cell of a disc canvas on a plane: R bounds the canvas within a quarter octave, the centre
 // is that of the cube of side R / 4 holding the origin, and its open part holds the canvas for an
 // origin anywhere in the cell.

@@ -69,7 +69,7 @@ StitchOutside stitchOutside(const TriMesh& targetMesh, const std::vector<char>& 
 // coordinate origin; the open part is the faces with every corner within R plus half the cell's
 // diagonal of the centre of the origin's cell. Equal keys give equal open parts of one mesh.
 struct OpenCell {
-  Hash key = 0;  // the cell and R
+  Hash key = 0;  // the cell and R; 0 for a canvas too degenerate to have one (no shared outside)
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double radius = 0;
 };
