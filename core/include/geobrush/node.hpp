@@ -10,7 +10,9 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <typeinfo>
+#include <utility>
 #include <vector>
 
 #include "geobrush/hash.hpp"
@@ -99,19 +101,13 @@ class Context {
   template <typename Build>
   auto derived(std::string_view what, std::initializer_list<std::string_view> ports, Hash extra,
                const Build& build) {
-    using Made = decltype(build());
-    using T = std::add_const_t<typename Made::element_type>;
-    Hasher key;
-    key.str(typeid(T).name()).str(what).u64(extra);
+    Hasher key = derivedKey<Build>(what, extra);
     std::vector<ValuePtr> from;
     for (std::string_view port : ports) {
       key.u64(inputKey(port));
       from.push_back(inputValue(port));
     }
-    const auto made = derivedValue(key.digest(), from, [&]() -> std::shared_ptr<const void> {
-      return std::shared_ptr<T>(build());
-    });
-    return std::static_pointer_cast<T>(made);
+    return derivedUnder(key.digest(), from, build);
   }
 
   // The same, derived from `values` that an input holds rather than from input ports (the mesh
@@ -119,17 +115,33 @@ class Context {
   // entry keeps them alive, so that no other value takes one's address while it lives; results
   // depend on `build` alone, never on whether an entry was found.
   template <typename Build>
-  auto derivedFrom(std::string_view what, std::vector<ValuePtr> values, Hash extra,
+  auto derivedFrom(std::string_view what, const std::vector<ValuePtr>& values, Hash extra,
                    const Build& build) {
-    using Made = decltype(build());
-    using T = std::add_const_t<typename Made::element_type>;
-    Hasher key;
-    key.str(typeid(T).name()).str(what).u64(extra).str("by identity");
+    Hasher key = derivedKey<Build>(what, extra);
+    key.str("by identity");
     for (const ValuePtr& value : values)
       key.u64(std::uint64_t(reinterpret_cast<std::uintptr_t>(value.get())));
-    const auto made = derivedValue(key.digest(), values, [&]() -> std::shared_ptr<const void> {
-      return std::shared_ptr<T>(build());
-    });
+    return derivedUnder(key.digest(), values, build);
+  }
+
+ private:
+  template <typename Build>
+  using DerivedType =
+      std::add_const_t<typename decltype(std::declval<const Build&>()())::element_type>;
+
+  // The start of a derived entry's key: the C++ type, the derivation's name and its params.
+  template <typename Build>
+  static Hasher derivedKey(std::string_view what, Hash extra) {
+    Hasher key;
+    key.str(typeid(DerivedType<Build>).name()).str(what).u64(extra);
+    return key;
+  }
+
+  template <typename Build>
+  auto derivedUnder(Hash key, const std::vector<ValuePtr>& from, const Build& build) {
+    using T = DerivedType<Build>;
+    const auto made = derivedValue(
+        key, from, [&]() -> std::shared_ptr<const void> { return std::shared_ptr<T>(build()); });
     return std::static_pointer_cast<T>(made);
   }
 
