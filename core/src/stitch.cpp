@@ -572,19 +572,26 @@ StitchBase stitchBase(const Parameterization& target, std::shared_ptr<const Doma
 
 std::shared_ptr<const StitchBase> derivedStitchBase(Context& ctx, std::string_view port) {
   const auto target = ctx.in<Parameterization>(port);
-  std::shared_ptr<const StitchOutside> outside;
-  const OpenCell cell = target->canvas ? openCellOf(*target->canvas) : OpenCell{};
-  if (target->canvas && target->canvas->source && cell.key != 0) {
+  auto cellOutside = [&](const OpenCell& cell) -> std::shared_ptr<const StitchOutside> {
+    if (cell.key == 0 || !target->canvas || !target->canvas->source) return nullptr;
     const MeshPtr& mesh = target->canvas->source;
-    outside = ctx.derivedFrom("stitch_outside", {mesh}, cell.key, [&] {
+    return ctx.derivedFrom("stitch_outside", {mesh}, cell.key, [&] {
       return std::make_shared<const StitchOutside>(
           stitchOutside(mesh->surface, openFaces(mesh->surface, cell)));
     });
-  }
-  return ctx.derived("stitch_base", {port}, 0, [&] {
-    return std::make_shared<const StitchBase>(
-        stitchBase(*target, derivedLocator(ctx, port), outside));
+  };
+  const auto base = ctx.derived("stitch_base", {port}, 0, [&] {
+    // Per canvas, not per dab: finding the cell reads every canvas vertex.
+    const OpenCell cell = target->canvas ? openCellOf(*target->canvas) : OpenCell{};
+    const auto shared = cellOutside(cell);
+    auto made =
+        std::make_shared<StitchBase>(stitchBase(*target, derivedLocator(ctx, port), shared));
+    if (shared && made->outside == shared) made->cell = cell;
+    return made;
   });
+  // Each use keeps the cell's outside in the store, for the next canvas in the cell to find.
+  cellOutside(base->cell);
+  return base;
 }
 
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,

@@ -86,6 +86,7 @@ struct StitchBase {
   // On the target parameterization: which target faces R_in's outline passes through.
   std::shared_ptr<const DomainLocator> locator;
   std::shared_ptr<const StitchOutside> outside;
+  OpenCell cell;  // the cell `outside` belongs to; key 0 where it is the canvas' own
 };
 // Throws StitchError when the canvas does not map onto its mesh. `locator`, a locator on `target`
 // (one other nodes share), is made where null. `outside`, where given and its open part holds
