@@ -1,6 +1,5 @@
 #include "emd.hpp"
 
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,6 +8,7 @@
 
 #include "geobrush/laplacian.hpp"
 #include "geobrush/parallel.hpp"
+#include "geobrush/sparse_cholesky.hpp"
 
 namespace geobrush {
 namespace {
@@ -79,7 +79,7 @@ class EnvelopeSolver {
   }
 
  private:
-  Eigen::VectorXd solve(Eigen::SimplicialLDLT<Sparse>& solver, const std::vector<int>& fixed,
+  Eigen::VectorXd solve(SparseCholesky& solver, const std::vector<int>& fixed,
                         const std::vector<double>& values) const {
     std::vector<std::uint8_t> isFixed = isolated_;
     for (int i : fixed)
@@ -95,14 +95,13 @@ class EnvelopeSolver {
     for (int i = 0; i < int(rhs.size()); ++i)
       if (isFixed[std::size_t(i)]) rhs[i] = values[std::size_t(i)];
     solver.factorize(system);
-    if (solver.info() != Eigen::Success)
-      throw std::runtime_error("an envelope's system could not be factored");
+    if (solver.info() != Eigen::Success) throw std::runtime_error("an envelope's system could not be factored");
     return solver.solve(rhs);
   }
 
   Sparse operator_;
   std::vector<std::uint8_t> isolated_;
-  std::array<Eigen::SimplicialLDLT<Sparse>, 2> solvers_;
+  std::array<SparseCholesky, 2> solvers_;
 };
 
 struct SiftResult {
