@@ -847,12 +847,6 @@ SeamSeeds addBandSeeds(TriMesh& out, const SeamBand& band, TargetPart& part,
   return seeds;
 }
 
-// A boundary loop of `out`, each vertex with its place in the domain.
-struct DomainLoop {
-  std::vector<int> vertices;
-  std::vector<Vector2d> uv;
-};
-
 // The seam loops: the boundary loops of the target part through a seed, traced before the patch
 // is added.
 std::vector<DomainLoop> traceSeams(const TriMesh& out, const SeamSeeds& seeds,
@@ -925,24 +919,33 @@ PatchPart addPatch(TriMesh& out, const TriMesh& canvas, const std::vector<int>& 
   return patch;
 }
 
+// R_in's boundary loops with their places in the domain: the source parameterization's.
+std::vector<DomainLoop> patchLoops(const PatchPart& patch, const Parameterization& source) {
+  std::vector<DomainLoop> loops;
+  for (const auto& ids : patch.loops) {
+    DomainLoop& loop = loops.emplace_back();
+    loop.vertices = ids;
+    for (int v : ids)
+      loop.uv.push_back(
+          source
+              .uv[std::size_t(patch.faces.sourceVertex[std::size_t(v - patch.faces.firstVertex)])]);
+  }
+  return loops;
+}
+
 // Pairs each boundary loop of R_in with the seam loop nearest to it in the domain and fills the
-// strip between them (section 4.4, Fig. 6d). Returns the triangles added.
-std::size_t zipSeams(TriMesh& out, const PatchPart& patch, const std::vector<DomainLoop>& seams,
-                     const Parameterization& source, const std::vector<int>& outToMesh,
-                     bool refinedSeam) {
-  if (patch.loops.size() != seams.size()) {
-    throw StitchError("the region has " + std::to_string(patch.loops.size()) +
+// strip between them (section 4.4, Fig. 6d). `targetVertex` maps the vertices of `out` to the
+// target mesh, or -1.
+void zipSeams(TriMesh& out, const std::vector<DomainLoop>& patch,
+              const std::vector<DomainLoop>& seams, const std::vector<int>& targetVertex,
+              int firstPatchVertex, bool refinedSeam) {
+  if (patch.size() != seams.size()) {
+    throw StitchError("the region has " + std::to_string(patch.size()) +
                       " boundary loops on the source but " + std::to_string(seams.size()) +
                       " on the target: paint a region whose outline both canvases hold whole");
   }
   std::vector<char> paired(seams.size(), 0);
-  std::size_t triangles = 0;
-  for (const auto& ids : patch.loops) {
-    std::vector<Vector2d> uv;
-    for (int v : ids)
-      uv.push_back(
-          source
-              .uv[std::size_t(patch.faces.sourceVertex[std::size_t(v - patch.faces.firstVertex)])]);
+  for (const auto& [ids, uv] : patch) {
     std::size_t best = seams.size();
     double bestDistance = std::numeric_limits<double>::infinity();
     for (std::size_t s = 0; s < seams.size(); ++s) {
@@ -959,7 +962,7 @@ std::size_t zipSeams(TriMesh& out, const PatchPart& patch, const std::vector<Dom
       const auto face = out.add_face(TriMesh::VertexHandle(t[0]), TriMesh::VertexHandle(t[1]),
                                      TriMesh::VertexHandle(t[2]));
       if (!face.is_valid()) {
-        const int near = outToMesh[std::size_t(t[2] < patch.faces.firstVertex ? t[2] : t[0])];
+        const int near = targetVertex[std::size_t(t[2] < firstPatchVertex ? t[2] : t[0])];
         std::string text = "the seam strip folds onto itself near ";
         if (near >= 0) {
           text += "target ";
@@ -970,17 +973,24 @@ std::size_t zipSeams(TriMesh& out, const PatchPart& patch, const std::vector<Dom
         text += ": the two outlines are too far apart or too jagged to join";
         throw StitchError(text);
       }
-      ++triangles;
     }
   }
-  return triangles;
 }
 
-// stitchLayoutInto, refining the seam band as StitchOptions::seamRefinementRatio says; `refined`
-// tells whether it did.
-StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
-                        const Parameterization& target, const StitchBase* base,
-                        bool outHoldsOutside, double refinementRatio, bool& refined) {
+// A layout with nothing to paste: the target mesh, no loops.
+OpenStitch keepTargetOpen(TriMesh& out, const TriMesh& targetMesh) {
+  OpenStitch open;
+  open.result = keepTarget(out, targetMesh);
+  open.firstPatchVertex = int(out.n_vertices());
+  open.firstGapFace = int(out.n_faces());
+  return open;
+}
+
+// stitchOpenLayoutInto, refining the seam band as StitchOptions::seamRefinementRatio says;
+// `refined` tells whether it did.
+OpenStitch openLayout(TriMesh& out, const Region2D& region, const Parameterization& source,
+                      const Parameterization& target, const StitchBase* base, bool outHoldsOutside,
+                      double refinementRatio, bool& refined) {
   refined = false;
   if (outHoldsOutside && (!base || out.n_vertices() != base->outside->mesh.n_vertices() ||
                           out.n_faces() != base->outside->mesh.n_faces()))
@@ -989,9 +999,9 @@ StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameteriza
   if (!source.canvas || !target.canvas) throw StitchError("the parameterizations have no canvases");
   const TriMesh& canvas = source.canvas->surface;
   const TriMesh& targetMesh = meshOf(*target.canvas);
-  if (region.empty()) return keepTarget(out, targetMesh);
+  if (region.empty()) return keepTargetOpen(out, targetMesh);
   const PatchFaces patch = selectPatch(canvas, region);
-  if (patch.faces.empty()) return keepTarget(out, targetMesh);
+  if (patch.faces.empty()) return keepTargetOpen(out, targetMesh);
 
   std::optional<StitchBase> ownBase;
   if (!base) base = &ownBase.emplace(stitchBase(target));
@@ -1012,18 +1022,21 @@ StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameteriza
     removePinches(targetMesh, cut.kept, cut.removedFaces);
   }
 
-  StitchResult result;  // its mesh stays empty: the mesh is `out`
+  OpenStitch open;
+  StitchResult& result = open.result;  // its mesh stays empty: the mesh is `out`
   TargetPart part = addTargetPart(out, targetMesh, canvas, *base, cut.kept, outHoldsOutside);
   result.startsWithOutside = part.startsWithOutside;
   result.removedFaces = band ? band->replacedFaces : part.removedFaces.size();
   const SeamSeeds seeds = band ? addBandSeeds(out, *band, part, result.refinedVertices)
                                : removedFaceSeeds(out, targetMesh, part);
-  const std::vector<DomainLoop> seams = traceSeams(out, seeds, part.outToMesh, *base, target);
+  open.targetLoops = traceSeams(out, seeds, part.outToMesh, *base, target);
   const PatchPart patchPart = addPatch(out, canvas, patch.faces);
+  open.patchLoops = patchLoops(patchPart, source);
+  open.firstPatchVertex = patchPart.faces.firstVertex;
+  open.firstGapFace = int(out.n_faces());
+  open.refinedSeam = band.has_value();
   result.patchVertices = patchPart.faces.sourceVertex.size();
-  const int firstSeamFace = int(out.n_faces());
-  result.gapTriangles = zipSeams(out, patchPart, seams, source, part.outToMesh, band.has_value());
-  result.seamLoops = seams.size();
+  result.seamLoops = open.targetLoops.size();
 
   PasteMap& map = result.map;
   map.targetVertex = part.outToMesh;
@@ -1031,12 +1044,51 @@ StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameteriza
   map.sourceVertex.assign(std::size_t(patchPart.faces.firstVertex), -1);
   map.sourceVertex.insert(map.sourceVertex.end(), patchPart.faces.sourceVertex.begin(),
                           patchPart.faces.sourceVertex.end());
-  map.seamFaces.resize(out.n_faces() - std::size_t(firstSeamFace));
-  std::iota(map.seamFaces.begin(), map.seamFaces.end(), firstSeamFace);
-  return result;
+  return open;
+}
+
+// stitchLayoutInto, refining the seam band as StitchOptions::seamRefinementRatio says; `refined`
+// tells whether it did.
+StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
+                        const Parameterization& target, const StitchBase* base,
+                        bool outHoldsOutside, double refinementRatio, bool& refined) {
+  OpenStitch open =
+      openLayout(out, region, source, target, base, outHoldsOutside, refinementRatio, refined);
+  zipOpenStitch(out, open);
+  return finishOpenStitch(out, std::move(open));
 }
 
 }  // namespace
+
+OpenStitch stitchOpenLayoutInto(TriMesh& out, const Region2D& region,
+                                const Parameterization& source, const Parameterization& target,
+                                const StitchBase* base, bool outHoldsOutside,
+                                const StitchOptions& options) {
+  bool refined = false;
+  try {
+    return openLayout(out, region, source, target, base, outHoldsOutside,
+                      options.seamRefinementRatio, refined);
+  } catch (const StitchError&) {
+    if (!refined) throw;
+  }
+  return openLayout(out, region, source, target, base, false, 0, refined);
+}
+
+void zipOpenStitch(TriMesh& out, const OpenStitch& open) {
+  zipSeams(out, open.patchLoops, open.targetLoops, open.result.map.targetVertex,
+           open.firstPatchVertex, open.refinedSeam);
+}
+
+StitchResult finishOpenStitch(const TriMesh& out, OpenStitch open) {
+  StitchResult result = std::move(open.result);
+  PasteMap& map = result.map;
+  map.targetVertex.resize(out.n_vertices(), -1);
+  map.sourceVertex.resize(out.n_vertices(), -1);
+  map.seamFaces.resize(out.n_faces() - std::size_t(open.firstGapFace));
+  std::iota(map.seamFaces.begin(), map.seamFaces.end(), open.firstGapFace);
+  result.gapTriangles = map.seamFaces.size();
+  return result;
+}
 
 StitchResult stitchLayoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
                               const Parameterization& target, const StitchBase* base,

@@ -130,6 +130,40 @@ StitchResult stitchLayoutInto(TriMesh& out, const Region2D& region, const Parame
                               bool outHoldsOutside = false, const StitchOptions& options = {});
 void placePatch(TriMesh& out, const PasteMap& map, const Parameterization& source,
                 const TriMesh& draft, const Field2D* offset);
+
+// A boundary loop of a paste laid out with its gap open: vertices of the result mesh, in the
+// order of the boundary halfedges that join them, each with its place in the parameter domain.
+struct DomainLoop {
+  std::vector<int> vertices;
+  std::vector<Eigen::Vector2d> uv;
+};
+
+// A paste laid out up to its gap (section 4.4, Fig. 6d, before the gap is triangulated): the kept
+// target faces and R_in in one mesh, not joined to each other. Closing the gap with triangles
+// between the two kinds of loops, then finishOpenStitch, make it a paste.
+struct OpenStitch {
+  // The layout so far: gapTriangles 0; `map` maps every vertex so far and has no seam faces.
+  StitchResult result;
+  std::vector<DomainLoop> targetLoops;  // the outlines of the target's holes (the seam loops)
+  std::vector<DomainLoop> patchLoops;   // R_in's outlines, uv from the source parameterization
+  int firstPatchVertex = 0;             // R_in's vertices follow the target part's
+  int firstGapFace = 0;                 // the faces a closing adds come from here on
+  bool refinedSeam = false;             // whether the seam band was refined
+};
+// stitchLayoutInto up to the gap: R_in's vertices at the source canvas' positions until
+// placePatch. Where the refined seam band cannot be made (see StitchOptions) it is laid out
+// without it. Throws StitchError as stitchLayoutInto does, except for what only closing finds.
+OpenStitch stitchOpenLayoutInto(TriMesh& out, const Region2D& region,
+                                const Parameterization& source, const Parameterization& target,
+                                const StitchBase* base = nullptr, bool outHoldsOutside = false,
+                                const StitchOptions& options = {});
+// Closes the gap as stitchLayoutInto does: each of R_in's loops is paired with the target loop
+// nearest to it in the domain and the strip between them zipped. Throws StitchError where the
+// loops do not pair or a strip folds onto itself.
+void zipOpenStitch(TriMesh& out, const OpenStitch& open);
+// The paste once its gap is closed in `out`: the faces added since the layout are its seam
+// faces, and the vertices added (on neither mesh) map to -1 in both.
+StitchResult finishOpenStitch(const TriMesh& out, OpenStitch open);
 // Throws StitchError unless `draft` has the source canvas' vertices and faces.
 void requireDraftOf(const TriMesh& draft, const Parameterization& source);
 
