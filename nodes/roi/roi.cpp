@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geobrush/region_support.hpp"
+
 namespace geobrush {
 namespace {
 
@@ -29,15 +31,6 @@ void nodeRange(const DomainGrid& grid, const Box& box, int& i0, int& i1, int& j0
   j1 = std::min(grid.height - 1, int(std::floor(b.y())));
 }
 
-// A rectangle of grid nodes, [i0, i1] x [j0, j1]; empty when i0 > i1 or j0 > j1.
-struct NodeWindow {
-  int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
-  NodeWindow grown(int nodes, const DomainGrid& grid) const {
-    return {std::max(0, i0 - nodes), std::min(grid.width - 1, i1 + nodes), std::max(0, j0 - nodes),
-            std::min(grid.height - 1, j1 + nodes)};
-  }
-};
-
 // The bounding box of the dabs that add, one grid spacing wider (a margin for rounding at its
 // edges), and the grid nodes in it: nothing outside is painted.
 NodeWindow paintedWindow(const Strokes& strokes, const DomainGrid& grid, Box& box) {
@@ -52,50 +45,6 @@ NodeWindow paintedWindow(const Strokes& strokes, const DomainGrid& grid, Box& bo
   NodeWindow window;
   if (any) nodeRange(grid, box, window.i0, window.i1, window.j0, window.j1);
   return window;
-}
-
-// Region2D::draftSupport: R_in, and the corners of the source faces that the membrane's data
-// nodes fall in.
-// `window`: grid nodes that hold every node of Q and every source vertex of R_in, clamped to the
-// grid; what the support reads lies within three nodes of it.
-std::vector<int> draftSupport(const Region2D& region, const Parameterization& source,
-                              const DomainLocator& locator, std::vector<int>& nodeFace,
-                              const NodeWindow& window) {
-  const DomainGrid& grid = region.grid;
-  const NodeWindow reach = window.grown(3, grid);
-  std::vector<std::uint8_t> sampled(grid.nodeCount(), 0);
-  for (int j = window.j0; j <= window.j1; ++j)
-    for (int i = window.i0; i <= window.i1; ++i) {
-      if (!region.inside[grid.index(i, j)]) continue;
-      for (int dj = -2; dj <= 2; ++dj)
-        for (int di = -2 + std::abs(dj); di <= 2 - std::abs(dj); ++di) {
-          const int x = i + di, y = j + dj;
-          if (x >= 0 && y >= 0 && x < grid.width && y < grid.height) sampled[grid.index(x, y)] = 1;
-        }
-    }
-  std::vector<char> support(source.uv.size(), 0);
-  for (int v : region.sourceVertices) {
-    support[std::size_t(v)] = 1;
-    const Eigen::Vector2d g = (source.uv[std::size_t(v)] - grid.origin) / grid.spacing;
-    const int i = int(std::floor(g.x())), j = int(std::floor(g.y()));
-    for (int dj = 0; dj <= 1; ++dj)
-      for (int di = 0; di <= 1; ++di)
-        if (i + di >= 0 && j + dj >= 0 && i + di < grid.width && j + dj < grid.height)
-          sampled[grid.index(i + di, j + dj)] = 1;
-  }
-  const TriMesh& canvas = source.canvas->surface;
-  for (int j = reach.j0; j <= reach.j1; ++j)
-    for (int i = reach.i0; i <= reach.i1; ++i) {
-      const std::size_t n = grid.index(i, j);
-      if (!sampled[n]) continue;
-      if (nodeFace[n] < 0) nodeFace[n] = locator.locate(grid.position(i, j)).face;
-      for (auto v : canvas.fv_range(TriMesh::FaceHandle(nodeFace[n])))
-        support[std::size_t(v.idx())] = 1;
-    }
-  std::vector<int> vertices;
-  for (std::size_t v = 0; v < support.size(); ++v)
-    if (support[v]) vertices.push_back(int(v));
-  return vertices;
 }
 
 // Crossing-number test: whether u lies inside the closed polygon.
@@ -118,74 +67,6 @@ bool covers(const DomainLocator& locator, const std::vector<std::vector<Eigen::V
   return std::any_of(holes.begin(), holes.end(),
                      [&](const auto& hole) { return insidePolygon(hole, u); });
 }
-
-// Strokes::contains with the dabs binned over cells of the grid: each query tests only the dabs
-// that reach its cell, in stroke order, so the answer is the same and its cost stops growing
-// with the length of the stroke.
-class BinnedStrokes {
- public:
-  BinnedStrokes(const Strokes& strokes, const DomainGrid& grid)
-      : strokes_(strokes),
-        origin_(grid.origin),
-        cellSize_(kCellNodes * grid.spacing),
-        columns_((grid.width + kCellNodes - 1) / kCellNodes),
-        rows_((grid.height + kCellNodes - 1) / kCellNodes),
-        first_(std::size_t(columns_ * rows_) + 1, 0) {
-    // Two passes over the dabs' cell ranges: counts, then the dab ids in stroke order.
-    for (int pass = 0; pass < 2; ++pass) {
-      std::vector<int> filled(first_.begin(), first_.end() - 1);
-      for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
-        int c0, c1, r0, r1;
-        cellRange(strokes.dabs[d], c0, c1, r0, r1);
-        for (int r = r0; r <= r1; ++r)
-          for (int c = c0; c <= c1; ++c) {
-            const std::size_t cell = std::size_t(r * columns_ + c);
-            if (pass == 0)
-              ++first_[cell + 1];
-            else
-              dabs_[std::size_t(filled[cell]++)] = int(d);
-          }
-      }
-      if (pass == 0) {
-        for (std::size_t cell = 1; cell < first_.size(); ++cell)
-          first_[cell] += first_[cell - 1];
-        dabs_.resize(std::size_t(first_.back()));
-      }
-    }
-  }
-
-  bool contains(const Eigen::Vector2d& u) const {
-    const Eigen::Vector2d g = (u - origin_) / cellSize_;
-    const int c = int(std::floor(g.x())), r = int(std::floor(g.y()));
-    if (!(c >= 0 && r >= 0 && c < columns_ && r < rows_)) return strokes_.contains(u);
-    const std::size_t cell = std::size_t(r * columns_ + c);
-    for (int k = first_[cell + 1] - 1; k >= first_[cell]; --k) {
-      const Dab& dab = strokes_.dabs[std::size_t(dabs_[std::size_t(k)])];
-      if ((u - dab.center).squaredNorm() <= dab.radius * dab.radius) return !dab.subtract;
-    }
-    return false;
-  }
-
- private:
-  static constexpr int kCellNodes = 4;
-
-  // The cells a dab's disc may reach (a cell holds the points within it, its edges included).
-  void cellRange(const Dab& dab, int& c0, int& c1, int& r0, int& r1) const {
-    const Eigen::Vector2d lo = (dab.center - origin_).array() / cellSize_ - dab.radius / cellSize_;
-    const Eigen::Vector2d hi = (dab.center - origin_).array() / cellSize_ + dab.radius / cellSize_;
-    c0 = std::max(0, int(std::floor(lo.x())) - 1);
-    r0 = std::max(0, int(std::floor(lo.y())) - 1);
-    c1 = std::min(columns_ - 1, int(std::floor(hi.x())) + 1);
-    r1 = std::min(rows_ - 1, int(std::floor(hi.y())) + 1);
-  }
-
-  const Strokes& strokes_;
-  Eigen::Vector2d origin_;
-  double cellSize_;
-  int columns_, rows_;
-  std::vector<int> first_;  // CSR: the dabs of cell k are dabs_[first_[k], first_[k + 1])
-  std::vector<int> dabs_;
-};
 
 }  // namespace
 
@@ -353,8 +234,14 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
   select(target.uv, *coverage.sourceLocator, sourceSide.holes, targetSide.targetCovered,
          region.targetVertices);
 
-  region.draftSupport = draftSupport(region, source, *coverage.sourceLocator, sourceSide.nodeFace,
-                                     window.grown(1, grid));
+  // The source face at a node is asked once per source side (a memo shared by later dabs).
+  std::vector<int>& nodeFace = sourceSide.nodeFace;
+  const DomainLocator& sourceLocator = *coverage.sourceLocator;
+  region.draftSupport = draftSupport(region, source, window.grown(1, grid), [&](int i, int j) {
+    const std::size_t n = grid.index(i, j);
+    if (nodeFace[n] < 0) nodeFace[n] = sourceLocator.locate(grid.position(i, j)).face;
+    return nodeFace[n];
+  });
 
   for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
     const Dab& dab = strokes.dabs[d];
