@@ -45,10 +45,30 @@ void checkOptions(const ProjectiveMapOptions& o) {
   if (o.reversedRing < 0) throw ProjectiveMapError("reversed_ring", "must be 0 or more");
 }
 
-// n_P: the given view, or the source surface normal at the canvas origin (the whole one-ring of
-// the source mesh, so that a canvas cut through a vertex does not tilt it).
+// The canvas' vector area, the sum of its faces' area-weighted normals: the direction along which
+// its projection has the largest area, set by its outline alone.
+Eigen::Vector3d vectorArea(const TriMesh& mesh) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (auto f : mesh.faces()) {
+    auto v = mesh.cfv_begin(f);
+    const Eigen::Vector3d a = pointOf(mesh, *v), b = pointOf(mesh, *++v), c = pointOf(mesh, *++v);
+    sum += (b - a).cross(c - a) / 2;
+  }
+  return sum;
+}
+
+// n_P: the given view; by default the view under which the canvas shows its largest area (its
+// vector area's direction) [ours], which a peak or a rough spot at the origin does not tilt; where
+// the canvas has no such direction (it nearly closes), the source surface normal at the canvas
+// origin (the whole one-ring of the source mesh, so that a canvas cut through a vertex does not
+// tilt it).
 Eigen::Vector3d viewNormal(const Canvas& canvas, const Eigen::Vector3d& view) {
   if (!view.isZero()) return view.normalized();
+  const Eigen::Vector3d area = vectorArea(canvas.surface);
+  double total = 0;
+  for (auto f : canvas.surface.faces())
+    total += canvas.surface.calc_face_area(f);
+  if (area.norm() > 0.1 * total) return area.normalized();
   const bool onSource = canvas.source != nullptr;
   const TriMesh& mesh = onSource ? canvas.source->surface : canvas.surface;
   const int face = onSource ? canvas.sourceFace[std::size_t(canvas.originFace)] : canvas.originFace;

@@ -1,6 +1,8 @@
 // The source side of the GPU texture cloning paper's direct projective mapping
 // (../shared/papers/gpu-texture-cloning.txt, section 2, E1); the algorithm is core's
 // geobrush/projective_map.hpp, shared with geobrush.dpm_target and geobrush.dpm_lift.
+#include <algorithm>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,6 +18,19 @@ using geobrush::Canvas;
 using geobrush::Context;
 using geobrush::NodeError;
 using geobrush::Parameterization;
+
+// Overhangs (the paper's admitted limitation): the projection folds the faces turned away from
+// the view, and a region painted over them cannot be pasted.
+void warnAboutFolds(Context& ctx, const std::vector<std::uint8_t>& reversed) {
+  const auto folded = std::count(reversed.begin(), reversed.end(), std::uint8_t(1));
+  if (folded == 0) return;
+  std::string message = std::to_string(folded);
+  message +=
+      " canvas faces are folded by the projection or lie next to a fold (turned away from "
+      "the view: an overhang); a region over them cannot be pasted: turn the view or paint "
+      "elsewhere";
+  ctx.warn(message);
+}
 
 class DpmNode final : public geobrush::Node {
  public:
@@ -37,6 +52,7 @@ class DpmNode final : public geobrush::Node {
       out->normal.assign(out->uv.size(), map.origin.normal);
       out->origin = map.origin;
       out->reversedFaces = std::move(map.reversedFaces);
+      warnAboutFolds(ctx, out->reversedFaces);
       ctx.out("parameterization", std::move(out));
     } catch (const geobrush::ProjectiveMapError& e) {
       if (e.option() == "canvas") throw NodeError::input("canvas", e.what());
@@ -59,8 +75,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                 "uv per canvas vertex (the cropped canvas with crop_to_disc), n_P as every "
                 "vertex's normal, the plane's frame as the origin frame, the reversed flags.")
             .paramVec3("view", {0, 0, 0},
-                       "The view direction n_P (any length); (0, 0, 0): the surface normal at "
-                       "the canvas origin.")
+                       "The view direction n_P (any length); (0, 0, 0): the view under which the "
+                       "canvas shows its largest area (its vector area), or the surface normal "
+                       "at the canvas origin where the canvas nearly closes.")
             .range(-1e9, 1e9)
             .paramDouble("angle", 0.0,
                          "Degrees the v axis turns about n_P from the global +y projected onto "

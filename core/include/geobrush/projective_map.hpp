@@ -51,7 +51,9 @@ Eigen::Vector3d surfaceNormalAt(const TriMesh& mesh, int face, const Eigen::Vect
 std::vector<std::uint8_t> foldedFaces(const TriMesh& mesh, const Eigen::Vector3d& view, int rings);
 
 struct ProjectiveMapOptions {
-  // The view direction n_P (any length); zero: the source surface normal at the canvas origin.
+  // The view direction n_P (any length); zero: the direction of the canvas' vector area (the view
+  // under which it shows its largest area), or for a canvas that nearly closes, the source
+  // surface normal at the canvas origin.
   Eigen::Vector3d view = Eigen::Vector3d::Zero();
   // Turns the (u, v) axes about n_P, as DemOptions::angleDegrees does.
   double angleDegrees = 0;
