@@ -181,7 +181,8 @@ TEST(Clone, BadArgumentsAreOneErrorLineAndWriteNothing) {
          args.insert(args.end(), {"--method", "nothing"});
          return args;
        }(),
-       2, "no clone method 'nothing' (methods: additive, cutpaste, emd, geobrush, variational"},
+       2,
+       "no clone method 'nothing' (methods: additive, cutpaste, dpm, emd, geobrush, variational"},
       // A target point far off: the region covers none of the target canvas; a node fails.
       {with(base, "--radius", "1000"), 1, "node '"},
   };
@@ -267,6 +268,33 @@ TEST(Clone, TheEmdMethodMovesTheTargetsOwnVerticesIntoAValidPaste) {
     EXPECT_EQ(test::faceIndices(pasted->surface), test::faceIndices(target->surface))
         << clone.source;
   }
+}
+
+// Projective cloning (GPU texture cloning paper): a valid paste where the source's view sees the
+// region (the mountain; the ear, whose overhang the projection folds and the run reports), and a
+// clear refusal, nothing written, where the target's stamp folds under its view (Nefertiti onto
+// the scan's rough flank), which GeoBrush's exponential maps paste.
+TEST(Clone, TheDpmMethodPastesWhereTheViewSeesTheRegionAndRefusesWhereItFolds) {
+  EXPECT_TRUE(test::contains(runCli({"clone", "--list-methods"}).out, "dpm "));
+  const auto out = test::tempDir("clone-dpm");
+  for (const Clone& clone : {kMountainOnSphere, kEarOnCubeEdge}) {
+    auto args = cloneArgs(clone, out / (clone.source + ".obj"));
+    args.insert(args.end(), {"--method", "dpm"});
+    const auto result = runCli(args);
+    ASSERT_EQ(result.status, 0) << result.err;
+    EXPECT_EQ(metric(result.err, "metrics.manifold"), 1) << clone.source;
+    EXPECT_EQ(metric(result.err, "metrics.new_self_intersections"), 0) << clone.source;
+    EXPECT_EQ(metric(result.err, "metrics.seam_unshared_vertices"), 0) << clone.source;
+    const bool warnsOfFolds = result.err.find("canvas faces are folded") != std::string::npos;
+    EXPECT_EQ(warnsOfFolds, clone.source == kEarOnCubeEdge.source) << result.err;
+  }
+  auto args = cloneArgs(kNefertitiOnBunny, out / "refused.obj");
+  args.insert(args.end(), {"--method", "dpm"});
+  const auto refused = runCli(args);
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_TRUE(test::contains(refused.err, "node 'target_map' input 'mesh'"));
+  EXPECT_TRUE(test::contains(refused.err, "fold under the view"));
+  EXPECT_FALSE(std::filesystem::exists(out / "refused.obj"));
 }
 
 // A region about as small as the target's triangles (a relief plane onto a 642-vertex sphere)

@@ -35,7 +35,8 @@ Graph smallClone(const std::string& method) {
   // A grid in proportion to these meshes (the default suits canvases of tens of thousands of
   // vertices): the history evaluates the graph hundreds of times.
   if (const auto roi = graph.nodes.find("roi"); roi != graph.nodes.end())
-    roi->second.params["resolution"] = std::int64_t(64);
+    roi->second.params[roi->second.type == "geobrush.texture_roi" ? "texture_size" : "resolution"] =
+        std::int64_t(64);
   // Small images: a history writes hundreds.
   for (auto& [name, node] : graph.nodes)
     if (node.type == "geobrush.render") {
@@ -144,4 +145,5 @@ TEST_P(CloneHistory, EveryEditGivesWhatAFreshEvaluatorGives) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, CloneHistory,
-                         testing::Values("geobrush", "cutpaste", "variational", "emd", "additive"));
+                         testing::Values("geobrush", "cutpaste", "variational", "emd", "additive",
+                                         "dpm"));
