@@ -740,22 +740,58 @@ TargetCut cutTarget(const Region2D& region, const Parameterization& target, cons
   return cut;
 }
 
-// Removes, besides, the target faces that R_in's outline passes through (its vertices' and its
-// edges' midpoints' faces in the domain): a target face with no corner in Q may still hold part
-// of R_in near dQ, on a target as coarse as the region is small a whole region, and a kept face
-// under the patch would overlap it.
-void cutUnderOutline(TargetCut& cut, const std::vector<Segment>& outline, const StitchBase& base) {
-  for (const Segment& edge : outline)
-    for (const Vector2d& u : {edge[0], Vector2d((edge[0] + edge[1]) / 2)}) {
-      const DomainHit hit = base.locator->locate(u);
-      if (!hit.inside) continue;
-      const int meshFace = base.canvasFaceToMesh[std::size_t(hit.face)];
-      char& kept = cut.kept[std::size_t(meshFace)];
-      if (!kept) continue;
-      kept = 0;
-      cut.removedFaces.push_back(meshFace);
-      cut.removedCanvasFaces.push_back(hit.face);
+// Twice the signed area of the domain triangle (a, b, c): positive where it turns left.
+double turn(const Vector2d& a, const Vector2d& b, const Vector2d& c) {
+  return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+}
+
+// The halfedge of target canvas face `face` through which the domain segment (a, b) leaves it, or
+// an invalid one where b lies in the face (or on its border). `entered` is never the way out.
+TriMesh::HalfedgeHandle exitOf(const TriMesh& canvas, const std::vector<Vector2d>& uv, int face,
+                               const Segment& segment, TriMesh::HalfedgeHandle entered) {
+  for (auto h : canvas.fh_range(TriMesh::FaceHandle(face))) {
+    if (h == entered) continue;
+    const Vector2d& p = uv[std::size_t(canvas.from_vertex_handle(h).idx())];
+    const Vector2d& q = uv[std::size_t(canvas.to_vertex_handle(h).idx())];
+    const Vector2d& r =
+        uv[std::size_t(canvas.to_vertex_handle(canvas.next_halfedge_handle(h)).idx())];
+    const double inside = turn(p, q, r);
+    const bool beyond = inside > 0 ? turn(p, q, segment[1]) < 0 : turn(p, q, segment[1]) > 0;
+    const double sideP = turn(segment[0], segment[1], p), sideQ = turn(segment[0], segment[1], q);
+    if (beyond && !(sideP > 0 && sideQ > 0) && !(sideP < 0 && sideQ < 0)) return h;
+  }
+  return TriMesh::HalfedgeHandle();
+}
+
+// Removes, besides, the target faces that R_in's outline passes through, each outline edge walked
+// through the target canvas in the domain from the face holding its first end: a target face with
+// no corner in Q may still hold part of R_in near dQ (on a target as coarse as the region is
+// small, a whole region), and a kept face under the patch would overlap it, or its outline cross
+// R_in's where the gap is triangulated.
+void cutUnderOutline(TargetCut& cut, const std::vector<Segment>& outline, const StitchBase& base,
+                     const Parameterization& target) {
+  const TriMesh& canvas = target.canvas->surface;
+  const auto remove = [&](int canvasFace) {
+    const int meshFace = base.canvasFaceToMesh[std::size_t(canvasFace)];
+    char& kept = cut.kept[std::size_t(meshFace)];
+    if (!kept) return;
+    kept = 0;
+    cut.removedFaces.push_back(meshFace);
+    cut.removedCanvasFaces.push_back(canvasFace);
+  };
+  for (const Segment& edge : outline) {
+    const DomainHit hit = base.locator->locate(edge[0]);
+    if (!hit.inside) continue;
+    int face = hit.face;
+    TriMesh::HalfedgeHandle entered;
+    for (std::size_t step = 0; step < canvas.n_faces(); ++step) {
+      remove(face);
+      const TriMesh::HalfedgeHandle exit = exitOf(canvas, target.uv, face, edge, entered);
+      if (!exit.is_valid() || canvas.is_boundary(canvas.opposite_halfedge_handle(exit))) break;
+      entered = canvas.opposite_halfedge_handle(exit);
+      face = canvas.face_handle(entered).idx();
     }
+  }
 }
 
 // The longest edge the seam refinement leaves along dQ, or 0 where the target is fine enough
@@ -1007,7 +1043,7 @@ OpenStitch openLayout(TriMesh& out, const Region2D& region, const Parameterizati
   if (!base) base = &ownBase.emplace(stitchBase(target));
   TargetCut cut = cutTarget(region, target, *base, targetMesh);
   std::vector<Segment> outline = patchOutline(canvas, patch.faces, patch.selected, source.uv);
-  cutUnderOutline(cut, outline, *base);
+  cutUnderOutline(cut, outline, *base, target);
   // On a target coarser than the source, the faces along dQ are refined first; the band they
   // form replaces its target faces, and the rest stay whole.
   const double limit = refinementLimit(outline, cut, target, refinementRatio);

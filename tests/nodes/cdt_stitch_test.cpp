@@ -10,6 +10,7 @@
 #include "canvas_fixtures.hpp"
 #include "cdt_stitch.hpp"
 #include "direct_context.hpp"
+#include "geobrush/clone.hpp"
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
@@ -664,3 +665,45 @@ TEST(CdtStitchNode, PastesTheMountainOntoASphere) {
 TEST(CdtStitchNode, PastesTheMountainOntoASphereSplittingTheOutlines) {
   expectAGoodMountainOnASphere(true);
 }
+
+namespace {
+
+// The dpm clone method (graphs/methods/dpm.json: geobrush.texture_roi's region, this stitch) on a
+// relief plane's canvas of about 12k vertices onto a 163,842-vertex sphere, five times finer:
+// R_in's outline edges, each several target faces long, pass through target faces with no corner
+// in Q, and the gap is triangulated only where those faces are replaced too.
+TEST(CdtStitchGraph, PastesEachDabOfAStrokeOntoAFinerTarget) {
+  Graph graph = readMethod("dpm", defaultMethodDirs(), test::registry());
+  graph.file = test::tempDir("cdt-stitch-stroke") / "graph.json";
+  graph.nodes["source_mesh"] = GraphNode{"geobrush.primitive",
+                                         1,
+                                         {{"shape", std::string("plane")},
+                                          {"size", 2.0},
+                                          {"resolution", std::int64_t(140)},
+                                          {"relief", 0.02}}};
+  graph.nodes["target_mesh"] =
+      GraphNode{"geobrush.primitive",
+                1,
+                {{"shape", std::string("sphere")}, {"resolution", std::int64_t(128)}}};
+  graph.nodes.at("source_canvas").params = {{"origin", Vec3{0, 0, 0}},
+                                            {"dabs", std::vector<double>{0, 0, 0, 0.9}}};
+  graph.nodes.at("target_map").params = {{"origin", Vec3{0, 0, 1}}, {"scale", 0.3}};
+  prepareGraph(graph, test::registry());
+  Evaluator evaluator(test::registry());
+  EvalOptions options;
+  options.targets = {"metrics"};
+  std::vector<double> dabs = {-0.3, -0.1, 0.12, 1};
+  for (int dab = 1; dab <= 3; ++dab) {
+    dabs.insert(dabs.end(), {-0.3 + 0.02 * dab, -0.1 + 0.007 * dab, 0.12, 1});
+    graph.nodes.at("strokes").params["dabs"] = dabs;
+    const EvalReport report = evaluator.evaluate(graph, options);
+    ASSERT_TRUE(report.ok) << "dab " << dab << ": " << report.error;
+    const auto metrics =
+        std::dynamic_pointer_cast<const Metrics>(evaluator.output("metrics", "metrics"));
+    ASSERT_NE(metrics, nullptr);
+    EXPECT_EQ(metrics->values.at("new_self_intersections"), 0) << dab;
+    EXPECT_EQ(metrics->values.at("seam_unshared_vertices"), 0) << dab;
+  }
+}
+
+}  // namespace
