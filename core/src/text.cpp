@@ -1,6 +1,7 @@
 #include "geobrush/text.hpp"
 
 #include <array>
+#include <sstream>
 
 namespace geobrush {
 namespace {
@@ -116,6 +117,20 @@ std::string quotePath(const std::filesystem::path& path) {
 
 std::string messageLine(std::string_view message, std::size_t limit) {
   return escape(message, limit, false);
+}
+
+std::string numberText(double x) {
+  std::ostringstream s;
+  s.precision(4);
+  s << x;
+  return s.str();
+}
+
+std::string pointText(const Eigen::Vector3d& p) {
+  std::ostringstream s;
+  s.precision(6);
+  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+  return s.str();
 }
 
 }  // namespace geobrush

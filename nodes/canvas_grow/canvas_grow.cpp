@@ -5,29 +5,15 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
-#include <sstream>
 
 #include "geobrush/submesh.hpp"
+#include "geobrush/text.hpp"
 
 namespace geobrush {
 namespace {
 
 // Below this relative size an offset is rounding noise of the mesh's coordinates.
 constexpr double kRoundoff = 1e-9;
-
-std::string formatPoint(const Eigen::Vector3d& p) {
-  std::ostringstream s;
-  s.precision(6);
-  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
-}
-
-std::string formatNumber(double x) {
-  std::ostringstream s;
-  s.precision(4);
-  s << x;
-  return s.str();
-}
 
 // The halfedges of a face in the order of its fv_range corners (their to-vertices), read directly
 // because OpenMesh's circulators cost more than the work done per face in the loops below.
@@ -90,7 +76,7 @@ void checkInput(const MeshPtr& source, const CanvasGrowOptions& options) {
     }
     if (dab.radius <= 0) {
       throw CanvasGrowError("dabs", "dab " + std::to_string(i) + " has radius " +
-                                        formatNumber(dab.radius) + ": radii must be positive");
+                                        numberText(dab.radius) + ": radii must be positive");
     }
   }
 }
@@ -152,7 +138,7 @@ void rejectOriginOnBoundary(const TriMesh& mesh, const std::vector<int>& faces,
                                           std::to_string(loop) + " of " + std::to_string(loops) +
                                           ", " + std::to_string(edges) + " edges, near vertex " +
                                           std::to_string(near.idx()) + " " +
-                                          formatPoint(toEigen(mesh.point(near))) +
+                                          pointText(toEigen(mesh.point(near))) +
                                           "): pick an origin inside the surface");
     }
   }
@@ -212,7 +198,7 @@ void rejectPinchedVertices(const TriMesh& mesh, const std::vector<int>& region) 
       if (++borderOut[v.idx()] == 2) {
         throw CanvasGrowError("dabs", "the painted region touches itself only at vertex " +
                                           std::to_string(v.idx()) + " " +
-                                          formatPoint(toEigen(mesh.point(v))) +
+                                          pointText(toEigen(mesh.point(v))) +
                                           ": paint over the gap there or away from it");
       }
     }
@@ -277,7 +263,7 @@ void requireOneLoop(const TriMesh& surface, const std::vector<Loop>& loops) {
     std::string& list = loops[i].meshHole ? meshHoles : islands;
     (loops[i].meshHole ? meshHoleCount : islandCount)++;
     if (!list.empty()) list += ", ";
-    list += formatPoint(loopCentroid(surface, loops[i]));
+    list += pointText(loopCentroid(surface, loops[i]));
   }
   const std::size_t holes = loops.size() - 1;
   std::string message = "the canvas boundary must be a single loop, but the painted region leaves ";
@@ -327,9 +313,9 @@ Canvas growCanvas(const MeshPtr& source, const CanvasGrowOptions& options) {
   const double tolerance = options.originTolerance * diagonal;
   if (nearest > tolerance) {
     throw CanvasGrowError(
-        "origin", "the origin " + formatPoint(options.origin) + " is " + formatNumber(nearest) +
+        "origin", "the origin " + pointText(options.origin) + " is " + numberText(nearest) +
                       " away from the surface, farther than the tolerance " +
-                      formatNumber(tolerance) + " (" + formatNumber(100 * options.originTolerance) +
+                      numberText(tolerance) + " (" + numberText(100 * options.originTolerance) +
                       "% of the mesh's bounding-box diagonal): pick a point "
                       "on the surface");
   }
@@ -343,7 +329,7 @@ Canvas growCanvas(const MeshPtr& source, const CanvasGrowOptions& options) {
 
   rejectOriginOnBoundary(mesh, tied, originPoint, diagonal);
   if (!insideSomeDab(originPoint, options.dabs)) {
-    throw CanvasGrowError("origin", "the origin " + formatPoint(originPoint) +
+    throw CanvasGrowError("origin", "the origin " + pointText(originPoint) +
                                         " is outside every dab: paint over the origin or move it "
                                         "into the painted region");
   }

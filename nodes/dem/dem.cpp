@@ -6,11 +6,11 @@
 #include <cstddef>
 #include <deque>
 #include <limits>
-#include <sstream>
 
 #include "geobrush/exponential_map.hpp"
 #include "geobrush/submesh.hpp"
 #include "geobrush/surface_point.hpp"
+#include "geobrush/text.hpp"
 
 namespace geobrush {
 namespace {
@@ -18,26 +18,12 @@ namespace {
 // Below this relative size an offset is rounding noise of the mesh's coordinates.
 constexpr double kRoundoff = 1e-9;
 
-std::string formatNumber(double x) {
-  std::ostringstream s;
-  s.precision(4);
-  s << x;
-  return s.str();
-}
-
-std::string formatPoint(const Eigen::Vector3d& p) {
-  std::ostringstream s;
-  s.precision(6);
-  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
-}
-
 void checkInput(const std::vector<Eigen::Vector2d>& sourceUv, const TargetDemOptions& o) {
   if (!std::isfinite(o.scale) || o.scale <= 0) {
     throw TargetDemError("scale",
                          "must be a finite number > 0 (target distance = scale x "
                          "domain distance), got " +
-                             formatNumber(o.scale));
+                             numberText(o.scale));
   }
   if (!std::isfinite(o.margin) || o.margin < 0) {
     throw TargetDemError("margin", "must be a finite number >= 0");
@@ -95,7 +81,7 @@ void rejectOriginOnBoundary(const TriMesh& mesh, int face, const Eigen::Vector3d
       throw TargetDemError("origin",
                            "the origin lies on a boundary of the target mesh (near "
                            "vertex " +
-                               std::to_string(a.idx()) + " " + formatPoint(pa) +
+                               std::to_string(a.idx()) + " " + pointText(pa) +
                                "): pick an origin inside the surface");
     }
   }
@@ -114,7 +100,7 @@ class Needs {
       throw TargetDemError(
           "scale", "the required domain runs off the target mesh at its boundary near vertex " +
                        std::to_string(v) + " " +
-                       formatPoint(toEigen(mesh.point(TriMesh::VertexHandle(v)))) +
+                       pointText(toEigen(mesh.point(TriMesh::VertexHandle(v)))) +
                        ": move the origin away from the boundary, or use a smaller scale or a "
                        "smaller source canvas");
     }
@@ -306,11 +292,11 @@ TargetDemResult coveringCanvas(const PreparedTarget& prepared, const TargetDemOp
   const SurfacePoint snapped = prepared.nearest(options.origin);
   const double tolerance = options.originTolerance * diagonal;
   if (snapped.distance > tolerance) {
-    throw TargetDemError("origin", "the origin " + formatPoint(options.origin) + " is " +
-                                       formatNumber(snapped.distance) +
+    throw TargetDemError("origin", "the origin " + pointText(options.origin) + " is " +
+                                       numberText(snapped.distance) +
                                        " away from the target surface, farther than the "
                                        "tolerance " +
-                                       formatNumber(tolerance) + ": pick a point on the surface");
+                                       numberText(tolerance) + ": pick a point on the surface");
   }
   rejectOriginOnBoundary(mesh, snapped.face, snapped.point, diagonal);
 
@@ -355,8 +341,8 @@ TargetDemResult coveringCanvas(const PreparedTarget& prepared, const TargetDemOp
       const int v = growth.fixNext();
       if (v < 0 || growth.order().size() > limit) {
         throw TargetDemError(
-            "scale", "the domain to cover (radius " + formatNumber(required) + " x scale " +
-                         formatNumber(lambda) + ") needs more than " +
+            "scale", "the domain to cover (radius " + numberText(required) + " x scale " +
+                         numberText(lambda) + ") needs more than " +
                          (v < 0 ? std::string("the whole connected part") : std::string("half")) +
                          " of the target mesh (" + std::to_string(mesh.n_vertices()) +
                          " vertices), so the canvas would wrap around it: use a smaller scale, a "
@@ -390,7 +376,7 @@ TargetDemResult coveringCanvas(const PreparedTarget& prepared, const TargetDemOp
     if (needs.open() == 0) {
       throw TargetDemError(
           "mesh", "the target canvas encloses a hole of the target mesh near " +
-                      formatPoint(toEigen(mesh.point(TriMesh::VertexHandle(defects.front())))) +
+                      pointText(toEigen(mesh.point(TriMesh::VertexHandle(defects.front())))) +
                       ": move the origin or use a smaller scale");
     }
   }

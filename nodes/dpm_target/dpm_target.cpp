@@ -3,27 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <sstream>
 
 #include "geobrush/face_selection.hpp"
 #include "geobrush/projective_map.hpp"
+#include "geobrush/text.hpp"
 
 namespace geobrush {
 namespace {
-
-std::string formatNumber(double x) {
-  std::ostringstream s;
-  s.precision(4);
-  s << x;
-  return s.str();
-}
-
-std::string formatPoint(const Eigen::Vector3d& p) {
-  std::ostringstream s;
-  s.precision(6);
-  s << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return s.str();
-}
 
 // The largest |uv| of the source map, refusing an empty, non-finite or single-point one.
 double sourceRadius(const std::vector<Eigen::Vector2d>& sourceUv) {
@@ -48,7 +34,7 @@ void checkOptions(const ProjectiveStampOptions& o) {
     throw ProjectiveStampError("scale",
                                "must be a finite number > 0 (target distance = scale x "
                                "domain distance), got " +
-                                   formatNumber(o.scale));
+                                   numberText(o.scale));
   }
   if (!std::isfinite(o.margin) || o.margin < 0) {
     throw ProjectiveStampError("margin", "must be a finite number >= 0");
@@ -191,7 +177,7 @@ void setOuterLoop(Canvas& canvas, const std::vector<Eigen::Vector2d>& uv, bool k
         "mesh",
         "the stamp's disc holds a hole (a hole of the target mesh, or a fold under the "
         "view) near " +
-            formatPoint(near) + ": move the origin, turn the view or use a smaller scale");
+            pointText(near) + ": move the origin, turn the view or use a smaller scale");
   }
   if (!keepHoles && touchesMeshBoundary(canvas, loops[outer])) {
     throw ProjectiveStampError("scale",
@@ -220,11 +206,11 @@ ProjectiveStampResult projectiveStamp(const StampTarget& target,
   const SurfacePoint snapped = target.nearest(options.origin);
   const double tolerance = options.originTolerance * target.diagonal();
   if (snapped.distance > tolerance) {
-    throw ProjectiveStampError("origin", "the origin " + formatPoint(options.origin) + " is " +
-                                             formatNumber(snapped.distance) +
+    throw ProjectiveStampError("origin", "the origin " + pointText(options.origin) + " is " +
+                                             numberText(snapped.distance) +
                                              " away from the target surface, farther than the "
                                              "tolerance " +
-                                             formatNumber(tolerance) +
+                                             numberText(tolerance) +
                                              ": pick a point on the surface");
   }
   const Eigen::Vector3d view = options.view.isZero()

@@ -1,6 +1,8 @@
 // Text from files and command lines, made safe to quote in a one-line message.
 #pragma once
 
+#include <Eigen/Core>
+
 #include <cstddef>
 #include <filesystem>
 #include <string>
@@ -27,5 +29,9 @@ bool isUtf8(std::string_view text);
 
 // One line for stderr: escapeText of a whole message, bounded by `limit` bytes of it.
 std::string messageLine(std::string_view message, std::size_t limit = 2000);
+
+// Numbers and points as messages show them: 4 and 6 significant digits, "(x, y, z)".
+std::string numberText(double x);
+std::string pointText(const Eigen::Vector3d& p);
 
 }  // namespace geobrush
