@@ -17,7 +17,6 @@
 namespace geobrush::membrane_detail {
 namespace {
 
-using DescriptorSetLayout = gpu::DeviceHandle<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
 using DescriptorPool = gpu::DeviceHandle<VkDescriptorPool, vkDestroyDescriptorPool>;
 
 constexpr int kGroupSize = 64;  // local_size_x of the shader
@@ -68,71 +67,15 @@ constexpr std::uint32_t kBindings = 3;  // vectors, coefficients, customOf
 // The shader's pipeline and layouts: the same for every level, so made once per process (a
 // pipeline takes lavapipe milliseconds to compile, and every dab makes a new hierarchy). Made
 // after the Vulkan context, so destroyed before it at exit.
-struct Program {
-  DescriptorSetLayout setLayout;
-  gpu::PipelineLayout layout;
-  gpu::Pipeline pipeline;
-};
-
-DescriptorSetLayout createSetLayout(VkDevice device) {
-  VkDescriptorSetLayoutBinding bindings[kBindings] = {};
-  for (std::uint32_t b = 0; b < kBindings; ++b) {
-    bindings[b].binding = b;
-    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[b].descriptorCount = 1;
-    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-  }
-  auto setInfo = gpu::makeInfo<VkDescriptorSetLayoutCreateInfo>(
-      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-  setInfo.bindingCount = kBindings;
-  setInfo.pBindings = bindings;
-  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
-  gpu::check(vkCreateDescriptorSetLayout(device, &setInfo, nullptr, &setLayout),
-             "vkCreateDescriptorSetLayout");
-  return {device, setLayout};
-}
-
-std::unique_ptr<Program> createProgram(gpu::VulkanContext& context) {
-  const VkDevice device = context.device();
-  auto program = std::make_unique<Program>();
-  program->setLayout = createSetLayout(device);
-  const VkDescriptorSetLayout setLayout = program->setLayout.get();
-
-  const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Pass)};
-  auto layoutInfo =
-      gpu::makeInfo<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-  layoutInfo.setLayoutCount = 1;
-  layoutInfo.pSetLayouts = &setLayout;
-  layoutInfo.pushConstantRangeCount = 1;
-  layoutInfo.pPushConstantRanges = &range;
-  VkPipelineLayout layout = VK_NULL_HANDLE;
-  gpu::check(vkCreatePipelineLayout(device, &layoutInfo, nullptr, &layout),
-             "vkCreatePipelineLayout");
-  program->layout = {device, layout};
-
-  const gpu::ShaderModule shader = context.createShaderModule(membrane_level_comp);
-  auto pipelineInfo =
-      gpu::makeInfo<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
-  pipelineInfo.stage = gpu::makeInfo<VkPipelineShaderStageCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
-  pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  pipelineInfo.stage.module = shader.get();
-  pipelineInfo.stage.pName = "main";
-  pipelineInfo.layout = layout;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  gpu::check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr, &pipeline),
-             "vkCreateComputePipelines");
-  program->pipeline = {device, pipeline};
-  return program;
-}
-
 // The process's program, made on first use; context is the shared one. A failed creation throws
 // and is retried on the next call.
-const Program& sharedProgram(gpu::VulkanContext& context) {
+const gpu::ComputeProgram& sharedProgram(gpu::VulkanContext& context) {
   static std::mutex mutex;
-  static std::unique_ptr<Program> program;
+  static std::unique_ptr<gpu::ComputeProgram> program;
   const std::lock_guard lock(mutex);
-  if (!program) program = createProgram(context);
+  if (!program)
+    program = std::make_unique<gpu::ComputeProgram>(
+        context.createComputeProgram(membrane_level_comp, kBindings, sizeof(Pass)));
   return *program;
 }
 
@@ -143,7 +86,7 @@ struct VulkanLevelKernels::Resources {
       : context(vulkan), program(sharedProgram(vulkan)) {}
 
   gpu::VulkanContext& context;
-  const Program& program;
+  const gpu::ComputeProgram& program;
   std::mutex mutex;  // held by every call: the vectors have one home on the device
   int size = 0;
   int begin = 0;  // the level's active range

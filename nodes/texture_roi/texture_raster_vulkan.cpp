@@ -16,7 +16,6 @@
 namespace geobrush {
 namespace {
 
-using DescriptorSetLayout = gpu::DeviceHandle<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
 using DescriptorPool = gpu::DeviceHandle<VkDescriptorPool, vkDestroyDescriptorPool>;
 
 constexpr std::uint32_t kBindings = 4;  // faces, tileStart, tileFaces, texels
@@ -29,70 +28,14 @@ struct Raster {
 
 // The pipeline and its layouts, made once per process (lavapipe takes milliseconds to compile a
 // pipeline), after the Vulkan context and so destroyed before it at exit.
-struct Program {
-  DescriptorSetLayout setLayout;
-  gpu::PipelineLayout layout;
-  gpu::Pipeline pipeline;
-};
-
-DescriptorSetLayout createSetLayout(VkDevice device) {
-  std::array<VkDescriptorSetLayoutBinding, kBindings> bindings{};
-  for (std::uint32_t b = 0; b < kBindings; ++b) {
-    bindings[b].binding = b;
-    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[b].descriptorCount = 1;
-    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
-  }
-  auto info = gpu::makeInfo<VkDescriptorSetLayoutCreateInfo>(
-      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-  info.bindingCount = kBindings;
-  info.pBindings = bindings.data();
-  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-  gpu::check(vkCreateDescriptorSetLayout(device, &info, nullptr, &layout),
-             "vkCreateDescriptorSetLayout");
-  return {device, layout};
-}
-
-gpu::PipelineLayout createPipelineLayout(VkDevice device, VkDescriptorSetLayout setLayout) {
-  const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Raster)};
-  auto info =
-      gpu::makeInfo<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-  info.setLayoutCount = 1;
-  info.pSetLayouts = &setLayout;
-  info.pushConstantRangeCount = 1;
-  info.pPushConstantRanges = &range;
-  VkPipelineLayout layout = VK_NULL_HANDLE;
-  gpu::check(vkCreatePipelineLayout(device, &info, nullptr, &layout), "vkCreatePipelineLayout");
-  return {device, layout};
-}
-
-std::unique_ptr<Program> createProgram(gpu::VulkanContext& context) {
-  const VkDevice device = context.device();
-  auto program = std::make_unique<Program>();
-  program->setLayout = createSetLayout(device);
-  program->layout = createPipelineLayout(device, program->setLayout.get());
-  const gpu::ShaderModule shader = context.createShaderModule(texture_raster_comp);
-  auto info =
-      gpu::makeInfo<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
-  info.stage = gpu::makeInfo<VkPipelineShaderStageCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
-  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = shader.get();
-  info.stage.pName = "main";
-  info.layout = program->layout.get();
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  gpu::check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
-             "vkCreateComputePipelines");
-  program->pipeline = {device, pipeline};
-  return program;
-}
-
 // The process's program; a failed creation throws and is retried on the next call.
-const Program& sharedProgram(gpu::VulkanContext& context) {
+const gpu::ComputeProgram& sharedProgram(gpu::VulkanContext& context) {
   static std::mutex mutex;
-  static std::unique_ptr<Program> program;
+  static std::unique_ptr<gpu::ComputeProgram> program;
   const std::lock_guard lock(mutex);
-  if (!program) program = createProgram(context);
+  if (!program)
+    program = std::make_unique<gpu::ComputeProgram>(
+        context.createComputeProgram(texture_raster_comp, kBindings, sizeof(Raster)));
   return *program;
 }
 
@@ -146,7 +89,7 @@ void bindBuffers(VkDevice device, VkDescriptorSetLayout setLayout, Call& call) {
   vkUpdateDescriptorSets(device, kBindings, writes.data(), 0, nullptr);
 }
 
-void dispatch(gpu::VulkanContext& context, const Program& program, const Call& call,
+void dispatch(gpu::VulkanContext& context, const gpu::ComputeProgram& program, const Call& call,
               const Raster& raster) {
   context.submit([&](VkCommandBuffer commands) {
     vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline.get());
@@ -206,7 +149,7 @@ void rasterizeVulkan(const RasterFaces& faces, std::vector<std::uint32_t>& face,
     message += gpu::VulkanContext::unavailableReason();
     throw std::runtime_error(message);
   }
-  const Program& program = sharedProgram(*context);
+  const gpu::ComputeProgram& program = sharedProgram(*context);
   const std::size_t texels = std::size_t(faces.size) * std::size_t(faces.size);
   Call call;
   call.buffers[0] = upload(*context, faces.faces);

@@ -411,6 +411,48 @@ ShaderModule VulkanContext::createShaderModule(std::span<const std::uint32_t> sp
   return {device(), module};
 }
 
+ComputeProgram VulkanContext::createComputeProgram(std::span<const std::uint32_t> spirv,
+                                                   std::uint32_t storageBuffers,
+                                                   std::uint32_t pushConstantBytes) const {
+  ComputeProgram program;
+  std::vector<VkDescriptorSetLayoutBinding> bindings(storageBuffers);
+  for (std::uint32_t b = 0; b < storageBuffers; ++b)
+    bindings[b] = {b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  auto setInfo = makeInfo<VkDescriptorSetLayoutCreateInfo>(
+      VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  setInfo.bindingCount = storageBuffers;
+  setInfo.pBindings = bindings.data();
+  VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+  check(vkCreateDescriptorSetLayout(device(), &setInfo, nullptr, &setLayout),
+        "vkCreateDescriptorSetLayout");
+  program.setLayout = {device(), setLayout};
+
+  const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
+  auto layoutInfo =
+      makeInfo<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  layoutInfo.setLayoutCount = 1;
+  layoutInfo.pSetLayouts = &setLayout;
+  layoutInfo.pushConstantRangeCount = pushConstantBytes > 0 ? 1 : 0;
+  layoutInfo.pPushConstantRanges = &range;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  check(vkCreatePipelineLayout(device(), &layoutInfo, nullptr, &layout), "vkCreatePipelineLayout");
+  program.layout = {device(), layout};
+
+  const ShaderModule shader = createShaderModule(spirv);
+  auto info = makeInfo<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+  info.stage = makeInfo<VkPipelineShaderStageCreateInfo>(
+      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = shader.get();
+  info.stage.pName = "main";
+  info.layout = layout;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  check(vkCreateComputePipelines(device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
+        "vkCreateComputePipelines");
+  program.pipeline = {device(), pipeline};
+  return program;
+}
+
 void VulkanContext::submit(const std::function<void(VkCommandBuffer)>& record) {
   std::lock_guard lock(submitMutex_);
   auto allocInfo =

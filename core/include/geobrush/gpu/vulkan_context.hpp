@@ -69,6 +69,15 @@ using Pipeline = DeviceHandle<VkPipeline, vkDestroyPipeline>;
 using RenderPass = DeviceHandle<VkRenderPass, vkDestroyRenderPass>;
 using Framebuffer = DeviceHandle<VkFramebuffer, vkDestroyFramebuffer>;
 using ImageView = DeviceHandle<VkImageView, vkDestroyImageView>;
+using DescriptorSetLayout = DeviceHandle<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
+
+// A compute kernel ready to dispatch: storage buffers at bindings 0, 1, ... of descriptor set 0,
+// push constants from offset 0, the compute stage of its SPIR-V's `main`.
+struct ComputeProgram {
+  DescriptorSetLayout setLayout;
+  PipelineLayout layout;
+  Pipeline pipeline;
+};
 
 // A buffer with memory of its own. Host-visible buffers are also host-coherent
 // and stay mapped for their whole life, so they need no flushes.
@@ -152,6 +161,11 @@ class VulkanContext {
   Image2D createImage(std::uint32_t width, std::uint32_t height, VkFormat format,
                       VkImageUsageFlags usage, VkImageAspectFlags aspect) const;
   ShaderModule createShaderModule(std::span<const std::uint32_t> spirv) const;
+  // The program of a compute shader reading `storageBuffers` storage buffers and
+  // `pushConstantBytes` bytes of push constants.
+  ComputeProgram createComputeProgram(std::span<const std::uint32_t> spirv,
+                                      std::uint32_t storageBuffers,
+                                      std::uint32_t pushConstantBytes) const;
 
   // Records a primary command buffer with `record`, submits it and waits for
   // it on a fence.
