@@ -20,15 +20,16 @@ using geobrush::NodeError;
 using geobrush::Parameterization;
 
 // Overhangs (the paper's admitted limitation): the projection folds the faces turned away from
-// the view, and a region painted over them cannot be pasted.
+// the view. Inside a region they are lifted with their heights all the same, but an outline that
+// crosses a fold overlaps itself in the domain and cannot be stitched.
 void warnAboutFolds(Context& ctx, const std::vector<std::uint8_t>& reversed) {
   const auto folded = std::count(reversed.begin(), reversed.end(), std::uint8_t(1));
   if (folded == 0) return;
   std::string message = std::to_string(folded);
   message +=
       " canvas faces are folded by the projection or lie next to a fold (turned away from "
-      "the view: an overhang); a region over them cannot be pasted: turn the view or paint "
-      "elsewhere";
+      "the view: an overhang); a region whose outline crosses a fold cannot be pasted: turn "
+      "the view or paint around it";
   ctx.warn(message);
 }
 
