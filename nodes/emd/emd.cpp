@@ -1,5 +1,6 @@
 #include "emd.hpp"
 
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -38,10 +39,13 @@ std::vector<int> extrema(const TriMesh& mesh, const std::vector<double>& values,
 
 // The envelope operator (L or L M^-1 L) with every diagonal entry stored, factored symbolically
 // once per side: each envelope then only refactors it numerically with its own fixed vertices, the
-// upper and the lower one at once on two threads.
+// upper and the lower one at once on two threads. The harmonic operator's factor stays about as
+// sparse as the mesh, which Eigen's simplicial LDL^T factors fastest; the biharmonic one's 2-ring
+// operator fills in enough for CHOLMOD's supernodal kernels (SparseCholesky) to win, several
+// times over (BENCHMARKS.md, "Sparse Cholesky for the EMD envelopes").
 class EnvelopeSolver {
  public:
-  EnvelopeSolver(const TriMesh& mesh, Envelope kind) {
+  EnvelopeSolver(const TriMesh& mesh, Envelope kind) : kind_(kind) {
     const Sparse laplacian = cotangentLaplacian(mesh);
     const int n = int(mesh.n_vertices());
     Sparse diagonal(n, n);
@@ -60,8 +64,12 @@ class EnvelopeSolver {
     for (int j = 0; j < n; ++j)
       for (Sparse::InnerIterator it(operator_, j); it; ++it)
         if (it.row() == j && it.value() != 0.0) isolated_[std::size_t(j)] = 0;
-    for (auto& solver : solvers_)
-      solver.analyzePattern(operator_);
+    for (std::size_t side = 0; side < 2; ++side) {
+      if (kind_ == Envelope::harmonic)
+        simplicial_[side].analyzePattern(operator_);
+      else
+        supernodal_[side].analyzePattern(operator_);
+    }
   }
 
   // The fields equal to `values` at upper's and lower's fixed vertices (and at isolated vertices)
@@ -72,36 +80,52 @@ class EnvelopeSolver {
     std::array<Eigen::VectorXd, 2> fields;
     const std::array<const std::vector<int>*, 2> fixed = {&upper, &lower};
     parallelBlocks(2, 1, 2, [&](std::size_t first, std::size_t last) {
-      for (std::size_t side = first; side < last; ++side)
-        fields[side] = solve(solvers_[side], *fixed[side], values);
+      for (std::size_t side = first; side < last; ++side) {
+        const Held held = heldSystem(*fixed[side], values);
+        fields[side] = kind_ == Envelope::harmonic ? solve(simplicial_[side], held)
+                                                   : solve(supernodal_[side], held);
+      }
     });
     return fields;
   }
 
  private:
-  Eigen::VectorXd solve(SparseCholesky& solver, const std::vector<int>& fixed,
-                        const std::vector<double>& values) const {
+  // The operator with the fixed vertices' rows and columns replaced by the identity, and the
+  // right-hand side that holds them at their values.
+  struct Held {
+    Sparse system;
+    Eigen::VectorXd rhs;
+  };
+  Held heldSystem(const std::vector<int>& fixed, const std::vector<double>& values) const {
     std::vector<std::uint8_t> isFixed = isolated_;
     for (int i : fixed)
       isFixed[std::size_t(i)] = 1;
-    Sparse system = operator_;
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(system.rows());
-    for (int j = 0; j < system.cols(); ++j)
-      for (Sparse::InnerIterator it(system, j); it; ++it) {
+    Held held{operator_, Eigen::VectorXd::Zero(operator_.rows())};
+    for (int j = 0; j < held.system.cols(); ++j)
+      for (Sparse::InnerIterator it(held.system, j); it; ++it) {
         const int i = int(it.row());
-        if (!isFixed[std::size_t(i)] && isFixed[std::size_t(j)]) rhs[i] -= it.value() * values[j];
+        if (!isFixed[std::size_t(i)] && isFixed[std::size_t(j)])
+          held.rhs[i] -= it.value() * values[std::size_t(j)];
         if (isFixed[std::size_t(i)] || isFixed[std::size_t(j)]) it.valueRef() = i == j ? 1.0 : 0.0;
       }
-    for (int i = 0; i < int(rhs.size()); ++i)
-      if (isFixed[std::size_t(i)]) rhs[i] = values[std::size_t(i)];
-    solver.factorize(system);
-    if (solver.info() != Eigen::Success) throw std::runtime_error("an envelope's system could not be factored");
-    return solver.solve(rhs);
+    for (int i = 0; i < int(held.rhs.size()); ++i)
+      if (isFixed[std::size_t(i)]) held.rhs[i] = values[std::size_t(i)];
+    return held;
   }
 
+  template <typename Solver>
+  static Eigen::VectorXd solve(Solver& solver, const Held& held) {
+    solver.factorize(held.system);
+    if (solver.info() != Eigen::Success)
+      throw std::runtime_error("an envelope's system could not be factored");
+    return solver.solve(held.rhs);
+  }
+
+  Envelope kind_;
   Sparse operator_;
   std::vector<std::uint8_t> isolated_;
-  std::array<SparseCholesky, 2> solvers_;
+  std::array<Eigen::SimplicialLDLT<Sparse>, 2> simplicial_;
+  std::array<SparseCholesky, 2> supernodal_;
 };
 
 struct SiftResult {

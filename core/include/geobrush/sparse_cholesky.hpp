@@ -1,6 +1,7 @@
-// The sparse Cholesky factorization the nodes share: CHOLMOD's supernodal LL^T (SuiteSparse),
-// whose dense supernode kernels (BLAS) factor the meshes' Laplacian systems several times faster
-// than a simplicial factorization. Symmetric positive definite matrices only.
+// CHOLMOD's supernodal LL^T (SuiteSparse) for sparse symmetric positive definite systems whose
+// factors fill in densely, such as 2-ring (bilaplacian) operators on meshes: its dense supernode
+// kernels (BLAS) factor those several times faster than Eigen's simplicial LDL^T, which stays
+// faster on 1-ring (Laplacian) systems (BENCHMARKS.md, "Sparse Cholesky for the EMD envelopes").
 #pragma once
 
 #include <Eigen/Core>
