@@ -102,6 +102,15 @@ std::string pasteDownstreamOf(const Graph& graph, const std::string& start) {
 
 }  // namespace
 
+bool isRoiType(const std::string& type) {
+  return type == "geobrush.roi" || type == "geobrush.texture_roi";
+}
+
+bool isPasteType(const std::string& type) {
+  return type == "geobrush.stitch" || type == "geobrush.variational_paste" ||
+         type == "geobrush.cdt_stitch";
+}
+
 std::vector<std::string> CloneRoles::liveTargets() const {
   std::vector<std::string> targets;
   for (const std::string* node : {&paste, &roi, &sourceMap, &targetMap})
@@ -111,11 +120,11 @@ std::vector<std::string> CloneRoles::liveTargets() const {
 
 CloneRoles findClone(const Graph& graph, const std::string& preferredRoi) {
   CloneRoles roles;
-  if (typeOf(graph, preferredRoi) == "geobrush.roi") {
+  if (isRoiType(typeOf(graph, preferredRoi))) {
     roles.roi = preferredRoi;
   } else {
     for (const auto& [name, node] : graph.nodes)
-      if (node.type == "geobrush.roi") {
+      if (isRoiType(node.type)) {
         roles.roi = name;
         break;
       }
@@ -142,8 +151,7 @@ CloneRoles findClone(const Graph& graph, const std::string& preferredRoi) {
   if (const Endpoint* mesh = sourceOf(graph, roles.targetMap, "mesh")) roles.targetMesh = *mesh;
   for (const auto& c : graph.connections) {
     if (c.from.node != roles.roi || c.from.port != "region") continue;
-    const std::string type = typeOf(graph, c.to.node);
-    if (type == "geobrush.stitch" || type == "geobrush.variational_paste") {
+    if (isPasteType(typeOf(graph, c.to.node))) {
       roles.paste = c.to.node;
       break;
     }

@@ -42,6 +42,11 @@ struct CloneRoles {
 // The bounding box of a mesh's vertices (what framing and brush sizes start from).
 Eigen::AlignedBox3d boundsOf(const TriMesh& mesh);
 
+// The node types that paint the region of interest (geobrush.roi and its drop-ins) and that paste
+// it into the target (stitch and its alternatives): what a clone is found by.
+bool isRoiType(const std::string& type);
+bool isPasteType(const std::string& type);
+
 // The clone around the ROI node `preferredRoi` if it is one, else the first ROI node by name.
 CloneRoles findClone(const Graph& graph, const std::string& preferredRoi = {});
 

@@ -82,7 +82,7 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
     params_->showNode(document_, node);
     // Selecting another clone's ROI (or strokes) node shows that clone.
     const auto it = document_.graph().nodes.find(node);
-    if (it != document_.graph().nodes.end() && it->second.type == "geobrush.roi") {
+    if (it != document_.graph().nodes.end() && isRoiType(it->second.type)) {
       updateRoles();
       evaluateLive();
     }
@@ -196,7 +196,7 @@ void StudioWindow::evaluateLive() {
 
 void StudioWindow::updateRoles() {
   const auto it = document_.graph().nodes.find(selected_);
-  const bool roi = it != document_.graph().nodes.end() && it->second.type == "geobrush.roi";
+  const bool roi = it != document_.graph().nodes.end() && isRoiType(it->second.type);
   const std::string preferred = roi ? selected_ : clone_->roles().roi;
   clone_->setRoles(findClone(document_.graph(), preferred));
   // A graph without a clone gets the whole window for its nodes.

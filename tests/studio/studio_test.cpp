@@ -394,7 +394,8 @@ TEST(CloneView, PicksAndDrawsOnAFlatCanvasAsTheGeometrySays) {
 TEST(CloneView, FindsTheRolesOfEveryCloneGraph) {
   for (const char* name :
        {"clone_mountain_sphere.json", "clone_ear_cube_edge.json", "fill_bunny_small_back.json",
-        "compare_mountain_sphere_variational.json"}) {
+        "compare_mountain_sphere_variational.json", "compare_mountain_sphere_dpm.json",
+        "compare_mountain_sphere_dpm_literal.json"}) {
     SCOPED_TRACE(name);
     const auto roles = geobrush::studio::findClone(readGraphFile(graphFile(name)));
     ASSERT_TRUE(roles.found());
