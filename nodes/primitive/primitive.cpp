@@ -243,6 +243,29 @@ Surface makeTorus(const PrimitiveOptions& o) {
   return s;
 }
 
+// d/dtheta x d/dz is the outward normal, so (i, j) -> (i+1, j) -> (i+1, j+1) faces outward.
+Surface makeCylinder(const PrimitiveOptions& o) {
+  const int n = o.resolution;
+  const int rows = cylinderRows(n, o.size, o.height);
+  Surface s;
+  for (int j = 0; j <= rows; ++j) {
+    const double z = o.height * (double(j) / rows - 0.5);
+    for (int i = 0; i < n; ++i) {
+      const double theta = 2 * std::numbers::pi * i / n;
+      const Vec3d normal(std::cos(theta), std::sin(theta), 0.0);
+      s.points.push_back(o.size * normal + Vec3d(0.0, 0.0, z));
+      s.normals.push_back(normal);
+    }
+  }
+  const auto index = [n](int i, int j) { return j * n + i % n; };
+  for (int j = 0; j < rows; ++j) {
+    for (int i = 0; i < n; ++i)
+      addQuad(s, index(i, j), index(i + 1, j), index(i + 1, j + 1), index(i, j + 1));
+    report(o, 0.4 * (j + 1) / rows);
+  }
+  return s;
+}
+
 std::uint64_t splitMix64(std::uint64_t x) {
   x += 0x9e3779b97f4a7c15ull;
   x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
@@ -306,6 +329,8 @@ Surface makeBase(const PrimitiveOptions& o) {
       return makeRoundedCube(o);
     case PrimitiveShape::Torus:
       return makeTorus(o);
+    case PrimitiveShape::Cylinder:
+      return makeCylinder(o);
   }
   throw std::logic_error("unknown primitive shape");
 }
@@ -322,6 +347,8 @@ double faceCount(const PrimitiveOptions& o) {
       return 12 * n * n;
     case PrimitiveShape::Torus:
       return 2 * n * torusTubeSegments(o.resolution, o.size, o.minorRadius);
+    case PrimitiveShape::Cylinder:
+      return 2 * n * cylinderRows(o.resolution, o.size, o.height);
   }
   throw std::logic_error("unknown primitive shape");
 }
@@ -342,26 +369,34 @@ std::string_view primitiveShapeName(PrimitiveShape shape) {
       return "rounded_cube";
     case PrimitiveShape::Torus:
       return "torus";
+    case PrimitiveShape::Cylinder:
+      return "cylinder";
   }
   throw std::logic_error("unknown primitive shape");
 }
 
 const std::vector<std::string>& primitiveShapeNames() {
-  static const std::vector<std::string> names = {"plane", "sphere", "rounded_cube", "torus"};
+  static const std::vector<std::string> names = {"plane", "sphere", "rounded_cube", "torus",
+                                                 "cylinder"};
   return names;
 }
 
 PrimitiveShape parsePrimitiveShape(std::string_view name) {
   for (auto shape : {PrimitiveShape::Plane, PrimitiveShape::Sphere, PrimitiveShape::RoundedCube,
-                     PrimitiveShape::Torus}) {
+                     PrimitiveShape::Torus, PrimitiveShape::Cylinder}) {
     if (primitiveShapeName(shape) == name) return shape;
   }
-  throw PrimitiveOptionError(
-      "shape", "unknown shape '" + std::string(name) + "' (plane, sphere, rounded_cube or torus)");
+  throw PrimitiveOptionError("shape", "unknown shape '" + std::string(name) +
+                                          "' (plane, sphere, rounded_cube, torus or cylinder)");
 }
 
 int torusTubeSegments(int resolution, double size, double minorRadius) {
   return std::max(3, static_cast<int>(std::lround(resolution * minorRadius / size)));
+}
+
+int cylinderRows(int resolution, double size, double height) {
+  const double perLength = resolution / (2 * std::numbers::pi * size);
+  return std::max(1, static_cast<int>(std::lround(std::min(perLength * height, 1e9))));
 }
 
 void validatePrimitiveOptions(const PrimitiveOptions& o) {
@@ -379,7 +414,11 @@ void validatePrimitiveOptions(const PrimitiveOptions& o) {
                                "must be at most size (the half-extent) for a rounded cube");
   }
 
-  const int minResolution = o.shape == PrimitiveShape::Torus ? 3 : 1;
+  if (o.shape == PrimitiveShape::Cylinder && !positiveFinite(o.height)) {
+    throw PrimitiveOptionError("height", "must be a number > 0");
+  }
+  const bool round = o.shape == PrimitiveShape::Torus || o.shape == PrimitiveShape::Cylinder;
+  const int minResolution = round ? 3 : 1;
   if (o.resolution < minResolution) {
     throw PrimitiveOptionError(
         "resolution", "must be at least " + std::to_string(minResolution) + " for a " + shape);
@@ -410,6 +449,11 @@ void validatePrimitiveOptions(const PrimitiveOptions& o) {
     case PrimitiveShape::RoundedCube:
       if (o.relief >= o.minorRadius) {
         throw PrimitiveOptionError("relief", "must be below minor_radius (the edge radius)");
+      }
+      break;
+    case PrimitiveShape::Cylinder:
+      if (o.relief >= o.size) {
+        throw PrimitiveOptionError("relief", "must be below size (the radius)");
       }
       break;
     case PrimitiveShape::Torus:

@@ -48,6 +48,8 @@ Vec3d analyticNormal(const PrimitiveOptions& o, const Vec3d& p) {
       const Vec3d core(o.size * p[0] / rho, o.size * p[1] / rho, 0);
       return (p - core).normalized();
     }
+    case PrimitiveShape::Cylinder:
+      return Vec3d(p[0], p[1], 0).normalized();
   }
   return {};
 }
@@ -127,6 +129,48 @@ TEST(Primitive, TorusAreaAndVolumeConverge) {
   expectConverges(e.area, 3.5);
   expectConverges(e.volume, 3.5);
   EXPECT_LT(e.volume.back(), 1e-2);
+}
+
+// The open tube of radius r and height h around the z axis, facing outward, two boundary loops.
+TEST(Primitive, CylinderVerticesLieOnTheTubeBetweenItsRims) {
+  const double r = 0.7, h = 2.3;
+  PrimitiveOptions o = options(PrimitiveShape::Cylinder, 36, r);
+  o.height = h;
+  const TriMesh mesh = makePrimitive(o);
+  const int rows = cylinderRows(36, r, h);
+  EXPECT_EQ(rows, int(std::lround(36 * h / (2 * kPi * r))));
+  std::size_t onRims = 0;
+  for (auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    EXPECT_NEAR(std::hypot(p[0], p[1]), r, 1e-12 * r);
+    EXPECT_LE(std::abs(p[2]), h / 2 * (1 + 1e-15));
+    if (std::abs(std::abs(p[2]) - h / 2) < 1e-12 * h) ++onRims;
+  }
+  EXPECT_EQ(onRims, 2u * 36);
+  for (auto f : mesh.faces()) {
+    const auto n = mesh.calc_face_normal(f);
+    const auto c = mesh.calc_face_centroid(f);
+    EXPECT_GT(n[0] * c[0] + n[1] * c[1], 0) << f.idx();
+    EXPECT_NEAR(n[2], 0, 1e-12);
+  }
+  const auto t = test::topology(mesh);
+  EXPECT_EQ(t.faces, 2u * 36 * std::size_t(rows));
+  EXPECT_EQ(t.eulerCharacteristic, 0);  // an annulus
+  EXPECT_EQ(t.boundaryLoops, 2u);
+  EXPECT_EQ(t.boundaryHalfedges, 2u * 36);
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_EQ(t.nonManifoldVertices, 0u);
+}
+
+// The polygonal tube's area, 2 n r sin(pi / n) h, tends to 2 pi r h at second order.
+TEST(Primitive, CylinderAreaConverges) {
+  const double r = 1.2, h = 0.9;
+  PrimitiveOptions o = options(PrimitiveShape::Cylinder, 0, r);
+  o.height = h;
+  const Errors e = convergence(o, {12, 24, 48}, 2 * kPi * r * h, 1.0);
+  expectConverges(e.area, 3.5);
+  o.resolution = 48;
+  EXPECT_NEAR(test::surfaceArea(makePrimitive(o)), 2 * 48 * r * std::sin(kPi / 48) * h, 1e-12);
 }
 
 TEST(Primitive, PlaneIsAFlatSquareWithExactArea) {
@@ -351,6 +395,10 @@ TEST(Primitive, RejectsInvalidOptionsNamingTheOption) {
                  }),
             "relief");
   EXPECT_EQ(with(S::Plane, [](auto& o) { o.reliefFrequency = 0; }), "relief_frequency");
+  EXPECT_EQ(with(S::Cylinder, [](auto& o) { o.height = 0; }), "height");
+  EXPECT_EQ(with(S::Cylinder, [](auto& o) { o.resolution = 2; }), "resolution");
+  EXPECT_EQ(with(S::Cylinder, [](auto& o) { o.relief = 1.0; }), "relief");
+  EXPECT_EQ(with(S::Sphere, [](auto& o) { o.height = -1; }), "(accepted)");
   try {
     makePrimitive(options(S::Sphere, 708));
     ADD_FAILURE() << "a sphere of 10,025,280 faces was made";
@@ -362,7 +410,7 @@ TEST(Primitive, RejectsInvalidOptionsNamingTheOption) {
 }
 
 TEST(Primitive, ShapeNamesRoundTrip) {
-  ASSERT_EQ(primitiveShapeNames().size(), 4u);
+  ASSERT_EQ(primitiveShapeNames().size(), 5u);
   for (const std::string& name : primitiveShapeNames()) {
     EXPECT_EQ(primitiveShapeName(parsePrimitiveShape(name)), name);
   }
