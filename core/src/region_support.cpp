@@ -10,6 +10,44 @@ NodeWindow NodeWindow::grown(int nodes, const DomainGrid& grid) const {
           std::min(grid.height - 1, j1 + nodes)};
 }
 
+NodeWindow nodesIn(const DomainGrid& grid, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+  const Eigen::Vector2d a = (lo - grid.origin) / grid.spacing;
+  const Eigen::Vector2d b = (hi - grid.origin) / grid.spacing;
+  return {std::max(0, int(std::ceil(a.x()))), std::min(grid.width - 1, int(std::floor(b.x()))),
+          std::max(0, int(std::ceil(a.y()))), std::min(grid.height - 1, int(std::floor(b.y())))};
+}
+
+NodeWindow paintedWindow(const Strokes& strokes, const DomainGrid& grid, Eigen::AlignedBox2d* box) {
+  Eigen::AlignedBox2d painted;
+  for (const Dab& dab : strokes.dabs) {
+    if (dab.subtract) continue;
+    const Eigen::Vector2d reach = Eigen::Vector2d::Constant(dab.radius + grid.spacing);
+    painted.extend(dab.center - reach);
+    painted.extend(dab.center + reach);
+  }
+  if (box) *box = painted;
+  if (painted.isEmpty()) return {};
+  return nodesIn(grid, painted.min(), painted.max());
+}
+
+std::vector<int> dabsPaintingNothing(const Strokes& strokes, const DomainGrid& grid,
+                                     const std::function<bool(std::size_t node)>& covered) {
+  std::vector<int> nothing;
+  for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
+    const Dab& dab = strokes.dabs[d];
+    if (dab.subtract) continue;
+    const Eigen::Vector2d reach = Eigen::Vector2d::Constant(dab.radius);
+    const NodeWindow disc = nodesIn(grid, dab.center - reach, dab.center + reach);
+    bool paints = false;
+    for (int j = disc.j0; j <= disc.j1 && !paints; ++j)
+      for (int i = disc.i0; i <= disc.i1 && !paints; ++i)
+        paints = covered(grid.index(i, j)) &&
+                 (grid.position(i, j) - dab.center).squaredNorm() <= dab.radius * dab.radius;
+    if (!paints) nothing.push_back(int(d));
+  }
+  return nothing;
+}
+
 BinnedStrokes::BinnedStrokes(const Strokes& strokes, const DomainGrid& grid)
     : strokes_(strokes),
       origin_(grid.origin),

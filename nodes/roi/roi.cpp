@@ -21,32 +21,6 @@ Box uvBox(const std::vector<Eigen::Vector2d>& uv) {
   return box;
 }
 
-// Grid indices whose nodes may lie in [lo, hi], clamped to the grid.
-void nodeRange(const DomainGrid& grid, const Box& box, int& i0, int& i1, int& j0, int& j1) {
-  const Eigen::Vector2d a = (box.lo - grid.origin) / grid.spacing;
-  const Eigen::Vector2d b = (box.hi - grid.origin) / grid.spacing;
-  i0 = std::max(0, int(std::ceil(a.x())));
-  j0 = std::max(0, int(std::ceil(a.y())));
-  i1 = std::min(grid.width - 1, int(std::floor(b.x())));
-  j1 = std::min(grid.height - 1, int(std::floor(b.y())));
-}
-
-// The bounding box of the dabs that add, one grid spacing wider (a margin for rounding at its
-// edges), and the grid nodes in it: nothing outside is painted.
-NodeWindow paintedWindow(const Strokes& strokes, const DomainGrid& grid, Box& box) {
-  bool any = false;
-  for (const Dab& dab : strokes.dabs) {
-    if (dab.subtract) continue;
-    const Eigen::Vector2d reach = Eigen::Vector2d::Constant(dab.radius + grid.spacing);
-    box.lo = any ? box.lo.cwiseMin(dab.center - reach) : Eigen::Vector2d(dab.center - reach);
-    box.hi = any ? box.hi.cwiseMax(dab.center + reach) : Eigen::Vector2d(dab.center + reach);
-    any = true;
-  }
-  NodeWindow window;
-  if (any) nodeRange(grid, box, window.i0, window.i1, window.j0, window.j1);
-  return window;
-}
-
 // Crossing-number test: whether u lies inside the closed polygon.
 bool insidePolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& u) {
   bool inside = false;
@@ -122,10 +96,9 @@ std::vector<std::uint8_t> domainCoverage(const Parameterization& param, const Do
         (c[1] - c[0]).x() * (c[2] - c[0]).y() - (c[1] - c[0]).y() * (c[2] - c[0]).x();
     if (area == 0) continue;
     Box box{c[0].cwiseMin(c[1]).cwiseMin(c[2]), c[0].cwiseMax(c[1]).cwiseMax(c[2])};
-    int i0, i1, j0, j1;
-    nodeRange(grid, box, i0, i1, j0, j1);
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i) {
+    const NodeWindow nodes = nodesIn(grid, box.lo, box.hi);
+    for (int j = nodes.j0; j <= nodes.j1; ++j)
+      for (int i = nodes.i0; i <= nodes.i1; ++i) {
         const Eigen::Vector2d p = grid.position(i, j);
         // Signed areas of the sub-triangles, relative to the face's: all >= 0 inside (either
         // orientation, so that fold-overs count as covering too).
@@ -145,10 +118,9 @@ std::vector<std::uint8_t> domainCoverage(const Parameterization& param, const Do
       box.lo = box.lo.cwiseMin(u);
       box.hi = box.hi.cwiseMax(u);
     }
-    int i0, i1, j0, j1;
-    nodeRange(grid, box, i0, i1, j0, j1);
-    for (int j = j0; j <= j1; ++j)
-      for (int i = i0; i <= i1; ++i)
+    const NodeWindow nodes = nodesIn(grid, box.lo, box.hi);
+    for (int j = nodes.j0; j <= nodes.j1; ++j)
+      for (int i = nodes.i0; i <= nodes.i1; ++i)
         if (insidePolygon(hole, grid.position(i, j))) covered[grid.index(i, j)] = 1;
   }
   return covered;
@@ -207,11 +179,9 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
   const BinnedStrokes painted(strokes, grid);
   // Only what lies in the box of the adding dabs can be painted: a stroke's cost follows its
   // extent rather than the grid's and the canvases'.
-  Box box{Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
-  const NodeWindow window = paintedWindow(strokes, grid, box);
-  auto inBox = [&](const Eigen::Vector2d& u) {
-    return u.x() >= box.lo.x() && u.y() >= box.lo.y() && u.x() <= box.hi.x() && u.y() <= box.hi.y();
-  };
+  Eigen::AlignedBox2d box;
+  const NodeWindow window = paintedWindow(strokes, grid, &box);
+  auto inBox = [&](const Eigen::Vector2d& u) { return box.contains(u); };
   for (int j = window.j0; j <= window.j1; ++j)
     for (int i = window.i0; i <= window.i1; ++i) {
       const std::size_t n = grid.index(i, j);
@@ -243,21 +213,9 @@ RoiResult paintRegion(const Strokes& strokes, const Parameterization& source,
     return nodeFace[n];
   });
 
-  for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
-    const Dab& dab = strokes.dabs[d];
-    if (dab.subtract) continue;
-    const Eigen::Vector2d reach = Eigen::Vector2d::Constant(dab.radius);
-    int i0, i1, j0, j1;
-    nodeRange(grid, {dab.center - reach, dab.center + reach}, i0, i1, j0, j1);
-    bool paints = false;
-    for (int j = j0; j <= j1 && !paints; ++j)
-      for (int i = i0; i <= i1 && !paints; ++i) {
-        const std::size_t n = grid.index(i, j);
-        paints = sourceSide.coverage[n] && targetSide.coverage[n] &&
-                 (grid.position(i, j) - dab.center).squaredNorm() <= dab.radius * dab.radius;
-      }
-    if (!paints) result.dabsOutside.push_back(int(d));
-  }
+  result.dabsOutside = dabsPaintingNothing(strokes, grid, [&](std::size_t n) {
+    return sourceSide.coverage[n] && targetSide.coverage[n];
+  });
   return result;
 }
 

@@ -181,21 +181,6 @@ int texelAt(const DomainGrid& grid, const Eigen::Vector2d& u) {
   return int(grid.index(int(i), int(j)));
 }
 
-// The texels that may be painted: the box of the adding dabs, one texel wider.
-NodeWindow paintedWindow(const Strokes& strokes, const DomainGrid& grid) {
-  NodeWindow window{grid.width, -1, grid.height, -1};
-  for (const Dab& dab : strokes.dabs) {
-    if (dab.subtract) continue;
-    const double reach = dab.radius / grid.spacing + 1;
-    const Eigen::Vector2d g = (dab.center - grid.origin) / grid.spacing;
-    window.i0 = std::min(window.i0, int(std::max(0.0, std::ceil(g.x() - reach))));
-    window.j0 = std::min(window.j0, int(std::max(0.0, std::ceil(g.y() - reach))));
-    window.i1 = std::max(window.i1, int(std::min(grid.width - 1.0, std::floor(g.x() + reach))));
-    window.j1 = std::max(window.j1, int(std::min(grid.height - 1.0, std::floor(g.y() + reach))));
-  }
-  return window;
-}
-
 // The source faces whose texels were all copied; a face that holds no texel follows the texel
 // under its uv centroid.
 std::vector<char> copiedFaces(const Region2D& region, const NodeWindow& window,
@@ -239,29 +224,6 @@ NodeWindow holdingVertices(NodeWindow window, const DomainGrid& grid,
     window.j1 = std::min(grid.height - 1, std::max(window.j1, int(std::ceil(g.y()))));
   }
   return window;
-}
-
-// Adding dabs that paint no texel covered on both textures.
-std::vector<int> dabsOutside(const Strokes& strokes, const Region2D& region,
-                             const TextureSourceSide& sourceSide, const CanvasTexture& target) {
-  const DomainGrid& grid = region.grid;
-  std::vector<int> outside;
-  for (std::size_t d = 0; d < strokes.dabs.size(); ++d) {
-    const Dab& dab = strokes.dabs[d];
-    if (dab.subtract) continue;
-    Strokes single;
-    single.dabs = {dab};
-    const NodeWindow box = paintedWindow(single, grid);
-    bool paints = false;
-    for (int j = box.j0; j <= box.j1 && !paints; ++j)
-      for (int i = box.i0; i <= box.i1 && !paints; ++i) {
-        const std::size_t t = grid.index(i, j);
-        paints = sourceSide.texture.face[t] && target.face[t] &&
-                 (grid.position(i, j) - dab.center).squaredNorm() <= dab.radius * dab.radius;
-      }
-    if (!paints) outside.push_back(int(d));
-  }
-  return outside;
 }
 
 }  // namespace
@@ -404,7 +366,8 @@ TextureRoiResult copyTexels(const Strokes& strokes, const Parameterization& sour
     const std::uint32_t f = sourceTexture.face[grid.index(i, j)];
     return f != 0 ? int(f) - 1 : sourceLocator.locate(grid.position(i, j)).face;
   });
-  result.dabsOutside = dabsOutside(strokes, region, sourceSide, targetTexture);
+  result.dabsOutside = dabsPaintingNothing(
+      strokes, grid, [&](std::size_t t) { return sourceTexture.face[t] && targetTexture.face[t]; });
   return result;
 }
 

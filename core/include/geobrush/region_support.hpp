@@ -3,6 +3,8 @@
 // paper sections 3.2 and 4.4).
 #pragma once
 
+#include <Eigen/Geometry>
+
 #include <functional>
 #include <vector>
 
@@ -17,6 +19,20 @@ struct NodeWindow {
   // The window `nodes` wider on every side, clamped to the grid.
   NodeWindow grown(int nodes, const DomainGrid& grid) const;
 };
+
+// The grid nodes that may lie in the box [lo, hi], clamped to the grid.
+NodeWindow nodesIn(const DomainGrid& grid, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi);
+
+// The bounding box of the dabs that add, one grid spacing wider (a margin for rounding at its
+// edges), and the grid nodes in it: nothing outside is painted. The window is empty, and `box`
+// (where given) left empty, when no dab adds.
+NodeWindow paintedWindow(const Strokes& strokes, const DomainGrid& grid,
+                         Eigen::AlignedBox2d* box = nullptr);
+
+// The adding dabs, by index in stroke order, that paint no grid node where `covered(node)` holds:
+// what a node painting a region warns of.
+std::vector<int> dabsPaintingNothing(const Strokes& strokes, const DomainGrid& grid,
+                                     const std::function<bool(std::size_t node)>& covered);
 
 // Strokes::contains with the dabs binned over cells of the grid: each query tests only the dabs
 // that reach its cell, in stroke order, so the answer is the same and its cost stops growing
