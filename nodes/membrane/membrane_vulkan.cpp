@@ -3,6 +3,7 @@
 #include "membrane_vulkan.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <mutex>
@@ -16,8 +17,6 @@
 
 namespace geobrush::membrane_detail {
 namespace {
-
-using DescriptorPool = gpu::DeviceHandle<VkDescriptorPool, vkDestroyDescriptorPool>;
 
 constexpr int kGroupSize = 64;  // local_size_x of the shader
 
@@ -46,12 +45,6 @@ struct Pass {
 
 // Where each vector lives in the vector buffer, in units of the level's padded size.
 enum VectorSlot : int { kB, kX, kT, kD, kOut, kVectorSlots };
-
-gpu::Buffer hostBuffer(const gpu::VulkanContext& context, std::size_t bytes) {
-  return context.createBuffer(
-      VkDeviceSize(std::max<std::size_t>(bytes, 4)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-}
 
 void computeBarrier(VkCommandBuffer commands, VkAccessFlags dstAccess,
                     VkPipelineStageFlags dstStage) {
@@ -95,8 +88,7 @@ struct VulkanLevelKernels::Resources {
   Shape shape = kFull;
   int inverseDiagonalOffset = 0, regularOffset = 0, customOffset = 0;  // in `coefficients`
   gpu::Buffer vectors, coefficients, customOf;
-  DescriptorPool pool;
-  VkDescriptorSet set = VK_NULL_HANDLE;  // freed with the pool
+  gpu::BoundBuffers bound;
 
   float* vector(VectorSlot slot) const {
     return static_cast<float*>(vectors.mapped()) + std::size_t(slot) * std::size_t(size);
@@ -131,7 +123,7 @@ struct VulkanLevelKernels::Resources {
   void dispatch(VkCommandBuffer commands, const Pass& p) const {
     const VkPipelineLayout layout = program.layout.get();
     vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline.get());
-    vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0,
+    vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &bound.set, 0,
                             nullptr);
     vkCmdPushConstants(commands, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Pass), &p);
     vkCmdDispatch(commands, std::uint32_t((count + kGroupSize - 1) / kGroupSize), 1, 1);
@@ -162,7 +154,7 @@ void VulkanLevelKernels::Resources::uploadCoefficients(const Level& level) {
   r.regularOffset = 2 * r.size;
   r.customOffset = r.regularOffset + kSlots;
   const std::size_t floats = std::size_t(r.customOffset) + single.custom.size() * kSlots;
-  r.coefficients = hostBuffer(r.context, floats * sizeof(float));
+  r.coefficients = r.context.createHostStorageBuffer(floats * sizeof(float));
   float* out = static_cast<float*>(r.coefficients.mapped());
   std::memcpy(out, single.mask.data(), std::size_t(r.size) * sizeof(float));
   std::memcpy(out + r.inverseDiagonalOffset, single.inverseDiagonal.data(),
@@ -171,47 +163,18 @@ void VulkanLevelKernels::Resources::uploadCoefficients(const Level& level) {
   for (std::size_t c = 0; c < single.custom.size(); ++c)
     std::memcpy(out + r.customOffset + c * kSlots, single.custom[c].data(), kSlots * sizeof(float));
 
-  r.customOf = hostBuffer(r.context, std::size_t(r.size) * sizeof(std::int32_t));
+  r.customOf = r.context.createHostStorageBuffer(std::size_t(r.size) * sizeof(std::int32_t));
   std::memcpy(r.customOf.mapped(), level.customOfNode.data(),
               std::size_t(r.size) * sizeof(std::int32_t));
-  r.vectors =
-      hostBuffer(r.context, std::size_t(kVectorSlots) * std::size_t(r.size) * sizeof(float));
+  r.vectors = r.context.createHostStorageBuffer(std::size_t(kVectorSlots) * std::size_t(r.size) *
+                                                sizeof(float));
   std::memset(r.vectors.mapped(), 0, r.vectors.size());
 }
 
 void VulkanLevelKernels::Resources::createDescriptorSet() {
-  Resources& r = *this;
-  const VkDevice device = r.context.device();
-  const VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings};
-  auto poolInfo =
-      gpu::makeInfo<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-  poolInfo.maxSets = 1;
-  poolInfo.poolSizeCount = 1;
-  poolInfo.pPoolSizes = &poolSize;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  gpu::check(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool), "vkCreateDescriptorPool");
-  r.pool = {device, pool};
-
-  const VkDescriptorSetLayout setLayout = r.program.setLayout.get();
-  auto allocInfo =
-      gpu::makeInfo<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-  allocInfo.descriptorPool = pool;
-  allocInfo.descriptorSetCount = 1;
-  allocInfo.pSetLayouts = &setLayout;
-  gpu::check(vkAllocateDescriptorSets(device, &allocInfo, &r.set), "vkAllocateDescriptorSets");
-  const VkDescriptorBufferInfo buffers[kBindings] = {{r.vectors.handle(), 0, VK_WHOLE_SIZE},
-                                                     {r.coefficients.handle(), 0, VK_WHOLE_SIZE},
-                                                     {r.customOf.handle(), 0, VK_WHOLE_SIZE}};
-  VkWriteDescriptorSet writes[kBindings] = {};
-  for (std::uint32_t b = 0; b < kBindings; ++b) {
-    writes[b] = gpu::makeInfo<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-    writes[b].dstSet = r.set;
-    writes[b].dstBinding = b;
-    writes[b].descriptorCount = 1;
-    writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[b].pBufferInfo = &buffers[b];
-  }
-  vkUpdateDescriptorSets(device, kBindings, writes, 0, nullptr);
+  const std::array<VkBuffer, kBindings> buffers = {vectors.handle(), coefficients.handle(),
+                                                   customOf.handle()};
+  bound = context.bindStorageBuffers(program, buffers);
 }
 
 bool VulkanLevelKernels::available() {

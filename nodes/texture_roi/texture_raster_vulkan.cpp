@@ -16,8 +16,6 @@
 namespace geobrush {
 namespace {
 
-using DescriptorPool = gpu::DeviceHandle<VkDescriptorPool, vkDestroyDescriptorPool>;
-
 constexpr std::uint32_t kBindings = 4;  // faces, tileStart, tileFaces, texels
 constexpr std::size_t kTexelWords = 5;  // face id + 1, two weights as (low, high) words
 
@@ -39,14 +37,8 @@ const gpu::ComputeProgram& sharedProgram(gpu::VulkanContext& context) {
   return *program;
 }
 
-gpu::Buffer hostBuffer(const gpu::VulkanContext& context, std::size_t bytes) {
-  return context.createBuffer(
-      VkDeviceSize(std::max<std::size_t>(bytes, 4)), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-}
-
 gpu::Buffer upload(const gpu::VulkanContext& context, const std::vector<std::int32_t>& values) {
-  gpu::Buffer buffer = hostBuffer(context, values.size() * sizeof(std::int32_t));
+  gpu::Buffer buffer = context.createHostStorageBuffer(values.size() * sizeof(std::int32_t));
   if (!values.empty())
     std::memcpy(buffer.mapped(), values.data(), values.size() * sizeof(std::int32_t));
   return buffer;
@@ -55,46 +47,15 @@ gpu::Buffer upload(const gpu::VulkanContext& context, const std::vector<std::int
 // One call's buffers and the descriptor set that binds them.
 struct Call {
   std::array<gpu::Buffer, kBindings> buffers;
-  DescriptorPool pool;
-  VkDescriptorSet set = VK_NULL_HANDLE;  // freed with the pool
+  gpu::BoundBuffers bound;
 };
-
-void bindBuffers(VkDevice device, VkDescriptorSetLayout setLayout, Call& call) {
-  const VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings};
-  auto poolInfo =
-      gpu::makeInfo<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-  poolInfo.maxSets = 1;
-  poolInfo.poolSizeCount = 1;
-  poolInfo.pPoolSizes = &poolSize;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  gpu::check(vkCreateDescriptorPool(device, &poolInfo, nullptr, &pool), "vkCreateDescriptorPool");
-  call.pool = {device, pool};
-  auto allocInfo =
-      gpu::makeInfo<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-  allocInfo.descriptorPool = pool;
-  allocInfo.descriptorSetCount = 1;
-  allocInfo.pSetLayouts = &setLayout;
-  gpu::check(vkAllocateDescriptorSets(device, &allocInfo, &call.set), "vkAllocateDescriptorSets");
-  std::array<VkDescriptorBufferInfo, kBindings> infos{};
-  std::array<VkWriteDescriptorSet, kBindings> writes{};
-  for (std::uint32_t b = 0; b < kBindings; ++b) {
-    infos[b] = {call.buffers[b].handle(), 0, VK_WHOLE_SIZE};
-    writes[b] = gpu::makeInfo<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-    writes[b].dstSet = call.set;
-    writes[b].dstBinding = b;
-    writes[b].descriptorCount = 1;
-    writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[b].pBufferInfo = &infos[b];
-  }
-  vkUpdateDescriptorSets(device, kBindings, writes.data(), 0, nullptr);
-}
 
 void dispatch(gpu::VulkanContext& context, const gpu::ComputeProgram& program, const Call& call,
               const Raster& raster) {
   context.submit([&](VkCommandBuffer commands) {
     vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, program.pipeline.get());
     vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, program.layout.get(), 0, 1,
-                            &call.set, 0, nullptr);
+                            &call.bound.set, 0, nullptr);
     vkCmdPushConstants(commands, program.layout.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
                        sizeof(Raster), &raster);
     // One workgroup per tile (local size kTextureTile x kTextureTile).
@@ -155,8 +116,11 @@ void rasterizeVulkan(const RasterFaces& faces, std::vector<std::uint32_t>& face,
   call.buffers[0] = upload(*context, faces.faces);
   call.buffers[1] = upload(*context, faces.tileStart);
   call.buffers[2] = upload(*context, faces.tileFaces);
-  call.buffers[3] = hostBuffer(*context, texels * kTexelWords * sizeof(std::uint32_t));
-  bindBuffers(context->device(), program.setLayout.get(), call);
+  call.buffers[3] = context->createHostStorageBuffer(texels * kTexelWords * sizeof(std::uint32_t));
+  std::array<VkBuffer, kBindings> handles;
+  for (std::size_t b = 0; b < kBindings; ++b)
+    handles[b] = call.buffers[b].handle();
+  call.bound = context->bindStorageBuffers(program, handles);
   dispatch(*context, program, call, {faces.size, faces.tilesPerSide, kSubtexelBits});
   readTexels(call.buffers[3], texels, face, weight);
 }

@@ -453,6 +453,47 @@ ComputeProgram VulkanContext::createComputeProgram(std::span<const std::uint32_t
   return program;
 }
 
+Buffer VulkanContext::createHostStorageBuffer(std::size_t bytes) const {
+  return createBuffer(VkDeviceSize(std::max<std::size_t>(bytes, 4)),
+                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+}
+
+BoundBuffers VulkanContext::bindStorageBuffers(const ComputeProgram& program,
+                                               std::span<const VkBuffer> buffers) const {
+  const auto count = std::uint32_t(buffers.size());
+  const VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count};
+  auto poolInfo =
+      makeInfo<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  poolInfo.maxSets = 1;
+  poolInfo.poolSizeCount = 1;
+  poolInfo.pPoolSizes = &poolSize;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  check(vkCreateDescriptorPool(device(), &poolInfo, nullptr, &pool), "vkCreateDescriptorPool");
+  BoundBuffers bound;
+  bound.pool = {device(), pool};
+  const VkDescriptorSetLayout setLayout = program.setLayout.get();
+  auto allocInfo =
+      makeInfo<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  allocInfo.descriptorPool = pool;
+  allocInfo.descriptorSetCount = 1;
+  allocInfo.pSetLayouts = &setLayout;
+  check(vkAllocateDescriptorSets(device(), &allocInfo, &bound.set), "vkAllocateDescriptorSets");
+  std::vector<VkDescriptorBufferInfo> infos(count);
+  std::vector<VkWriteDescriptorSet> writes(count);
+  for (std::uint32_t b = 0; b < count; ++b) {
+    infos[b] = {buffers[b], 0, VK_WHOLE_SIZE};
+    writes[b] = makeInfo<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    writes[b].dstSet = bound.set;
+    writes[b].dstBinding = b;
+    writes[b].descriptorCount = 1;
+    writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[b].pBufferInfo = &infos[b];
+  }
+  vkUpdateDescriptorSets(device(), count, writes.data(), 0, nullptr);
+  return bound;
+}
+
 void VulkanContext::submit(const std::function<void(VkCommandBuffer)>& record) {
   std::lock_guard lock(submitMutex_);
   auto allocInfo =

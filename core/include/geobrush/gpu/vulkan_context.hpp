@@ -70,6 +70,7 @@ using RenderPass = DeviceHandle<VkRenderPass, vkDestroyRenderPass>;
 using Framebuffer = DeviceHandle<VkFramebuffer, vkDestroyFramebuffer>;
 using ImageView = DeviceHandle<VkImageView, vkDestroyImageView>;
 using DescriptorSetLayout = DeviceHandle<VkDescriptorSetLayout, vkDestroyDescriptorSetLayout>;
+using DescriptorPool = DeviceHandle<VkDescriptorPool, vkDestroyDescriptorPool>;
 
 // A compute kernel ready to dispatch: storage buffers at bindings 0, 1, ... of descriptor set 0,
 // push constants from offset 0, the compute stage of its SPIR-V's `main`.
@@ -77,6 +78,13 @@ struct ComputeProgram {
   DescriptorSetLayout setLayout;
   PipelineLayout layout;
   Pipeline pipeline;
+};
+
+// A descriptor set binding buffers to a compute program's storage-buffer bindings, and the pool
+// it is freed with.
+struct BoundBuffers {
+  DescriptorPool pool;
+  VkDescriptorSet set = VK_NULL_HANDLE;
 };
 
 // A buffer with memory of its own. Host-visible buffers are also host-coherent
@@ -166,6 +174,11 @@ class VulkanContext {
   ComputeProgram createComputeProgram(std::span<const std::uint32_t> spirv,
                                       std::uint32_t storageBuffers,
                                       std::uint32_t pushConstantBytes) const;
+  // A host-visible, host-coherent storage buffer of `bytes` (at least 4), mapped for its life.
+  Buffer createHostStorageBuffer(std::size_t bytes) const;
+  // `buffers` bound, in order, to bindings 0, 1, ... of `program`'s storage buffers.
+  BoundBuffers bindStorageBuffers(const ComputeProgram& program,
+                                  std::span<const VkBuffer> buffers) const;
 
   // Records a primary command buffer with `record`, submits it and waits for
   // it on a fence.
