@@ -45,16 +45,22 @@ void checkOptions(const ProjectiveMapOptions& o) {
   if (o.reversedRing < 0) throw ProjectiveMapError("reversed_ring", "must be 0 or more");
 }
 
-// The canvas' vector area, the sum of its faces' area-weighted normals: the direction along which
-// its projection has the largest area, set by its outline alone.
-Eigen::Vector3d vectorArea(const TriMesh& mesh) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+// The canvas' vector area, the sum of its faces' area-weighted normals (the direction along which
+// its projection has the largest area, set by its outline alone), and its total area.
+struct CanvasAreas {
+  Eigen::Vector3d vector = Eigen::Vector3d::Zero();
+  double total = 0;
+};
+CanvasAreas areasOf(const TriMesh& mesh) {
+  CanvasAreas areas;
   for (auto f : mesh.faces()) {
     auto v = mesh.cfv_begin(f);
     const Eigen::Vector3d a = pointOf(mesh, *v), b = pointOf(mesh, *++v), c = pointOf(mesh, *++v);
-    sum += (b - a).cross(c - a) / 2;
+    const Eigen::Vector3d face = (b - a).cross(c - a) / 2;
+    areas.vector += face;
+    areas.total += face.norm();
   }
-  return sum;
+  return areas;
 }
 
 // n_P: the given view; by default the view under which the canvas shows its largest area (its
@@ -64,11 +70,8 @@ Eigen::Vector3d vectorArea(const TriMesh& mesh) {
 // tilt it).
 Eigen::Vector3d viewNormal(const Canvas& canvas, const Eigen::Vector3d& view) {
   if (!view.isZero()) return view.normalized();
-  const Eigen::Vector3d area = vectorArea(canvas.surface);
-  double total = 0;
-  for (auto f : canvas.surface.faces())
-    total += canvas.surface.calc_face_area(f);
-  if (area.norm() > 0.1 * total) return area.normalized();
+  const CanvasAreas areas = areasOf(canvas.surface);
+  if (areas.vector.norm() > 0.1 * areas.total) return areas.vector.normalized();
   const bool onSource = canvas.source != nullptr;
   const TriMesh& mesh = onSource ? canvas.source->surface : canvas.surface;
   const int face = onSource ? canvas.sourceFace[std::size_t(canvas.originFace)] : canvas.originFace;
