@@ -456,7 +456,8 @@ ComputeProgram VulkanContext::createComputeProgram(std::span<const std::uint32_t
 Buffer VulkanContext::createHostStorageBuffer(std::size_t bytes) const {
   return createBuffer(VkDeviceSize(std::max<std::size_t>(bytes, 4)),
                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+                      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT,
+                      VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
 }
 
 BoundBuffers VulkanContext::bindStorageBuffers(const ComputeProgram& program,

@@ -174,7 +174,9 @@ class VulkanContext {
   ComputeProgram createComputeProgram(std::span<const std::uint32_t> spirv,
                                       std::uint32_t storageBuffers,
                                       std::uint32_t pushConstantBytes) const;
-  // A host-visible, host-coherent storage buffer of `bytes` (at least 4), mapped for its life.
+  // A host-visible, host-coherent storage buffer of `bytes` (at least 4), mapped for its life;
+  // host-cached where the device has such memory, since the host reads results back from it and
+  // reads from uncached (write-combined) memory crawl on a discrete GPU.
   Buffer createHostStorageBuffer(std::size_t bytes) const;
   // `buffers` bound, in order, to bindings 0, 1, ... of `program`'s storage buffers.
   BoundBuffers bindStorageBuffers(const ComputeProgram& program,
