@@ -39,7 +39,7 @@
 // sequential recurrence), the transfers between levels, the coarsest dense solve and CG in
 // double stay on the CPU, so every smoothed level is one round trip to the device per kernel.
 // Both kernels run in single precision; they round differently, and CG reaches the same solution
-// with either. preferredMembraneKernel (membrane_vulkan.hpp) picks one for the machine.
+// with either.
 #pragma once
 
 #include <cstdint>

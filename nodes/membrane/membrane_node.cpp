@@ -21,11 +21,11 @@ using geobrush::NodeError;
 using geobrush::Parameterization;
 using geobrush::Region2D;
 
-// The kernel the `kernel` param asks for on this machine. "auto" follows the device's type (see
-// preferredMembraneKernel), so a graph computes the same way on every run on one machine.
+// The kernel the `kernel` param asks for. "auto" is the CPU kernel on every device: the Vulkan
+// passes make one submission per smoothed level, and that round trip costs more than the CPU's
+// pass on lavapipe and on a discrete GPU alike (BENCHMARKS.md, "Vulkan on a GPU").
 geobrush::MembraneKernel chooseKernel(const std::string& choice) {
-  if (choice == "auto") return geobrush::preferredMembraneKernel();
-  if (choice == "cpu") return geobrush::MembraneKernel::Cpu;
+  if (choice == "auto" || choice == "cpu") return geobrush::MembraneKernel::Cpu;
   if (choice != "vulkan")
     throw NodeError::param("kernel", "'" + choice + "' is not one of: auto, cpu, vulkan");
   const geobrush::MembraneVulkanDevice device = geobrush::membraneVulkanDevice();
@@ -120,8 +120,8 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                  "and slope, so that g_in + x~ meets the target smoothly. Solved by conjugate "
                  "gradients with a Galerkin multigrid preconditioner from a nested-iteration "
                  "start. The preconditioner's stencil kernels run on the CPU or as Vulkan "
-                 "compute passes; auto picks Vulkan on a GPU and the CPU on a CPU Vulkan device "
-                 "such as lavapipe, where the CPU kernel is far faster.")
+                 "compute passes, one submission per smoothed level; auto picks the CPU kernel, "
+                 "faster than those round trips on lavapipe and on a discrete GPU.")
             .input<Region2D>("region", "Q on its grid, with R_in.")
             .input<Parameterization>("source", "E_s: the source canvas and its map.")
             .optionalInput<Mesh>("draft",
@@ -143,8 +143,8 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .range(1, 10000)
             .paramEnum("kernel", "auto", {"auto", "cpu", "vulkan"},
                        "Where the multigrid's smoother and residuals run: vulkan (the Vulkan "
-                       "device, an error without one), cpu, or auto: vulkan on a discrete or "
-                       "integrated GPU, else cpu. The two agree within the tolerance.")
+                       "device, an error without one), cpu, or auto (cpu, the faster on every "
+                       "device measured). The two agree within the tolerance.")
             .node<MembraneNode>()
             .build());
 }

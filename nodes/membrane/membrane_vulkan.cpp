@@ -265,20 +265,9 @@ MembraneVulkanDevice membraneVulkanDevice() {
     device.unavailableReason = gpu::VulkanContext::unavailableReason();
     return device;
   }
-  const VkPhysicalDeviceType type = context->properties().deviceType;
   device.available = true;
   device.name = context->deviceName();
-  device.gpu = type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ||
-               type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU;
   return device;
-}
-
-MembraneKernel preferredMembraneKernel(const MembraneVulkanDevice& device) {
-  return device.available && device.gpu ? MembraneKernel::Vulkan : MembraneKernel::Cpu;
-}
-
-MembraneKernel preferredMembraneKernel() {
-  return preferredMembraneKernel(membraneVulkanDevice());
 }
 
 const char* membraneKernelName(MembraneKernel kernel) {

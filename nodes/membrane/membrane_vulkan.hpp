@@ -9,8 +9,8 @@
 //
 // On Mesa's lavapipe (the CPU device) a dispatch with its barrier costs about 50 us on an idle
 // machine (milliseconds when its threads compete with other work) and a pass runs slower than
-// the vectorized CPU kernel: preferredMembraneKernel picks the CPU kernel there and Vulkan on a
-// GPU.
+// the vectorized CPU kernel; on a discrete GPU each submission's round trip costs more than the
+// CPU's pass. So the node's kernel=auto runs the CPU kernel, and these passes are opt-in.
 #pragma once
 
 #include <cstddef>
@@ -30,19 +30,10 @@ namespace geobrush {
 struct MembraneVulkanDevice {
   bool available = false;         // a usable Vulkan device exists
   std::string name;               // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"; empty without one
-  bool gpu = false;               // a discrete or integrated GPU, not a CPU device such as lavapipe
   std::string unavailableReason;  // why there is none; empty when there is one
 };
 
 MembraneVulkanDevice membraneVulkanDevice();
-
-// The faster kernel for `device`: Vulkan on a discrete or integrated GPU, else the CPU (on
-// lavapipe the vectorized CPU kernel is two orders of magnitude faster than the same passes on
-// the CPU device). Decided by the device's type alone, never by timing, so that one graph gives
-// the same values on every run on one machine.
-MembraneKernel preferredMembraneKernel(const MembraneVulkanDevice& device);
-// The same for membraneVulkanDevice().
-MembraneKernel preferredMembraneKernel();
 
 // "cpu" or "vulkan".
 const char* membraneKernelName(MembraneKernel kernel);

@@ -88,11 +88,6 @@ bool textureRasterVulkanAvailable() {
   return gpu::VulkanContext::shared() != nullptr;
 }
 
-bool textureRasterVulkanOnGpu() {
-  const gpu::VulkanContext* context = gpu::VulkanContext::shared();
-  return context != nullptr && !context->isCpu();
-}
-
 std::string textureRasterVulkanUnavailableReason() {
   return gpu::VulkanContext::unavailableReason();
 }

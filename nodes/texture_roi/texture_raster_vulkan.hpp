@@ -14,8 +14,6 @@ namespace geobrush {
 // Whether the shared Vulkan context has a device, and why not when it has none.
 bool textureRasterVulkanAvailable();
 std::string textureRasterVulkanUnavailableReason();
-// Whether that device is a GPU, not a software implementation such as lavapipe.
-bool textureRasterVulkanOnGpu();
 // The device's name, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"; empty without one.
 std::string textureRasterVulkanDevice();
 

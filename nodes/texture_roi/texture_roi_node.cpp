@@ -17,14 +17,13 @@ using geobrush::Region2D;
 using geobrush::Strokes;
 using geobrush::TextureKernel;
 
-// "auto" is Vulkan on a GPU and the CPU twin elsewhere (a software Vulkan device such as lavapipe
-// runs the kernel several times slower than the twin); both give the same texture bit for bit.
+// "auto" is the CPU twin on every device: the kernel's one submission, uploads and readback cost
+// more than the twin's pass on lavapipe and on a discrete GPU alike (BENCHMARKS.md, "Vulkan on a
+// GPU"). Both give the same texture bit for bit.
 TextureKernel chooseKernel(const std::string& choice) {
-  if (choice == "cpu") return TextureKernel::Cpu;
-  if (choice != "auto" && choice != "vulkan")
+  if (choice == "auto" || choice == "cpu") return TextureKernel::Cpu;
+  if (choice != "vulkan")
     throw NodeError::param("kernel", "'" + choice + "' is not one of: auto, cpu, vulkan");
-  if (choice == "auto")
-    return geobrush::textureRasterVulkanOnGpu() ? TextureKernel::Vulkan : TextureKernel::Cpu;
   if (geobrush::textureRasterVulkanAvailable()) return TextureKernel::Vulkan;
   throw NodeError::param("kernel", "vulkan needs a Vulkan device, and there is none: " +
                                        geobrush::textureRasterVulkanUnavailableReason());
@@ -105,9 +104,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .paramInt("texture_size", 512, "Texels along each side of both textures (N).")
             .range(16, 4096)
             .paramEnum("kernel", "auto", {"auto", "cpu", "vulkan"},
-                       "Where the textures are rasterized: auto = Vulkan on a GPU, else the CPU "
-                       "(a software Vulkan device is slower than the CPU twin); both give the "
-                       "same textures bit for bit.")
+                       "Where the textures are rasterized: vulkan (the Vulkan device, an error "
+                       "without one), cpu, or auto (cpu, the faster on every device measured); "
+                       "both give the same textures bit for bit.")
             .node<TextureRoiNode>()
             .build());
 }
