@@ -7,8 +7,10 @@
 
 #include <Eigen/Geometry>
 
+#include "geobrush/cut_paste.hpp"
 #include "geobrush/intersection.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/surface_point.hpp"
 
 namespace geobrush {
 namespace {
@@ -242,6 +244,32 @@ PasteMetrics measurePaste(const TriMesh& result, const PasteMap* map, const TriM
   newFaces.erase(std::unique(newFaces.begin(), newFaces.end()), newFaces.end());
   values["new_self_intersections"] = double(selfIntersections(result, newFaces, tolerance));
   return m;
+}
+
+void measureAgainstReference(const TriMesh& result, const PasteMap& map, const TriMesh& reference,
+                             PasteMetrics& metrics) {
+  const SurfaceLocator locator(reference);
+  const std::vector<Eigen::Vector3d> normals = vertexNormals(result);
+  const double diagonal = boundingDiagonal(result);
+  std::vector<double> distances, angles;
+  for (auto v : result.vertices()) {
+    if (map.targetVertex[std::size_t(v.idx())] >= 0) continue;
+    const SurfacePoint nearest = locator.nearest(pointOf(result, v));
+    distances.push_back(nearest.distance / diagonal);
+    const double cosine =
+        normals[std::size_t(v.idx())].dot(faceNormal(reference, TriMesh::FaceHandle(nearest.face)));
+    angles.push_back(degrees(std::acos(std::clamp(cosine, -1.0, 1.0))));
+  }
+  auto& values = metrics.values;
+  values["reference_vertices"] = double(distances.size());
+  if (distances.empty()) {
+    const std::string note = "the result has no new vertex to measure against the reference";
+    metrics.notes.push_back(note);
+    return;
+  }
+  values["reference_mean_distance"] = mean(distances);
+  values["reference_max_distance"] = *std::max_element(distances.begin(), distances.end());
+  values["reference_normal_mean_deg"] = mean(angles);
 }
 
 std::optional<std::string> invalidPaste(const PasteMetrics& metrics) {

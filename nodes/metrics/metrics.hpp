@@ -35,6 +35,15 @@ struct PasteMetrics {
 PasteMetrics measurePaste(const TriMesh& result, const PasteMap* map, const TriMesh* target,
                           const TriMesh* source, const PasteMetricsOptions& options = {});
 
+// Against a reference surface, e.g. the patch a hole case removed (the ground truth of a fill):
+// each new vertex (one the map ties to no target vertex) measured to the reference's nearest
+// point, distances over the result's bounding-box diagonal, and the angle between the result's
+// vertex normal there and the reference face's normal. Adds reference_mean_distance,
+// reference_max_distance, reference_normal_mean_deg and reference_vertices to `metrics` (a note
+// where there is no new vertex). The reference must have a face.
+void measureAgainstReference(const TriMesh& result, const PasteMap& map, const TriMesh& reference,
+                             PasteMetrics& metrics);
+
 // Why a measured paste is not a valid result, or nothing: a result that is not manifold, has
 // more boundary loops than the target (a seam left open) or new self-intersections.
 std::optional<std::string> invalidPaste(const PasteMetrics& metrics);

@@ -14,6 +14,15 @@ using geobrush::NodeError;
 using geobrush::Parameterization;
 using geobrush::PasteMap;
 
+// The new vertices against the reference surface (a hole case's removed patch).
+void measureReference(const Context& ctx, const geobrush::TriMesh& result, const PasteMap* map,
+                      geobrush::PasteMetrics& measured) {
+  const auto reference = ctx.in<Mesh>("reference");
+  if (reference->surface.n_faces() == 0) throw NodeError::input("reference", "it has no face");
+  if (!map) throw NodeError::input("map", "measuring against a reference needs the paste's map");
+  geobrush::measureAgainstReference(result, *map, reference->surface, measured);
+}
+
 class MetricsNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -32,6 +41,7 @@ class MetricsNode final : public geobrush::Node {
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("map", e.what());
     }
+    if (ctx.hasInput("reference")) measureReference(ctx, mesh->surface, map.get(), measured);
     const auto invalid = geobrush::invalidPaste(measured);
     auto metrics = std::make_shared<geobrush::Metrics>();
     metrics->values = std::move(measured.values);
@@ -57,7 +67,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                  "detail_difference_percent, the difference of Laplacian-coordinate magnitudes "
                  "between the pasted vertices away from the seam and the source canvas', after "
                  "scaling by scale_ratio. new_self_intersections: intersecting face pairs with a "
-                 "pasted or seam face.")
+                 "pasted or seam face. With a reference (a hole's removed patch): "
+                 "reference_mean_distance and reference_max_distance of the new vertices over "
+                 "the bounding-box diagonal, reference_normal_mean_deg.")
             .input<Mesh>("mesh", "The result of a paste.")
             .optionalInput<PasteMap>("map",
                                      "Where each vertex came from and the seam faces (the "
@@ -68,6 +80,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .optionalInput<Parameterization>("source",
                                              "The source map, whose canvas the detail is "
                                              "compared with.")
+            .optionalInput<Mesh>("reference",
+                                 "The surface a fill should follow, e.g. the patch a hole case "
+                                 "removed; needs the map.")
             .output<geobrush::Metrics>("metrics", "The measurements and notes.")
             .paramInt("seam_band", 3,
                       "Pasted vertices this many edges from the seam or closer are left out of "

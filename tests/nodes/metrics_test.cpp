@@ -213,3 +213,84 @@ TEST(MetricsNode, RequireValidPassesACleanPasteAndNamesEachProblem) {
             "the paste has 2 non-manifold vertices, 1 more boundary loops than the target, 7 new "
             "self-intersections");
 }
+
+namespace {
+
+// A flat n x n grid of unit squares at height z, two triangles each, facing +z.
+TriMesh flatGrid(int n, double z) {
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> v;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x)
+      v.push_back(mesh.add_vertex(TriMesh::Point(x, y, z)));
+  const auto at = [&](int x, int y) { return v[std::size_t(y * (n + 1) + x)]; };
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      mesh.add_face(at(x, y), at(x + 1, y), at(x + 1, y + 1));
+      mesh.add_face(at(x, y), at(x + 1, y + 1), at(x, y + 1));
+    }
+  return mesh;
+}
+
+}  // namespace
+
+// New vertices lifted by h above a flat reference: every distance is h, the normals agree.
+TEST(Metrics, NewVerticesAreMeasuredAgainstAReferenceSurface) {
+  const int n = 8;
+  TriMesh result = flatGrid(n, 0);
+  PasteMap map;
+  map.targetVertex.resize(result.n_vertices());
+  map.sourceVertex.assign(result.n_vertices(), -1);
+  std::iota(map.targetVertex.begin(), map.targetVertex.end(), 0);
+  const double h = 0.25;
+  for (int v : {30, 31, 40}) {  // interior vertices, lifted together
+    map.targetVertex[std::size_t(v)] = -1;
+    result.point(TriMesh::VertexHandle(v))[2] = h;
+  }
+  const TriMesh reference = flatGrid(2 * n, 0);
+  PasteMetrics metrics;
+  measureAgainstReference(result, map, reference, metrics);
+  const double diagonal = boundingDiagonal(result);
+  EXPECT_EQ(metrics.values.at("reference_vertices"), 3);
+  EXPECT_NEAR(metrics.values.at("reference_mean_distance"), h / diagonal, 1e-15);
+  EXPECT_NEAR(metrics.values.at("reference_max_distance"), h / diagonal, 1e-15);
+  EXPECT_GT(metrics.values.at("reference_normal_mean_deg"), 0);  // lifted: the normals tilt
+  EXPECT_LT(metrics.values.at("reference_normal_mean_deg"), 45);
+  PasteMetrics none;
+  std::iota(map.targetVertex.begin(), map.targetVertex.end(), 0);
+  measureAgainstReference(flatGrid(n, 0), map, reference, none);
+  EXPECT_EQ(none.values.at("reference_vertices"), 0);
+  EXPECT_EQ(none.notes.size(), 1u);
+}
+
+// The whole bunny measured against the patch its hole case removed, the removed vertices counted
+// as new: they lie on the patch, so the distances vanish.
+TEST(MetricsNode, TheRemovedVerticesOfAHoleCaseLieOnItsPatch) {
+  const NodeType* type = test::registry().find("geobrush.metrics");
+  ASSERT_TRUE(type);
+  const auto whole = readMesh(test::meshPath("bunny_small.obj")).mesh;
+  const auto patch = readMesh(test::meshPath("cases/bunny_small_back_removed_patch.obj")).mesh;
+  auto map = std::make_shared<PasteMap>();
+  map->targetVertex.resize(whole->surface.n_vertices());
+  map->sourceVertex.assign(whole->surface.n_vertices(), -1);
+  std::iota(map->targetVertex.begin(), map->targetVertex.end(), 0);
+  // The case's removed interior vertices (cases/bunny_small_back_hole.json).
+  for (int v : {38,  41,  55,  83,  93,  100, 107, 116, 127, 129,
+                140, 162, 225, 303, 360, 429, 439, 444, 481, 494})
+    map->targetVertex[std::size_t(v)] = -1;
+  test::DirectContext ctx(*type, {{"mesh", whole}, {"map", map}, {"reference", patch}});
+  type->create()->compute(ctx);
+  const auto metrics = std::dynamic_pointer_cast<const Metrics>(ctx.outputs["metrics"]);
+  ASSERT_TRUE(metrics);
+  EXPECT_EQ(metrics->values.at("reference_vertices"), 20);
+  EXPECT_LT(metrics->values.at("reference_max_distance"), 1e-9);
+  EXPECT_LT(metrics->values.at("reference_normal_mean_deg"), 30);
+
+  test::DirectContext unmapped(*type, {{"mesh", whole}, {"reference", patch}});
+  try {
+    type->create()->compute(unmapped);
+    FAIL() << "no error";
+  } catch (const NodeError& e) {
+    EXPECT_EQ(e.where(), "input 'map'");
+  }
+}
