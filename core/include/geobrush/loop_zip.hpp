@@ -23,6 +23,9 @@ class LoopZipMetric {
   virtual ~LoopZipMetric() = default;
   virtual double edge(std::size_t i, std::size_t j) const = 0;
   virtual bool turnsOver(LoopCorner p, LoopCorner q, LoopCorner r) const = 0;
+  // Whether the triangle has no area to speak of (its corners in a line, to rounding): zipChains
+  // avoids such triangles, which a gap between chains lying on one line would otherwise get.
+  virtual bool flat(LoopCorner, LoopCorner, LoopCorner) const { return false; }
 };
 
 // Loops laid out in a parameter domain whose faces are counterclockwise: edges measured there,
@@ -33,6 +36,7 @@ class DomainZipMetric final : public LoopZipMetric {
       : uvA_(uvA), uvB_(uvB) {}
   double edge(std::size_t i, std::size_t j) const override { return (uvA_[i] - uvB_[j]).norm(); }
   bool turnsOver(LoopCorner p, LoopCorner q, LoopCorner r) const override;
+  bool flat(LoopCorner p, LoopCorner q, LoopCorner r) const override;
 
  private:
   const Eigen::Vector2d& at(LoopCorner c) const { return c.onA ? uvA_[c.index] : uvB_[c.index]; }
@@ -53,8 +57,12 @@ class SpaceZipMetric final : public LoopZipMetric {
     return (pointsA_[i] - pointsB_[j]).norm();
   }
   bool turnsOver(LoopCorner p, LoopCorner q, LoopCorner r) const override;
+  bool flat(LoopCorner p, LoopCorner q, LoopCorner r) const override;
 
  private:
+  const Eigen::Vector3d& pointAt(LoopCorner c) const {
+    return c.onA ? pointsA_[c.index] : pointsB_[c.index];
+  }
   const std::vector<Eigen::Vector3d>& pointsA_;
   const std::vector<Eigen::Vector3d>& pointsB_;
   const std::vector<Eigen::Vector3d>& normalsA_;
@@ -71,5 +79,21 @@ class SpaceZipMetric final : public LoopZipMetric {
 // Gives |a| + |b| triangles.
 std::vector<std::array<int, 3>> zipLoops(const std::vector<int>& a, const std::vector<int>& b,
                                          const LoopZipMetric& metric, bool keepOrientation);
+
+// The triangles filling the polygon between two open chains with common ends: `a` runs from
+// a.front() to a.back(), `b` from b.front() == a.back() to b.back() == a.front(), both in the
+// direction of their boundary halfedges (the gap between two loops that share vertices, between
+// two consecutive shared ones; with one shared vertex, both chains are whole loops from it back
+// to it). The zip walks a forwards and b backwards from their common vertex a.front() to a.back(),
+// each triangle taking the next vertex of one chain and the current vertex of the other, so its
+// orientation agrees with both sides; the first and last steps join a vertex to itself and give
+// no triangle, and no new edge joins a vertex to itself. It takes the shorter new edge at each
+// step (with `keepOrientation`, the other one where only the other keeps the triangle from
+// turning over or lying flat); where the greedy strip turns over or flattens triangles, the strip
+// with the fewest such and of those the shortest new edges, when the chains' product is small
+// enough. Gives |a| + |b| - 4 triangles: none for two chains of one edge each (one shared edge).
+// Throws std::invalid_argument when a chain has fewer than two vertices or the ends differ.
+std::vector<std::array<int, 3>> zipChains(const std::vector<int>& a, const std::vector<int>& b,
+                                          const LoopZipMetric& metric, bool keepOrientation);
 
 }  // namespace geobrush
