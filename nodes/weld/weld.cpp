@@ -1,0 +1,287 @@
+#include "weld.hpp"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "geobrush/border_loop.hpp"
+#include "geobrush/cut_paste.hpp"
+#include "geobrush/intersection.hpp"
+#include "geobrush/loop_zip.hpp"
+
+namespace geobrush {
+namespace {
+
+using Eigen::Vector3d;
+
+std::string text(std::size_t n) {
+  return std::to_string(n);
+}
+
+// The patch's only boundary loop; refuses a patch that cannot be joined along one loop.
+std::vector<int> onlyPatchLoop(const TriMesh& patch) {
+  if (patch.n_faces() == 0) throw WeldError("patch", "the patch has no faces");
+  for (auto v : patch.vertices()) {
+    if (patch.is_isolated(v))
+      throw WeldError("patch", "patch vertex " + text(std::size_t(v.idx())) + " has no face");
+    if (!patch.is_manifold(v))
+      throw WeldError("patch", "patch vertex " + text(std::size_t(v.idx())) + " is not manifold");
+  }
+  auto loops = boundaryLoops(patch);
+  if (loops.size() != 1)
+    throw WeldError("patch", "the patch has " + text(loops.size()) +
+                                 " boundary loops; it needs exactly one to join the hole");
+  return std::move(loops.front());
+}
+
+std::vector<Vector3d> loopPoints(const TriMesh& mesh, const std::vector<int>& loop) {
+  std::vector<Vector3d> points;
+  points.reserve(loop.size());
+  for (int v : loop)
+    points.push_back(pointOf(mesh, v));
+  return points;
+}
+
+// Twice the vector area of the closed polygon: the normal of the surface it bounds, scaled.
+Vector3d vectorArea(const std::vector<Vector3d>& polygon) {
+  Vector3d sum = Vector3d::Zero();
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+    sum += polygon[i].cross(polygon[(i + 1) % polygon.size()]);
+  return sum;
+}
+
+// A patch boundary vertex that becomes a border vertex: positions in the two loops.
+struct Share {
+  std::size_t border = 0, patch = 0;
+};
+
+// Each patch loop vertex within `tolerance` of its nearest border vertex, in patch loop order.
+std::vector<Share> sharedVertices(const std::vector<Vector3d>& border,
+                                  const std::vector<Vector3d>& patch, double tolerance) {
+  std::vector<Share> shares;
+  std::vector<long> takenBy(border.size(), -1);
+  for (std::size_t j = 0; j < patch.size(); ++j) {
+    std::size_t nearest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < border.size(); ++i)
+      if (const double d = (border[i] - patch[j]).norm(); d < best) {
+        best = d;
+        nearest = i;
+      }
+    if (best > tolerance) continue;
+    if (takenBy[nearest] >= 0)
+      throw WeldError("patch", "patch boundary vertices at loop positions " +
+                                   text(std::size_t(takenBy[nearest])) + " and " + text(j) +
+                                   " both lie on border vertex " + text(nearest));
+    takenBy[nearest] = long(j);
+    shares.push_back({nearest, j});
+  }
+  return shares;
+}
+
+// Whether the patch's loop runs along the border's (the patch faces the other way) rather than
+// against it. Three or more shared vertices tell by their order, which must go once around both
+// loops; fewer, by the loops' vector areas.
+bool runsAlong(const std::vector<Share>& shares, const std::vector<Vector3d>& border,
+               const std::vector<Vector3d>& patch) {
+  if (shares.size() < 3) return vectorArea(border).dot(vectorArea(patch)) > 0;
+  const std::size_t n = border.size();
+  std::size_t forwards = 0, backwards = 0;
+  for (std::size_t k = 0; k < shares.size(); ++k) {
+    const std::size_t from = shares[k].border, to = shares[(k + 1) % shares.size()].border;
+    forwards += (to + n - from) % n;
+    backwards += (from + n - to) % n;
+  }
+  if (backwards == n) return false;
+  if (forwards == n) return true;
+  throw WeldError("patch",
+                  "the patch's boundary vertices on the border are not in the border's cyclic "
+                  "order");
+}
+
+// The border's vertices and the patch's (as result vertices), the shared ones by border order.
+struct Seam {
+  std::vector<int> border, patch;
+  std::vector<Share> shares;
+};
+
+// The patch's vertices (the unshared ones added, in order) and faces appended to `out`.
+std::vector<int> appendPatch(TriMesh& out, const TriMesh& patch, const std::vector<int>& loop,
+                             const Seam& seam, bool flip) {
+  std::vector<int> ids(patch.n_vertices(), -1);
+  for (const Share& s : seam.shares)
+    ids[std::size_t(loop[s.patch])] = seam.border[s.border];
+  for (auto v : patch.vertices())
+    if (ids[std::size_t(v.idx())] < 0)
+      ids[std::size_t(v.idx())] = out.add_vertex(patch.point(v)).idx();
+  for (auto f : patch.faces()) {
+    std::array<TriMesh::VertexHandle, 3> c;
+    int k = 0;
+    for (auto v : patch.fv_range(f))
+      c[std::size_t(k++)] = TriMesh::VertexHandle(ids[std::size_t(v.idx())]);
+    if (flip) std::swap(c[1], c[2]);
+    if (!out.add_face(c[0], c[1], c[2]).is_valid())
+      throw WeldError("patch", "patch face " + text(std::size_t(f.idx())) +
+                                   " cannot join the holed mesh as a manifold (it overlaps the "
+                                   "mesh's faces at the shared vertices)");
+  }
+  return ids;
+}
+
+// The zip in space between result vertex chains (or loops), against the surfaces' normals.
+template <typename Zip>
+std::vector<std::array<int, 3>> zipInSpace(const TriMesh& out, const std::vector<Vector3d>& normals,
+                                           const std::vector<int>& a, const std::vector<int>& b,
+                                           Zip zip) {
+  std::vector<Vector3d> na, nb;
+  for (int v : a)
+    na.push_back(normals[std::size_t(v)]);
+  for (int v : b)
+    nb.push_back(normals[std::size_t(v)]);
+  const std::vector<Vector3d> pa = loopPoints(out, a), pb = loopPoints(out, b);
+  return zip(a, b, SpaceZipMetric(pa, pb, na, nb), true);
+}
+
+// `loop` from position `from` forwards `count` edges.
+std::vector<int> arc(const std::vector<int>& loop, std::size_t from, std::size_t count) {
+  std::vector<int> vertices;
+  for (std::size_t k = 0; k <= count; ++k)
+    vertices.push_back(loop[(from + k) % loop.size()]);
+  return vertices;
+}
+
+// The strip triangles: the whole loops zipped where nothing is shared, else each gap between
+// consecutive shared vertices (the patch's arc runs back from the next shared vertex).
+std::vector<std::array<int, 3>> gapTriangles(const TriMesh& out, const Seam& seam) {
+  const std::vector<Vector3d> normals = vertexNormals(out);
+  if (seam.shares.empty())
+    return zipInSpace(out, normals, seam.patch, seam.border,
+                      [](const auto&... args) { return zipLoops(args...); });
+  const std::size_t n = seam.border.size(), m = seam.patch.size();
+  std::vector<std::array<int, 3>> triangles;
+  for (std::size_t k = 0; k < seam.shares.size(); ++k) {
+    const Share& here = seam.shares[k];
+    const Share& next = seam.shares[(k + 1) % seam.shares.size()];
+    const std::size_t borderEdges = (next.border + n - here.border - 1) % n + 1;
+    const std::size_t patchEdges = (here.patch + m - next.patch - 1) % m + 1;
+    const auto gap = zipInSpace(out, normals, arc(seam.patch, next.patch, patchEdges),
+                                arc(seam.border, here.border, borderEdges),
+                                [](const auto&... args) { return zipChains(args...); });
+    triangles.insert(triangles.end(), gap.begin(), gap.end());
+  }
+  return triangles;
+}
+
+std::vector<int> addStrip(TriMesh& out, const std::vector<std::array<int, 3>>& triangles) {
+  std::vector<int> faces;
+  for (const auto& t : triangles) {
+    const auto f = out.add_face(TriMesh::VertexHandle(t[0]), TriMesh::VertexHandle(t[1]),
+                                TriMesh::VertexHandle(t[2]));
+    if (!f.is_valid())
+      throw WeldError("patch", "the seam's triangle " + text(std::size_t(t[0])) + ", " +
+                                   text(std::size_t(t[1])) + ", " + text(std::size_t(t[2])) +
+                                   " would make the result non-manifold");
+    faces.push_back(f.idx());
+  }
+  return faces;
+}
+
+void requireClosedSeam(const TriMesh& out, const Seam& seam) {
+  for (const auto* loop : {&seam.border, &seam.patch})
+    for (std::size_t i = 0; i < loop->size(); ++i) {
+      const TriMesh::VertexHandle v((*loop)[i]);
+      if (!out.is_manifold(v))
+        throw WeldError("patch",
+                        "the weld leaves vertex " + text(std::size_t(v.idx())) + " non-manifold");
+    }
+}
+
+// Patch faces on an edge where the two loops coincide: the seam where no strip lies between.
+std::vector<int> sharedEdgeFaces(const TriMesh& out, const Seam& seam) {
+  std::vector<int> faces;
+  const std::size_t n = seam.border.size();
+  for (std::size_t k = 0; k < seam.shares.size(); ++k) {
+    const Share& here = seam.shares[k];
+    const Share& next = seam.shares[(k + 1) % seam.shares.size()];
+    const bool oneEdge = (next.border + n - here.border) % n == 1 &&
+                         (here.patch + seam.patch.size() - next.patch) % seam.patch.size() == 1;
+    if (!oneEdge) continue;
+    const auto h = out.find_halfedge(TriMesh::VertexHandle(seam.border[here.border]),
+                                     TriMesh::VertexHandle(seam.border[next.border]));
+    if (h.is_valid() && out.face_handle(h).is_valid()) faces.push_back(out.face_handle(h).idx());
+  }
+  std::sort(faces.begin(), faces.end());  // a face in a corner lies on two seam edges
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+// Face pairs meeting near the seam: faces with a corner on either loop.
+std::size_t seamIntersections(const TriMesh& out, const Seam& seam) {
+  std::vector<char> near(out.n_faces(), 0);
+  for (const auto* loop : {&seam.border, &seam.patch})
+    for (int v : *loop)
+      for (auto f : out.vf_range(TriMesh::VertexHandle(v)))
+        near[std::size_t(f.idx())] = 1;
+  std::vector<int> faces;
+  for (std::size_t f = 0; f < near.size(); ++f)
+    if (near[f]) faces.push_back(int(f));
+  return selfIntersections(out, faces, 1e-12 * boundingDiagonal(out));
+}
+
+PasteMap pasteMap(const WeldResult& result, std::size_t holedVertices,
+                  const std::vector<int>& patchIds) {
+  PasteMap map;
+  map.targetVertex.assign(result.mesh.n_vertices(), -1);
+  map.sourceVertex.assign(result.mesh.n_vertices(), -1);
+  for (std::size_t v = 0; v < holedVertices; ++v)
+    map.targetVertex[v] = int(v);
+  for (std::size_t v = 0; v < patchIds.size(); ++v)
+    map.sourceVertex[std::size_t(patchIds[v])] = int(v);
+  return map;
+}
+
+}  // namespace
+
+WeldResult weld(const TriMesh& holed, const std::vector<int>& border, const TriMesh& patch,
+                const WeldOptions& options) {
+  if (const std::string problem = borderLoopProblem(holed, border); !problem.empty())
+    throw WeldError("border", "not a boundary loop of the holed mesh: " + problem);
+  std::vector<int> patchLoop = onlyPatchLoop(patch);
+  const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
+  std::vector<Vector3d> patchPoints = loopPoints(patch, patchLoop);
+  const double tolerance = options.shareTolerance * boundingDiagonal(holed);
+  Seam seam;
+  seam.shares = sharedVertices(borderPoints, patchPoints, tolerance);
+
+  WeldResult result;
+  result.patchFlipped = runsAlong(seam.shares, borderPoints, patchPoints);
+  if (result.patchFlipped) {
+    std::reverse(patchLoop.begin(), patchLoop.end());
+    for (Share& s : seam.shares)
+      s.patch = patchLoop.size() - 1 - s.patch;
+  }
+  std::sort(seam.shares.begin(), seam.shares.end(),
+            [](const Share& x, const Share& y) { return x.border < y.border; });
+  seam.border = border;
+
+  result.mesh = holed;
+  const std::vector<int> patchIds =
+      appendPatch(result.mesh, patch, patchLoop, seam, result.patchFlipped);
+  for (int v : patchLoop)
+    seam.patch.push_back(patchIds[std::size_t(v)]);
+  const std::vector<int> strip = addStrip(result.mesh, gapTriangles(result.mesh, seam));
+  requireClosedSeam(result.mesh, seam);
+
+  result.sharedVertices = seam.shares.size();
+  result.stripFaces = strip.size();
+  result.map = pasteMap(result, holed.n_vertices(), patchIds);
+  result.map.seamFaces = sharedEdgeFaces(result.mesh, seam);
+  result.map.seamFaces.insert(result.map.seamFaces.end(), strip.begin(), strip.end());
+  result.seamSelfIntersections = seamIntersections(result.mesh, seam);
+  return result;
+}
+
+}  // namespace geobrush
