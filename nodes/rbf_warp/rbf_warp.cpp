@@ -1,0 +1,284 @@
+#include "rbf_warp.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <queue>
+#include <utility>
+
+#include "geobrush/submesh.hpp"
+#include "geobrush/surface_point.hpp"
+
+namespace geobrush {
+namespace {
+
+// Shortest edge paths on a mesh, reusing its arrays between searches (a loop's segments are short
+// on a large template).
+class EdgePaths {
+ public:
+  explicit EdgePaths(const TriMesh& mesh)
+      : mesh_(mesh),
+        distance_(mesh.n_vertices(), kUnreached),
+        via_(mesh.n_vertices(), TriMesh::HalfedgeHandle()) {}
+
+  // Flags the edges of a shortest path from `from` to `to` in `onPath`; false where none exists.
+  bool mark(int from, int to, std::vector<char>& onPath) {
+    reset();
+    search(from, to);
+    if (distance_[std::size_t(to)] == kUnreached) return false;
+    for (int v = to; v != from;) {
+      const auto h = via_[std::size_t(v)];
+      onPath[std::size_t(mesh_.edge_handle(h).idx())] = 1;
+      v = mesh_.from_vertex_handle(h).idx();
+    }
+    return true;
+  }
+
+ private:
+  // Dijkstra from `from` until `to` is settled; equal distances pop in vertex order.
+  void search(int from, int to) {
+    using Entry = std::pair<double, int>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    settle(from, 0.0, TriMesh::HalfedgeHandle());
+    queue.emplace(0.0, from);
+    while (!queue.empty()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (v == to) return;
+      if (d > distance_[std::size_t(v)]) continue;
+      for (auto h : mesh_.voh_range(TriMesh::VertexHandle(v))) {
+        const int w = mesh_.to_vertex_handle(h).idx();
+        const double through = d + mesh_.calc_edge_length(h);
+        if (through >= distance_[std::size_t(w)]) continue;
+        settle(w, through, h);
+        queue.emplace(through, w);
+      }
+    }
+  }
+
+  void settle(int v, double d, TriMesh::HalfedgeHandle h) {
+    if (distance_[std::size_t(v)] == kUnreached) touched_.push_back(v);
+    distance_[std::size_t(v)] = d;
+    via_[std::size_t(v)] = h;
+  }
+
+  void reset() {
+    for (int v : touched_)
+      distance_[std::size_t(v)] = kUnreached;
+    touched_.clear();
+  }
+
+  const TriMesh& mesh_;
+  std::vector<double> distance_;
+  std::vector<TriMesh::HalfedgeHandle> via_;
+  std::vector<int> touched_;
+};
+
+// The t_b_i in pair order with consecutive repeats (the closing one included) removed.
+std::vector<int> pairLoop(const PointPairs& pairs) {
+  std::vector<int> loop;
+  for (int v : pairs.templateVertex)
+    if (loop.empty() || loop.back() != v) loop.push_back(v);
+  while (loop.size() > 1 && loop.back() == loop.front())
+    loop.pop_back();
+  return loop;
+}
+
+TriMesh displaced(const TriMesh& mesh, const std::vector<Eigen::Vector3d>& displacement) {
+  TriMesh warped = mesh;
+  for (auto v : warped.vertices())
+    warped.set_point(v, toPoint(pointOf(mesh, v) + displacement[std::size_t(v.idx())]));
+  return warped;
+}
+
+Eigen::Vector3d borderCentroid(const PointPairs& pairs) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& b : pairs.border)
+    sum += b;
+  return sum / double(pairs.border.size());
+}
+
+// Crop [ours]: the warped template's faces on the hole side of L, as a mesh of its own.
+void crop(const TriMesh& warped, const PointPairs& pairs, RbfWarpResult& result) {
+  const std::vector<int> loop = pairLoop(pairs);
+  if (loop.size() < 3)
+    throw RbfWarpError("pairs",
+                       "the pairs name fewer than 3 distinct template vertices in a row: "
+                       "no line L to crop along");
+  const std::vector<char> onL = pathEdges(warped, loop);
+  const int seed = nearestSurfacePoint(warped, borderCentroid(pairs)).face;
+  const Submesh kept = extractSubmesh(warped, floodFaces(warped, onL, seed));
+  if (kept.unattachedFace >= 0)
+    throw RbfWarpError("pairs", "the cropped template touches itself at a corner of face " +
+                                    std::to_string(kept.unattachedFace) +
+                                    " (L passes a vertex twice): use fewer or other pairs");
+  result.mesh = kept.surface;
+  result.sourceVertex = kept.sourceVertex;
+}
+
+std::vector<int> identity(std::size_t n) {
+  std::vector<int> index(n);
+  for (std::size_t i = 0; i < n; ++i)
+    index[i] = int(i);
+  return index;
+}
+
+// Eqs. 4-6 on the chosen constraints: the displacement of every template vertex and cond(A).
+void solveWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPairs& pairs, double reg,
+               RbfWarpResult& result) {
+  std::vector<int> constraint;
+  std::vector<Eigen::Vector3d> translation;  // b_i - t_b_i, Eq. 6's right-hand side
+  for (int i : result.constraintPair) {
+    const int v = pairs.templateVertex[std::size_t(i)];
+    constraint.push_back(v);
+    translation.push_back(pairs.border[std::size_t(i)] - pointOf(mesh, v));
+  }
+  GeodesicRbfOptions rbf;
+  rbf.tMax = result.tMax;
+  rbf.reg = reg;
+  GeodesicRbfResult solved;
+  try {
+    solved = geodesicRbf(graph, constraint, translation, rbf);
+  } catch (const std::invalid_argument& e) {
+    throw RbfWarpError("pairs", e.what());
+  }
+  result.conditionNumber = solved.conditionNumber;
+  // Eq. 3 with alpha == 1 [ours, the spec's default]: d(x) = d_h(x), so the constraints hold
+  // exactly (up to reg) wherever L is, and the whole template moves.
+  result.displacement = std::move(solved.displacement);
+}
+
+double maxDistance(const std::vector<Eigen::Vector3d>& points, const PointPairs& pairs,
+                   const std::vector<int>& which) {
+  double worst = 0;
+  for (int i : which)
+    worst = std::max(worst, (points[std::size_t(pairs.templateVertex[std::size_t(i)])] -
+                             pairs.border[std::size_t(i)])
+                                .norm());
+  return worst;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> templatePoints(const TriMesh& mesh) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices())
+    points.push_back(pointOf(mesh, v));
+  return points;
+}
+
+void requireValidInputs(const TriMesh& mesh, const PointPairs& pairs) {
+  if (mesh.n_faces() == 0) throw RbfWarpError("template", "the template has no faces");
+  if (pairs.border.size() != pairs.templateVertex.size())
+    throw RbfWarpError("pairs", std::to_string(pairs.border.size()) + " border points but " +
+                                    std::to_string(pairs.templateVertex.size()) +
+                                    " template vertices");
+  for (std::size_t i = 0; i < pairs.border.size(); ++i) {
+    const int v = pairs.templateVertex[i];
+    if (v < 0 || v >= int(mesh.n_vertices()))
+      throw RbfWarpError("pairs", "pair " + std::to_string(i) + " names template vertex " +
+                                      std::to_string(v) + ", which the template (" +
+                                      std::to_string(mesh.n_vertices()) + " vertices) lacks");
+    if (!pairs.border[i].allFinite())
+      throw RbfWarpError("pairs", "border point " + std::to_string(i) + " is not finite");
+  }
+}
+
+std::vector<int> constraintPairs(const PointPairs& pairs, int stride, int& dropped) {
+  std::vector<int> chosen;
+  std::vector<int> taken = pairs.templateVertex;
+  std::sort(taken.begin(), taken.end());
+  taken.erase(std::unique(taken.begin(), taken.end()), taken.end());
+  std::vector<char> used(taken.size(), 0);
+  dropped = 0;
+  for (std::size_t i = 0; i < pairs.templateVertex.size(); i += std::size_t(stride)) {
+    const auto at = std::lower_bound(taken.begin(), taken.end(), pairs.templateVertex[i]);
+    char& u = used[std::size_t(at - taken.begin())];
+    if (u) {
+      ++dropped;
+      continue;
+    }
+    u = 1;
+    chosen.push_back(int(i));
+  }
+  if (chosen.size() < 3)
+    throw RbfWarpError("pairs",
+                       "the warp needs at least 3 constraints on distinct template "
+                       "vertices; stride " +
+                           std::to_string(stride) + " leaves " + std::to_string(chosen.size()));
+  return chosen;
+}
+
+std::vector<char> pathEdges(const TriMesh& mesh, const std::vector<int>& loop) {
+  std::vector<char> onL(mesh.n_edges(), 0);
+  EdgePaths paths(mesh);
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const int from = loop[i], to = loop[(i + 1) % loop.size()];
+    if (!paths.mark(from, to, onL))
+      throw RbfWarpError("pairs", "template vertices " + std::to_string(from) + " and " +
+                                      std::to_string(to) +
+                                      " (consecutive pairs) are not connected on the template");
+  }
+  return onL;
+}
+
+std::vector<int> floodFaces(const TriMesh& mesh, const std::vector<char>& onL, int seed) {
+  std::vector<char> reached(mesh.n_faces(), 0);
+  std::vector<int> faces{seed};
+  reached[std::size_t(seed)] = 1;
+  for (std::size_t next = 0; next < faces.size(); ++next)
+    for (auto h : mesh.fh_range(TriMesh::FaceHandle(faces[next]))) {
+      if (onL[std::size_t(mesh.edge_handle(h).idx())]) continue;
+      const auto g = mesh.opposite_face_handle(h);
+      if (!g.is_valid() || reached[std::size_t(g.idx())]) continue;
+      reached[std::size_t(g.idx())] = 1;
+      faces.push_back(g.idx());
+    }
+  for (auto e : mesh.edges()) {
+    if (!onL[std::size_t(e.idx())] || mesh.is_boundary(e)) continue;
+    const auto f0 = mesh.face_handle(mesh.halfedge_handle(e, 0));
+    const auto f1 = mesh.face_handle(mesh.halfedge_handle(e, 1));
+    if (reached[std::size_t(f0.idx())] && reached[std::size_t(f1.idx())])
+      throw RbfWarpError("pairs",
+                         "the line L through the paired template vertices does not "
+                         "separate the template: the flood from the face nearest the "
+                         "border's centroid reaches both sides of its edge " +
+                             std::to_string(e.idx()) +
+                             " (pairs out of the border's order, or L not closed "
+                             "around a part of the template?)");
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+RbfWarpResult rbfWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPairs& pairs,
+                      const RbfWarpOptions& options) {
+  requireValidInputs(mesh, pairs);
+  if (graph.size() != int(mesh.n_vertices()))
+    throw std::invalid_argument("rbf warp: the kNN graph is not the template's");
+  RbfWarpResult result;
+  result.bboxDiagonal = boundingDiagonal(mesh);
+  result.tMax = options.tMax > 0 ? options.tMax : result.bboxDiagonal;  // Eq. 5 [paper]
+  result.constraintPair = constraintPairs(pairs, options.stride, result.duplicatesDropped);
+  solveWarp(mesh, graph, pairs, options.reg, result);
+
+  const TriMesh warped = displaced(mesh, result.displacement);
+  const auto points = templatePoints(warped);
+  const double diagonal = result.bboxDiagonal > 0 ? result.bboxDiagonal : 1.0;
+  result.maxResidual = maxDistance(points, pairs, result.constraintPair) / diagonal;
+  result.maxResidualAllPairs = maxDistance(points, pairs, identity(pairs.border.size())) / diagonal;
+
+  if (options.crop) {
+    crop(warped, pairs, result);
+  } else {
+    result.mesh = warped;
+    result.sourceVertex = identity(mesh.n_vertices());
+  }
+  for (int i : result.constraintPair)
+    result.constraintsKept +=
+        int(std::binary_search(result.sourceVertex.begin(), result.sourceVertex.end(),
+                               pairs.templateVertex[std::size_t(i)]));
+  return result;
+}
+
+}  // namespace geobrush
