@@ -1,0 +1,132 @@
+// Free-form edits of a template by rigid handles with a shape function over geodesic distance
+// (Freeform surface inpainting, section 5): x_new = alpha(x) T x + (1 - alpha(x)) x, with
+// alpha(x) = profile(D(x,H) / (D(x,H) + D(x,L))) (Eq. 7), H the handle and L the template's
+// boundary, D the graph distance on the symmetric kNN graph of the vertices (section 5.1).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "geobrush/knn_graph.hpp"
+#include "geobrush/mesh.hpp"
+
+namespace geobrush {
+
+// A bad input or option. `option()` is the node's port or param it concerns: "template",
+// "edits", "k" or "profile".
+class HandleEditError : public std::invalid_argument {
+ public:
+  HandleEditError(std::string option, const std::string& message)
+      : std::invalid_argument(message), option_(std::move(option)) {}
+  const std::string& option() const { return option_; }
+
+ private:
+  std::string option_;
+};
+
+// The shape function alpha(t) of Eq. 7: 1 at t = 0 (on H), 0 at t = 1 (on L). The paper leaves
+// it free; smoothstep (the default) has a zero slope at both ends.
+enum class HandleProfile { Smoothstep, Linear, Cosine };
+
+// "smoothstep", "linear", "cosine", as graph files name them.
+const std::vector<std::string>& handleProfileNames();
+// Throws HandleEditError("profile", ...) for an unknown name.
+HandleProfile parseHandleProfile(std::string_view name);
+// smoothstep 1 - 3t^2 + 2t^3, linear 1 - t, cosine (1 + cos(pi t)) / 2, for t in [0, 1].
+double profileValue(HandleProfile profile, double t);
+
+// One rigid-handle edit (section 5): H is the vertices within graph distance `radius` of the
+// vertex nearest `point`; T rotates by `angleDegrees` about `axis` through the handle's point,
+// then translates by `translation`.
+struct HandleEdit {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  double radius = 0;
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  double angleDegrees = 0;
+};
+
+// Numbers per edit row: px, py, pz, radius, tx, ty, tz, ax, ay, az, angle_deg.
+inline constexpr std::size_t kEditRowSize = 11;
+
+// The edits of `rows`, in order. Throws HandleEditError("edits", ...) naming the first bad row
+// (counted from 1): a count that is not a multiple of 11, a non-finite number, a negative
+// radius, or a zero axis with a non-zero angle.
+std::vector<HandleEdit> editsFromRows(std::span<const double> rows);
+
+// The template's boundary L and every vertex's graph distance D(x, L) to it.
+struct BoundaryDistances {
+  std::vector<int> boundary;       // L: the vertices on a boundary of the mesh, ascending
+  std::vector<double> toBoundary;  // D(x, L) per vertex; kUnreached where no path leads to L
+};
+
+// Throws HandleEditError("template", ...) when the mesh has no boundary (L empty).
+BoundaryDistances boundaryDistances(const TriMesh& mesh, const KnnGraph& graph);
+
+// A handle placed on the template: what Eq. 7 needs of it, independent of T.
+struct HandleRegion {
+  int seed = 0;                  // the vertex nearest the edit's point: the handle's point
+  std::vector<int> vertices;     // H, ascending
+  std::vector<double> t;         // D(x,H) / (D(x,H) + D(x,L)) per vertex, in [0, 1]
+  bool touchesBoundary = false;  // some vertex of H has D(x, L) = 0
+};
+
+// H and t for a handle at `point` with `radius` on the template whose graph and boundary
+// distances are given. A vertex no path joins to H gets t = 1 (fixed); one joined to H but not
+// to L gets t = 0 (moved with H), the limits of Eq. 7.
+HandleRegion handleRegion(const TriMesh& mesh, const KnnGraph& graph,
+                          const BoundaryDistances& boundary, const Eigen::Vector3d& point,
+                          double radius);
+
+// A rigid map x -> rotation x + offset.
+struct RigidMotion {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  Eigen::Vector3d operator()(const Eigen::Vector3d& x) const { return rotation * x + offset; }
+};
+
+// The edit's T: rotation about the axis through `pivot`, then the translation.
+RigidMotion handleMotion(const HandleEdit& edit, const Eigen::Vector3d& pivot);
+
+struct HandleEditOptions {
+  int k = 8;  // neighbours per vertex in the kNN graph
+  HandleProfile profile = HandleProfile::Smoothstep;
+  std::vector<HandleEdit> edits;  // applied in order
+};
+
+struct HandleEditReport {
+  int handles = 0;
+  int verticesMoved = 0;       // vertices whose point changed, over all edits
+  double maxDisplacement = 0;  // largest distance of a vertex from its input point
+};
+
+// Applies the edits in order to `mesh`, a copy of `unedited`, the template the regions were made
+// on (one region per edit); the report compares the two. Every region's distances are those of the
+// unedited template: a later edit acts on the points earlier edits moved, but H, D(x,H) and D(x,L)
+// stay the template's, so changing one edit's T reuses every region. The pivot of an edit's
+// rotation is its seed vertex where earlier edits left it. Points with alpha = 0 (on L) stay
+// bit-identical; points with alpha = 1 (on H) get exactly T x. Throws HandleEditError("edits", "row
+// r: ...") for a handle touching L.
+HandleEditReport applyHandleEdits(const TriMesh& unedited, TriMesh& mesh,
+                                  std::span<const HandleRegion* const> regions,
+                                  const HandleEditOptions& options);
+
+struct HandleEditResult {
+  TriMesh mesh;
+  HandleEditReport report;
+};
+
+// The whole edit on a template: its kNN graph, D(x, L), each edit's region, then the edits.
+// Throws HandleEditError naming the option or input at fault.
+HandleEditResult editTemplate(const TriMesh& mesh, const HandleEditOptions& options);
+
+// The kNN graph of the mesh's vertices. Throws HandleEditError("k", ...) for k < 1 and
+// ("template", ...) for an empty mesh or a non-finite point.
+KnnGraph vertexGraph(const TriMesh& mesh, int k);
+
+}  // namespace geobrush

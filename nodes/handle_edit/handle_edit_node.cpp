@@ -1,0 +1,133 @@
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+#include "geobrush/mesh.hpp"
+#include "geobrush/node.hpp"
+#include "geobrush/registry.hpp"
+#include "geobrush/values.hpp"
+#include "handle_edit.hpp"
+
+namespace {
+
+using geobrush::Context;
+using geobrush::Hasher;
+using geobrush::Mesh;
+using geobrush::NodeError;
+
+// The kNN graph of the unedited template, D(x, L) and each edit's region, as derived data: the
+// graph under a generic name, so that other nodes on the same template and k share it.
+std::vector<std::shared_ptr<const geobrush::HandleRegion>> derivedRegions(
+    Context& ctx, const std::shared_ptr<const Mesh>& tmpl,
+    const geobrush::HandleEditOptions& options) {
+  const int k = options.k;
+  const auto graph = ctx.derived("knn_graph", {"template"}, Hasher().u64(k).digest(), [&] {
+    return std::make_shared<const geobrush::KnnGraph>(geobrush::vertexGraph(tmpl->surface, k));
+  });
+  const auto boundary =
+      ctx.derived("handle_edit_boundary", {"template"}, Hasher().u64(k).digest(), [&] {
+        return std::make_shared<const geobrush::BoundaryDistances>(
+            geobrush::boundaryDistances(tmpl->surface, *graph));
+      });
+  std::vector<std::shared_ptr<const geobrush::HandleRegion>> regions;
+  for (const geobrush::HandleEdit& edit : options.edits) {
+    Hasher where;
+    where.u64(k).f64(edit.point.x()).f64(edit.point.y()).f64(edit.point.z()).f64(edit.radius);
+    regions.push_back(ctx.derived("handle_edit_region", {"template"}, where.digest(), [&] {
+      return std::make_shared<const geobrush::HandleRegion>(
+          geobrush::handleRegion(tmpl->surface, *graph, *boundary, edit.point, edit.radius));
+    }));
+  }
+  return regions;
+}
+
+// A drag re-evaluates this node with only the last edit's T changed. The kNN graph, D(x, L) and
+// each edit's region (H and D(x, H)) are derived data of the unedited template, so the drag finds
+// them all and costs a copy of the template's points and one blend per edit. Copying a whole
+// template (its halfedges: tens of megabytes of fresh pages) would cost more than the rest, so a
+// result of this node that nothing holds any more (the evaluator keeps two runs' outputs), copied
+// from the same template value, has the template's points copied back into it and is reused: an
+// allocation strategy that gives a fresh copy's result bit for bit (core/DESIGN.md).
+class HandleEditNode final : public geobrush::Node {
+ public:
+  void compute(Context& ctx) override {
+    try {
+      const auto tmpl = ctx.in<Mesh>("template");
+      geobrush::HandleEditOptions options;
+      options.k = ctx.param<int>("k");
+      options.profile = geobrush::parseHandleProfile(ctx.param<std::string>("profile"));
+      options.edits = geobrush::editsFromRows(ctx.param<std::vector<double>>("edits"));
+      const auto regions = derivedRegions(ctx, tmpl, options);
+      std::vector<const geobrush::HandleRegion*> pointers;
+      for (const auto& region : regions)
+        pointers.push_back(region.get());
+      const auto edited = copyOf(tmpl);
+      const auto report =
+          geobrush::applyHandleEdits(tmpl->surface, edited->surface, pointers, options);
+      ctx.out("template", edited);
+      auto metrics = std::make_shared<geobrush::Metrics>();
+      metrics->values = {{"handles", report.handles},
+                         {"vertices_moved", report.verticesMoved},
+                         {"max_displacement", report.maxDisplacement}};
+      ctx.out("report", std::move(metrics));
+    } catch (const geobrush::HandleEditError& e) {
+      if (e.option() == "template") throw NodeError::input(e.option(), e.what());
+      throw NodeError::param(e.option(), e.what());
+    }
+  }
+
+ private:
+  struct Made {
+    std::shared_ptr<Mesh> mesh;
+    std::weak_ptr<const Mesh> from;  // expired, never equal, once that template is gone
+  };
+
+  std::shared_ptr<Mesh> copyOf(const std::shared_ptr<const Mesh>& tmpl) {
+    for (const Made& made : made_)
+      if (made.mesh.use_count() == 1 && made.from.lock() == tmpl) {
+        const auto& points = tmpl->surface.property(tmpl->surface.points_pph()).data_vector();
+        auto& into = made.mesh->surface.property(made.mesh->surface.points_pph()).data_vector();
+        std::copy(points.begin(), points.end(), into.begin());
+        return made.mesh;
+      }
+    auto mesh = std::make_shared<Mesh>(*tmpl);
+    made_.push_back({mesh, tmpl});
+    if (made_.size() > kMade) made_.erase(made_.begin());
+    return mesh;
+  }
+
+  static constexpr std::size_t kMade = 3;
+  std::vector<Made> made_;  // the node's last results
+};
+
+void registerNodes(geobrush::PluginRegistrar& r) {
+  r.add(geobrush::NodeTypeBuilder("geobrush.handle_edit", 1)
+            .label("Handle Edit")
+            .category("Inpainting")
+            .doc("Free-form edits of a template by rigid handles (Freeform surface inpainting, "
+                 "section 5): x_new = alpha T x + (1 - alpha) x, alpha = profile(D(x,H) / (D(x,H) "
+                 "+ D(x,L))) (Eq. 7), D the kNN-graph distance, H the handle, L the template's "
+                 "boundary, which stays fixed. Edits are rows, so a modelling session replays "
+                 "headless; every row's distances are those of the unedited template.")
+            .input<Mesh>("template", "The template to edit; it must have a boundary.")
+            .output<Mesh>("template", "The edited template: the same connectivity, moved points.")
+            .output<geobrush::Metrics>("report",
+                                       "handles, vertices_moved and max_displacement (the "
+                                       "largest distance of a point from its input position).")
+            .paramInt("k", 8, "Neighbours per vertex in the symmetric kNN graph (section 5.1).")
+            .range(1, 64)
+            .paramEnum("profile", "smoothstep", geobrush::handleProfileNames(),
+                       "The shape function alpha(t): smoothstep 1 - 3t^2 + 2t^3, linear 1 - t, or "
+                       "cosine (1 + cos(pi t)) / 2.")
+            .paramList("edits", int(geobrush::kEditRowSize), {},
+                       "Edits as rows of px, py, pz, radius, tx, ty, tz, ax, ay, az, angle_deg, "
+                       "applied in order: H is the vertices within graph distance radius of the "
+                       "vertex nearest p; T turns by angle_deg about the axis a through that "
+                       "vertex (where earlier rows moved it), then translates by t.")
+            .node<HandleEditNode>()
+            .build());
+}
+
+}  // namespace
+
+GEOBRUSH_PLUGIN(registerNodes)
