@@ -1,12 +1,16 @@
 #include "template_icp.hpp"
 
+#include <Eigen/Geometry>
 #include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <string>
+
+#include "geobrush/cut_paste.hpp"
 
 namespace geobrush {
 namespace {
@@ -212,6 +216,56 @@ std::vector<IcpPair> icpPairsFromRows(const std::vector<double>& rows) {
   return pairs;
 }
 
+namespace {
+
+Eigen::Vector3d vertexCentroid(const TriMesh& mesh, const std::vector<int>& vertices) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int v : vertices)
+    sum += pointOf(mesh, v);
+  return sum / double(vertices.size());
+}
+
+std::vector<int> allVertices(const TriMesh& mesh) {
+  std::vector<int> all(mesh.n_vertices());
+  std::iota(all.begin(), all.end(), 0);
+  return all;
+}
+
+// Twice the sum of the faces' vector areas, and their total area.
+std::pair<Eigen::Vector3d, double> vectorArea(const TriMesh& mesh) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double area = 0;
+  for (const auto f : mesh.faces()) {
+    auto h = mesh.halfedge_handle(f);
+    const Eigen::Vector3d a = pointOf(mesh, mesh.from_vertex_handle(h));
+    const Eigen::Vector3d b = pointOf(mesh, mesh.to_vertex_handle(h));
+    const Eigen::Vector3d c = pointOf(mesh, mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    sum += n;
+    area += n.norm();
+  }
+  return {sum, area};
+}
+
+}  // namespace
+
+RigidMotion frameAlignment(const TriMesh& templateMesh, const TriMesh& holed,
+                           const std::vector<int>& border) {
+  RigidMotion motion;
+  const auto [templateNormal, templateArea] = vectorArea(templateMesh);
+  Eigen::Vector3d surfaceNormal = Eigen::Vector3d::Zero();
+  const std::vector<Eigen::Vector3d> normals = vertexNormals(holed);
+  for (int v : border)
+    surfaceNormal += normals[std::size_t(v)];
+  // A mean normal under a tenth of the area: the template faces every way (closed or a tube).
+  if (templateNormal.norm() > 0.1 * templateArea && surfaceNormal.norm() > 0)
+    motion.rotation =
+        Eigen::Quaterniond::FromTwoVectors(templateNormal, surfaceNormal).toRotationMatrix();
+  motion.translation = vertexCentroid(holed, border) -
+                       motion.rotation * vertexCentroid(templateMesh, allVertices(templateMesh));
+  return motion;
+}
+
 TemplateIcpResult alignTemplate(const PointNeighbours& templatePoints,
                                 std::span<const Eigen::Vector3d> border,
                                 const TemplateIcpOptions& options) {
@@ -220,6 +274,7 @@ TemplateIcpResult alignTemplate(const PointNeighbours& templatePoints,
     return solveExplicit(templatePoints, border, options.explicitPairs);
   const double floor = kRejectFloor * diagonal(templatePoints.points());
   TemplateIcpResult result;
+  result.motion = options.initial;
   Pairing pairing = pairAndReject(templatePoints, border, result.motion, options.reject, floor);
   result.rmsBefore = rms(pairing.distance);
   while (result.iterations < options.iterations) {

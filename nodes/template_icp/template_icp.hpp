@@ -51,6 +51,8 @@ struct TemplateIcpOptions {
   double reject = 3;
   // User-given pairs; when any are given the motion is solved once from them, without rejection.
   std::vector<IcpPair> explicitPairs;
+  // Where the automatic pairing starts (e.g. frameAlignment); explicit pairs ignore it.
+  RigidMotion initial;
 };
 
 struct TemplateIcpResult {
@@ -58,7 +60,7 @@ struct TemplateIcpResult {
   std::vector<IcpPair> pairs;  // after the last motion, outliers left out, in border order
   int rejected = 0;            // pairs left out of `pairs`
   int iterations = 0;          // motions solved
-  double rmsBefore = 0;        // RMS distance of the first pairs kept, template unmoved
+  double rmsBefore = 0;        // RMS distance of the first pairs kept, template at `initial`
   double rmsAfter = 0;         // RMS distance of `pairs`, template moved
 };
 
@@ -73,6 +75,12 @@ class TemplateIcpError : public std::invalid_argument {
  private:
   std::string option_;
 };
+
+// A start for ICP from anywhere [ours]: the template's vertex centroid moved onto the border's,
+// its mean normal (its vector area) turned onto the surface's mean vertex normal along the
+// border. A template with no mean normal to speak of (closed, or a tube) is only moved.
+RigidMotion frameAlignment(const TriMesh& templateMesh, const TriMesh& holed,
+                           const std::vector<int>& border);
 
 // Numbers per explicit pair row: border index, template vertex.
 constexpr std::size_t kIcpPairRowSize = 2;

@@ -63,6 +63,9 @@ class TemplateIcpNode final : public geobrush::Node {
     geobrush::TemplateIcpOptions options;
     options.iterations = int(ctx.param<int>("iterations"));
     options.reject = ctx.param<double>("reject");
+    if (ctx.param<bool>("prealign"))
+      options.initial =
+          geobrush::frameAlignment(mesh->surface, border->mesh->surface, border->vertex);
     geobrush::TemplateIcpResult result;
     try {
       options.explicitPairs =
@@ -111,6 +114,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                          "Drop pairs farther apart than this multiple of the median pair "
                          "distance; 0 keeps every pair, otherwise at least 1.")
             .range(0, 1e9)
+            .paramBool("prealign", true,
+                       "Start from the template's centroid on the border's and its mean normal "
+                       "turned onto the surface's along the border, so that a primitive made at "
+                       "the origin needs no placing by hand. Off: start where the template is.")
             .paramList("explicit_pairs", int(geobrush::kIcpPairRowSize), {},
                        "Rows of border index, template vertex: when given, the motion is solved "
                        "once from these pairs. Empty: pairs found automatically.")

@@ -102,8 +102,10 @@ double maxDifference(const TriMesh& a, const TriMesh& b) {
   return most;
 }
 
-test::NodeRun runIcp(const MeshPtr& mesh, const BorderLoopPtr& border,
-                     const ParamMap& params = {}) {
+// The node from where the template lies (prealign off), unless `params` says otherwise: these
+// cases start near the truth.
+test::NodeRun runIcp(const MeshPtr& mesh, const BorderLoopPtr& border, ParamMap params = {}) {
+  params.try_emplace("prealign", false);
   return test::runNode("geobrush.template_icp", {{"template", mesh}, {"border", border}}, params);
 }
 
@@ -309,6 +311,58 @@ TEST(TemplateIcpNode, PutsTheRemovedBunnyPatchBackIntoItsHole) {
   ASSERT_EQ(pairs->border.size(), border->vertex.size());
   for (std::size_t i = 0; i < pairs->border.size(); ++i)
     EXPECT_EQ(pointOf(patch->surface, pairs->templateVertex[i]), pairs->border[i]) << i;
+}
+
+// A flat grid of n x n squares of side h centred on the origin, facing +z; faces whose centroid
+// lies within `hole` of the centre are left out.
+TriMesh centredGrid(int n, double h, double hole = 0) {
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> v;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x)
+      v.push_back(mesh.add_vertex(TriMesh::Point((x - n / 2.0) * h, (y - n / 2.0) * h, 0)));
+  const auto at = [&](int x, int y) { return v[std::size_t(y * (n + 1) + x)]; };
+  const auto add = [&](TriMesh::VertexHandle a, TriMesh::VertexHandle b, TriMesh::VertexHandle c) {
+    const auto centroid = (mesh.point(a) + mesh.point(b) + mesh.point(c)) / 3;
+    if (centroid.norm() >= hole) mesh.add_face(a, b, c);
+  };
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      add(at(x, y), at(x + 1, y), at(x + 1, y + 1));
+      add(at(x, y), at(x + 1, y + 1), at(x, y + 1));
+    }
+  mesh.garbage_collection();
+  return mesh;
+}
+
+// A plane template made at the origin and a hole in a tilted, moved plane: the frame alignment
+// brings the template into the hole's plane, facing the surface's way, and ICP keeps it there.
+TEST(TemplateIcpNode, PrealignPutsAPlaneMadeAtTheOriginIntoATiltedHole) {
+  const RigidMotion placed = motion(35, {1, 1, 0}, {5, -3, 2});
+  auto holed = std::make_shared<Mesh>(moved(centredGrid(24, 0.1, 0.5), placed));
+  const auto loops = boundaryLoops(holed->surface);
+  ASSERT_EQ(loops.size(), 2u);  // the grid's rim and the hole
+  auto border = std::make_shared<BorderLoop>();
+  border->mesh = holed;
+  for (const auto& loop : loops)
+    if (border->vertex.empty() || loop.size() < border->vertex.size()) border->vertex = loop;
+  const auto plane = std::make_shared<const Mesh>(centredGrid(30, 0.04));
+  const auto run = runIcp(plane, border, {{"prealign", true}});
+  const auto aligned = run.get<Mesh>("template");
+  ASSERT_TRUE(aligned);
+  const Eigen::Vector3d normal = placed.rotation * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d origin = placed.translation;
+  for (const auto v : aligned->surface.vertices())
+    ASSERT_LT(std::abs((pointOf(aligned->surface, v) - origin).dot(normal)), 1e-9);
+  const auto f = *aligned->surface.faces().begin();
+  std::vector<Eigen::Vector3d> c;
+  for (const auto v : aligned->surface.fv_range(f))
+    c.push_back(pointOf(aligned->surface, v));
+  EXPECT_GT((c[1] - c[0]).cross(c[2] - c[0]).dot(normal), 0);  // facing the surface's way
+  EXPECT_LT(run.get<Metrics>("report")->values.at("rms_after"), 0.04);
+  // Without the frame alignment the template stays in the plane z = 0, far from the hole.
+  const auto unaligned = runIcp(plane, border, {{"iterations", std::int64_t(0)}});
+  EXPECT_GT(unaligned.get<Metrics>("report")->values.at("rms_after"), 1.0);
 }
 
 }  // namespace
