@@ -25,6 +25,8 @@ void requireValid(const KnnGraph& graph, std::span<const int> constraint,
                                 " constraints but " + std::to_string(displacement.size()) +
                                 " displacements");
   if (constraint.empty()) throw std::invalid_argument("geodesic RBF: no constraint");
+  if (!options.straightPoints.empty() && options.straightPoints.size() != std::size_t(graph.size()))
+    throw std::invalid_argument("geodesic RBF: the straight distances' points are not the graph's");
   if (!(options.tMax > 0) || !std::isfinite(options.tMax))
     throw std::invalid_argument("geodesic RBF: t_max must be a finite number > 0");
   if (!(options.reg >= 0) || !std::isfinite(options.reg))
@@ -48,15 +50,26 @@ void requireValid(const KnnGraph& graph, std::span<const int> constraint,
 // for large templates, so each pass below recomputes the columns it reads.
 constexpr std::size_t kColumnsAtATime = 16;
 
+std::vector<double> straightDistances(std::span<const Eigen::Vector3d> points, int from) {
+  std::vector<double> distance(points.size());
+  for (std::size_t x = 0; x < points.size(); ++x)
+    distance[x] = (points[x] - points[std::size_t(from)]).norm();
+  return distance;
+}
+
 // Columns first..last-1 of Eq. 4's basis: phi(delta(c_i, x)) at every graph point x, one
 // Dijkstra each.
-Eigen::MatrixXd basisColumns(const KnnGraph& graph, std::span<const int> constraint, double tMax,
-                             std::size_t first, std::size_t last) {
+Eigen::MatrixXd basisColumns(const KnnGraph& graph, std::span<const int> constraint,
+                             const GeodesicRbfOptions& options, std::size_t first,
+                             std::size_t last) {
+  const double tMax = options.tMax;
   Eigen::MatrixXd phi(graph.size(), Eigen::Index(last - first));
   parallelBlocks(last - first, 1, 0, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const int source[] = {constraint[first + i]};
-      const auto distance = graphDistances(graph, source, kPhiVanishes * tMax);
+      const auto distance = options.straightPoints.empty()
+                                ? graphDistances(graph, source, kPhiVanishes * tMax)
+                                : straightDistances(options.straightPoints, source[0]);
       for (int x = 0; x < graph.size(); ++x) {
         const double d = distance[std::size_t(x)];
         phi(x, Eigen::Index(i)) = d == kUnreached ? 0.0 : gaussianRbf(d, tMax);
@@ -68,11 +81,11 @@ Eigen::MatrixXd basisColumns(const KnnGraph& graph, std::span<const int> constra
 
 // Calls use(i, column i of the basis) for each constraint in order.
 template <typename Use>
-void forEachBasisColumn(const KnnGraph& graph, std::span<const int> constraint, double tMax,
-                        const Use& use) {
+void forEachBasisColumn(const KnnGraph& graph, std::span<const int> constraint,
+                        const GeodesicRbfOptions& options, const Use& use) {
   for (std::size_t first = 0; first < constraint.size(); first += kColumnsAtATime) {
     const std::size_t last = std::min(constraint.size(), first + kColumnsAtATime);
-    const Eigen::MatrixXd phi = basisColumns(graph, constraint, tMax, first, last);
+    const Eigen::MatrixXd phi = basisColumns(graph, constraint, options, first, last);
     for (std::size_t i = first; i < last; ++i)
       use(i, phi.col(Eigen::Index(i - first)));
   }
@@ -80,10 +93,11 @@ void forEachBasisColumn(const KnnGraph& graph, std::span<const int> constraint, 
 
 // A_ij = phi(delta(c_i, c_j)) (Eq. 6). Dijkstra's sums along a path and its reverse may differ in
 // the last bit, so A is symmetrised for the symmetric solver.
-Eigen::MatrixXd systemMatrix(const KnnGraph& graph, std::span<const int> constraint, double tMax) {
+Eigen::MatrixXd systemMatrix(const KnnGraph& graph, std::span<const int> constraint,
+                             const GeodesicRbfOptions& options) {
   const Eigen::Index k = Eigen::Index(constraint.size());
   Eigen::MatrixXd a(k, k);
-  forEachBasisColumn(graph, constraint, tMax, [&](std::size_t i, const auto& column) {
+  forEachBasisColumn(graph, constraint, options, [&](std::size_t i, const auto& column) {
     for (Eigen::Index j = 0; j < k; ++j)
       a(j, Eigen::Index(i)) = column(constraint[std::size_t(j)]);
   });
@@ -102,7 +116,7 @@ GeodesicRbfResult geodesicRbf(const KnnGraph& graph, std::span<const int> constr
                               const GeodesicRbfOptions& options) {
   requireValid(graph, constraint, displacement, options);
   GeodesicRbfResult result;
-  result.system = systemMatrix(graph, constraint, options.tMax);
+  result.system = systemMatrix(graph, constraint, options);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(result.system);
   if (eigen.info() != Eigen::Success)
     throw std::invalid_argument("geodesic RBF: the eigen-decomposition of A did not converge");
@@ -123,7 +137,7 @@ GeodesicRbfResult geodesicRbf(const KnnGraph& graph, std::span<const int> constr
 
   result.displacement.assign(std::size_t(graph.size()), Eigen::Vector3d::Zero());
   // Summed in constraint order at every point (Eq. 4).
-  forEachBasisColumn(graph, constraint, options.tMax, [&](std::size_t i, const auto& column) {
+  forEachBasisColumn(graph, constraint, options, [&](std::size_t i, const auto& column) {
     const Eigen::Vector3d weight = result.weights.row(Eigen::Index(i)).transpose();
     for (int x = 0; x < graph.size(); ++x)
       result.displacement[std::size_t(x)] += column(x) * weight;

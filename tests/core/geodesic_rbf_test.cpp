@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
@@ -192,6 +193,47 @@ TEST(GeodesicRbf, RefusesBadInput) {
   options.tMax = 1;
   options.reg = -1;
   EXPECT_THROW(geodesicRbf(graph, std::vector<int>{1, 2}, d, options), std::invalid_argument);
+}
+
+// Straight distances: the plain Gaussian RBF interpolant, checked against a dense solve done
+// here, and positive definite (every eigenvalue of A above 0), unlike the graph's.
+TEST(GeodesicRbf, StraightDistancesGiveThePlainGaussianInterpolant) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j)
+      points.emplace_back(0.1 * i, 0.1 * j, 0.02 * std::sin(double(i * j)));
+  const KnnGraph graph(points, 8);
+  const std::vector<int> constraint = {0, 11, 60, 77, 132, 143};
+  std::vector<Eigen::Vector3d> displacement;
+  for (std::size_t i = 0; i < constraint.size(); ++i)
+    displacement.emplace_back(0.1 * double(i), -0.05, 0.2 * std::cos(double(i)));
+  GeodesicRbfOptions options;
+  options.tMax = 0.4;
+  options.straightPoints = points;
+  const GeodesicRbfResult result = geodesicRbf(graph, constraint, displacement, options);
+  EXPECT_GT(result.smallestEigenvalue, 0);
+  const auto k = Eigen::Index(constraint.size());
+  Eigen::MatrixXd a(k, k);
+  Eigen::MatrixX3d d(k, 3);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    d.row(i) = displacement[std::size_t(i)].transpose();
+    for (Eigen::Index j = 0; j < k; ++j)
+      a(i, j) = gaussianRbf((points[std::size_t(constraint[std::size_t(i)])] -
+                             points[std::size_t(constraint[std::size_t(j)])])
+                                .norm(),
+                            options.tMax);
+  }
+  const Eigen::MatrixX3d weights = a.ldlt().solve(d);
+  for (std::size_t x = 0; x < points.size(); ++x) {
+    Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+    for (Eigen::Index i = 0; i < k; ++i)
+      expected += gaussianRbf((points[std::size_t(constraint[std::size_t(i)])] - points[x]).norm(),
+                              options.tMax) *
+                  weights.row(i).transpose();
+    ASSERT_LT((result.displacement[x] - expected).norm(), 1e-9) << x;
+  }
+  options.straightPoints = std::span<const Eigen::Vector3d>(points).first(5);
+  EXPECT_THROW(geodesicRbf(graph, constraint, displacement, options), std::invalid_argument);
 }
 
 }  // namespace
