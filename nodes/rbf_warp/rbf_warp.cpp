@@ -20,17 +20,18 @@ class EdgePaths {
         distance_(mesh.n_vertices(), kUnreached),
         via_(mesh.n_vertices(), TriMesh::HalfedgeHandle()) {}
 
-  // Flags the edges of a shortest path from `from` to `to` in `onPath`; false where none exists.
-  bool mark(int from, int to, std::vector<char>& onPath) {
+  // The halfedges of a shortest path from `from` to `to`, in order; empty where none exists.
+  std::vector<TriMesh::HalfedgeHandle> path(int from, int to) {
     reset();
     search(from, to);
-    if (distance_[std::size_t(to)] == kUnreached) return false;
+    std::vector<TriMesh::HalfedgeHandle> halfedges;
+    if (distance_[std::size_t(to)] == kUnreached) return halfedges;
     for (int v = to; v != from;) {
-      const auto h = via_[std::size_t(v)];
-      onPath[std::size_t(mesh_.edge_handle(h).idx())] = 1;
-      v = mesh_.from_vertex_handle(h).idx();
+      halfedges.push_back(via_[std::size_t(v)]);
+      v = mesh_.from_vertex_handle(halfedges.back()).idx();
     }
-    return true;
+    std::reverse(halfedges.begin(), halfedges.end());
+    return halfedges;
   }
 
  private:
@@ -73,14 +74,53 @@ class EdgePaths {
   std::vector<int> touched_;
 };
 
-// The t_b_i in pair order with consecutive repeats (the closing one included) removed.
+// The pairs at L's corners: pair order with consecutive pairs on one template vertex merged (the
+// first kept) and the closing repeats dropped.
+std::vector<int> loopCorners(const PointPairs& pairs) {
+  const auto& t = pairs.templateVertex;
+  std::vector<int> corners;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (corners.empty() || t[std::size_t(corners.back())] != t[i]) corners.push_back(int(i));
+  while (corners.size() > 1 && t[std::size_t(corners.back())] == t[std::size_t(corners.front())])
+    corners.pop_back();
+  return corners;
+}
+
+// The t_b_i at L's corners, in order.
 std::vector<int> pairLoop(const PointPairs& pairs) {
   std::vector<int> loop;
-  for (int v : pairs.templateVertex)
-    if (loop.empty() || loop.back() != v) loop.push_back(v);
-  while (loop.size() > 1 && loop.back() == loop.front())
-    loop.pop_back();
+  for (int i : loopCorners(pairs))
+    loop.push_back(pairs.templateVertex[std::size_t(i)]);
   return loop;
+}
+
+// Snap [ours]: the cropped template's boundary L laid onto the border polyline: each corner t_b_i
+// at b_i, each vertex of L between corners t_b_i and t_b_j at the point of the segment b_i b_j at
+// its fraction of the path's length (measured before the warp). The weld then shares every
+// boundary vertex rather than zipping a strip against a path that steps along the template's
+// edges.
+void snapBoundary(const TriMesh& mesh, const PointPairs& pairs, RbfWarpResult& result) {
+  const std::vector<int> corners = loopCorners(pairs);
+  const std::vector<int> loop = pairLoop(pairs);
+  const auto segments = pathSegments(mesh, loop);
+  const auto place = [&](int templateVertex, const Eigen::Vector3d& p) {
+    const auto& kept = result.sourceVertex;
+    const auto at = std::lower_bound(kept.begin(), kept.end(), templateVertex);
+    if (at != kept.end() && *at == templateVertex)
+      result.mesh.set_point(TriMesh::VertexHandle(int(at - kept.begin())), toPoint(p));
+  };
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const Eigen::Vector3d& from = pairs.border[std::size_t(corners[k])];
+    const Eigen::Vector3d& to = pairs.border[std::size_t(corners[(k + 1) % loop.size()])];
+    double total = 0, along = 0;
+    for (const auto h : segments[k])
+      total += mesh.calc_edge_length(h);
+    place(loop[k], from);
+    for (std::size_t e = 0; e + 1 < segments[k].size(); ++e) {
+      along += mesh.calc_edge_length(segments[k][e]);
+      place(mesh.to_vertex_handle(segments[k][e]).idx(), from + (along / total) * (to - from));
+    }
+  }
 }
 
 TriMesh displaced(const TriMesh& mesh, const std::vector<Eigen::Vector3d>& displacement) {
@@ -97,16 +137,26 @@ Eigen::Vector3d borderCentroid(const PointPairs& pairs) {
   return sum / double(pairs.border.size());
 }
 
-// Crop [ours]: the warped template's faces on the hole side of L, as a mesh of its own.
-void crop(const TriMesh& warped, const PointPairs& pairs, RbfWarpResult& result) {
+double borderRadius(const PointPairs& pairs) {
+  const Eigen::Vector3d centre = borderCentroid(pairs);
+  double sum = 0;
+  for (const auto& b : pairs.border)
+    sum += (b - centre).norm();
+  return sum / double(pairs.border.size());
+}
+
+// Crop [ours]: the warped template's faces on the hole side of L, as a mesh of its own. L and the
+// side are found on the aligned template before the warp, whose far parts a wide kernel can fold.
+void crop(const TriMesh& mesh, const TriMesh& warped, const PointPairs& pairs,
+          RbfWarpResult& result) {
   const std::vector<int> loop = pairLoop(pairs);
   if (loop.size() < 3)
     throw RbfWarpError("pairs",
                        "the pairs name fewer than 3 distinct template vertices in a row: "
                        "no line L to crop along");
-  const std::vector<char> onL = pathEdges(warped, loop);
-  const int seed = nearestSurfacePoint(warped, borderCentroid(pairs)).face;
-  const Submesh kept = extractSubmesh(warped, floodFaces(warped, onL, seed));
+  const std::vector<char> onL = pathEdges(mesh, loop);
+  const int seed = nearestSurfacePoint(mesh, borderCentroid(pairs)).face;
+  const Submesh kept = extractSubmesh(warped, floodFaces(mesh, onL, seed));
   if (kept.unattachedFace >= 0)
     throw RbfWarpError("pairs", "the cropped template touches itself at a corner of face " +
                                     std::to_string(kept.unattachedFace) +
@@ -123,8 +173,8 @@ std::vector<int> identity(std::size_t n) {
 }
 
 // Eqs. 4-6 on the chosen constraints: the displacement of every template vertex and cond(A).
-void solveWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPairs& pairs, double reg,
-               RbfWarpResult& result) {
+void solveWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPairs& pairs,
+               const RbfWarpOptions& options, RbfWarpResult& result) {
   std::vector<int> constraint;
   std::vector<Eigen::Vector3d> translation;  // b_i - t_b_i, Eq. 6's right-hand side
   for (int i : result.constraintPair) {
@@ -134,7 +184,10 @@ void solveWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPairs& pai
   }
   GeodesicRbfOptions rbf;
   rbf.tMax = result.tMax;
-  rbf.reg = reg;
+  rbf.reg = options.reg;
+  const std::vector<Eigen::Vector3d> points =
+      options.straightDistance ? templatePoints(mesh) : std::vector<Eigen::Vector3d>{};
+  rbf.straightPoints = points;
   GeodesicRbfResult solved;
   try {
     solved = geodesicRbf(graph, constraint, translation, rbf);
@@ -209,16 +262,26 @@ std::vector<int> constraintPairs(const PointPairs& pairs, int stride, int& dropp
   return chosen;
 }
 
-std::vector<char> pathEdges(const TriMesh& mesh, const std::vector<int>& loop) {
-  std::vector<char> onL(mesh.n_edges(), 0);
+std::vector<std::vector<TriMesh::HalfedgeHandle>> pathSegments(const TriMesh& mesh,
+                                                               const std::vector<int>& loop) {
+  std::vector<std::vector<TriMesh::HalfedgeHandle>> segments;
   EdgePaths paths(mesh);
   for (std::size_t i = 0; i < loop.size(); ++i) {
     const int from = loop[i], to = loop[(i + 1) % loop.size()];
-    if (!paths.mark(from, to, onL))
+    segments.push_back(paths.path(from, to));
+    if (segments.back().empty())
       throw RbfWarpError("pairs", "template vertices " + std::to_string(from) + " and " +
                                       std::to_string(to) +
                                       " (consecutive pairs) are not connected on the template");
   }
+  return segments;
+}
+
+std::vector<char> pathEdges(const TriMesh& mesh, const std::vector<int>& loop) {
+  std::vector<char> onL(mesh.n_edges(), 0);
+  for (const auto& segment : pathSegments(mesh, loop))
+    for (const auto h : segment)
+      onL[std::size_t(mesh.edge_handle(h).idx())] = 1;
   return onL;
 }
 
@@ -258,9 +321,13 @@ RbfWarpResult rbfWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPai
     throw std::invalid_argument("rbf warp: the kNN graph is not the template's");
   RbfWarpResult result;
   result.bboxDiagonal = boundingDiagonal(mesh);
-  result.tMax = options.tMax > 0 ? options.tMax : result.bboxDiagonal;  // Eq. 5 [paper]
+  result.tMax = options.tMax > 0         ? options.tMax
+                : options.tMaxFromBorder ? borderRadius(pairs)
+                                         : result.bboxDiagonal;  // Eq. 5 [paper]
+  if (!(result.tMax > 0))
+    throw RbfWarpError("pairs", "the border points coincide: no width for the kernel");
   result.constraintPair = constraintPairs(pairs, options.stride, result.duplicatesDropped);
-  solveWarp(mesh, graph, pairs, options.reg, result);
+  solveWarp(mesh, graph, pairs, options, result);
 
   const TriMesh warped = displaced(mesh, result.displacement);
   const auto points = templatePoints(warped);
@@ -269,7 +336,8 @@ RbfWarpResult rbfWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPai
   result.maxResidualAllPairs = maxDistance(points, pairs, identity(pairs.border.size())) / diagonal;
 
   if (options.crop) {
-    crop(warped, pairs, result);
+    crop(mesh, warped, pairs, result);
+    if (options.snapBoundary) snapBoundary(mesh, pairs, result);
   } else {
     result.mesh = warped;
     result.sourceVertex = identity(mesh.n_vertices());

@@ -23,6 +23,15 @@ struct RbfWarpOptions {
   double reg = 0;    // eigenvalues moved off 0 by reg, Eq. 6 (GeodesicRbfOptions::reg) [ours]
   int stride = 1;    // every stride-th pair is a constraint: thins dense constraints [ours]
   bool crop = true;  // keep the template's part on the hole side of L [ours]
+  // Lay the cropped boundary L onto the border polyline (corners on the b_i, the path between
+  // spread along the segments) [ours]: what lets the weld share every seam vertex.
+  bool snapBoundary = true;
+  // With tMax = 0: t_max the border's radius (the mean distance of the b_i from their centroid)
+  // instead of the template's diagonal [ours]: a kernel the size of the hole, well conditioned.
+  bool tMaxFromBorder = false;
+  // delta as the straight distance between template vertices instead of the kNN graph's
+  // (GeodesicRbfOptions::straightPoints) [ours]: for flat or gently curved templates.
+  bool straightDistance = false;
 };
 
 // An input that gives no warp. `option()` names the input to change: "template" or "pairs".
@@ -64,6 +73,12 @@ void requireValidInputs(const TriMesh& mesh, const PointPairs& pairs);
 // goes to `dropped`). Throws RbfWarpError("pairs") with fewer than 3.
 std::vector<int> constraintPairs(const PointPairs& pairs, int stride, int& dropped);
 
+// The shortest edge paths of `mesh` between consecutive vertices of `loop` (the last back to the
+// first), each as its halfedges in order. Throws RbfWarpError("pairs") where two are not
+// connected.
+std::vector<std::vector<TriMesh::HalfedgeHandle>> pathSegments(const TriMesh& mesh,
+                                                               const std::vector<int>& loop);
+
 // L: the template's edges on the closed path through the t_b_i in pair order, each consecutive
 // two (distinct) joined by a shortest edge path of `mesh` (Dijkstra, Euclidean edge lengths, ties
 // broken the same way on every run). One flag per edge. Throws RbfWarpError("pairs") where two are
@@ -76,8 +91,9 @@ std::vector<char> pathEdges(const TriMesh& mesh, const std::vector<int>& loop);
 std::vector<int> floodFaces(const TriMesh& mesh, const std::vector<char>& onL, int seed);
 
 // Warps (Eqs. 3-6) and crops `mesh` given its kNN graph (over templatePoints(mesh), options.k).
-// The crop runs on the warped template: L through every pair's t_b_i (not only the constraints),
-// flooded from the face nearest the centroid of the b_i. Throws RbfWarpError.
+// The crop is found on `mesh` before the warp and applied to the warped template: L through every
+// pair's t_b_i (not only the constraints), flooded from the face nearest the centroid of the b_i.
+// Throws RbfWarpError.
 RbfWarpResult rbfWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPairs& pairs,
                       const RbfWarpOptions& options = {});
 

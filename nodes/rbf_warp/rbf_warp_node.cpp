@@ -42,6 +42,9 @@ class RbfWarpNode final : public geobrush::Node {
     options.reg = ctx.param<double>("reg");
     options.stride = ctx.param<int>("stride");
     options.crop = ctx.param<bool>("crop");
+    options.snapBoundary = ctx.param<bool>("snap_boundary");
+    options.tMaxFromBorder = ctx.param<std::string>("t_max_auto") == "border_radius";
+    options.straightDistance = ctx.param<std::string>("distance") == "straight";
     // The geodesic delta's graph over the template's vertices: shared with any node that asks
     // for the same template and k.
     const auto graph = ctx.derived("knn_graph", {"template"},
@@ -102,6 +105,17 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .paramInt("stride", 1, "Every stride-th pair is a constraint (thins dense ones).")
             .range(1, 1000000)
             .paramBool("crop", true, "Keep only the template's part on the hole side of L.")
+            .paramEnum("t_max_auto", "template_diagonal", {"template_diagonal", "border_radius"},
+                       "t_max when the param is 0: the template's bounding-box diagonal (the "
+                       "paper's), or the border's radius, a kernel the size of the hole [ours].")
+            .paramBool("snap_boundary", true,
+                       "With crop: lay the cropped boundary onto the border polyline (each t_b_i "
+                       "on b_i, the path between along the segment), so a weld shares every "
+                       "seam vertex [ours].")
+            .paramEnum("distance", "graph", {"graph", "straight"},
+                       "delta: the kNN graph's geodesic (the paper's), or the straight distance "
+                       "between template vertices, which equals it on a flat template without "
+                       "the graph's direction error [ours].")
             .node<RbfWarpNode>()
             .build());
 }

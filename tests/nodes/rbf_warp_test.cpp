@@ -143,6 +143,48 @@ TEST(RbfWarp, CropDoesNotDependOnTheLoopsDirection) {
 }
 
 // stride s constrains pairs 0, s, 2s, ...: they land exactly, the pairs between only nearly.
+// Pairs on every other vertex of a square loop, their border points lifted by a wave: the
+// cropped boundary L is laid on the border polyline (corners on the b_i, the vertices between on
+// the segments), with straight distances and a kernel the border's size.
+TEST(RbfWarp, TheCroppedBoundaryIsLaidOnTheBorderPolyline) {
+  const int n = 20;
+  const TriMesh mesh = planeGrid(n);
+  std::vector<int> corners;
+  const std::vector<int> loop = squareLoop(n, 4, 16);
+  for (std::size_t i = 0; i < loop.size(); i += 2)
+    corners.push_back(loop[i]);
+  const PointPairs pairs = pairsOn(mesh, corners, [](const Vector3d& p) {
+    return Vector3d(0, 0, 0.05 * std::sin(7 * p.x()) * std::cos(5 * p.y()));
+  });
+  RbfWarpOptions options;
+  options.straightDistance = true;
+  options.tMaxFromBorder = true;
+  const RbfWarpResult result = warp(mesh, pairs, options);
+  // The border's radius: between the square's half side and its half diagonal.
+  EXPECT_GT(result.tMax, 0.3);
+  EXPECT_LT(result.tMax, 0.3 * std::sqrt(2.0));
+  EXPECT_LT(result.maxResidual, 1e-8);
+  const auto loops = boundaryLoops(result.mesh);
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_EQ(loops[0].size(), loop.size());
+  for (int v : loops[0]) {
+    const Vector3d p = pointOf(result.mesh, v);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < pairs.border.size(); ++i) {
+      const Vector3d a = pairs.border[i], b = pairs.border[(i + 1) % pairs.border.size()];
+      const double s = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      nearest = std::min(nearest, (a + s * (b - a) - p).norm());
+    }
+    EXPECT_LT(nearest, 1e-12) << v;
+  }
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const auto at =
+        std::lower_bound(result.sourceVertex.begin(), result.sourceVertex.end(), corners[i]);
+    ASSERT_NE(at, result.sourceVertex.end());
+    EXPECT_EQ(pointOf(result.mesh, int(at - result.sourceVertex.begin())), pairs.border[i]);
+  }
+}
+
 TEST(RbfWarp, StrideThinsTheConstraints) {
   const int n = 24;
   const TriMesh plane = planeGrid(n);
