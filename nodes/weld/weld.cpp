@@ -82,6 +82,39 @@ std::vector<Share> sharedVertices(const std::vector<Vector3d>& border,
   return shares;
 }
 
+// The distance from p to the segment a b, and where along it its nearest point lies (0 at a).
+std::pair<double, double> segmentDistance(const Vector3d& p, const Vector3d& a, const Vector3d& b) {
+  const Vector3d ab = b - a;
+  const double s = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return {(a + s * ab - p).norm(), s};
+}
+
+// Patch boundary points that lie on a border edge, away from its ends, split that edge there
+// [ours]: the border gains a vertex the patch then shares, instead of a strip of slivers
+// between a border edge and the patch vertices along it. `holed` and `border` are updated.
+std::size_t splitBorderAtPatchPoints(TriMesh& holed, std::vector<int>& border,
+                                     const std::vector<Vector3d>& patch, double tolerance) {
+  std::size_t splits = 0;
+  for (const Vector3d& p : patch) {
+    const std::vector<Vector3d> points = loopPoints(holed, border);
+    double nearestVertex = std::numeric_limits<double>::infinity();
+    for (const Vector3d& b : points)
+      nearestVertex = std::min(nearestVertex, (b - p).norm());
+    if (nearestVertex <= tolerance) continue;
+    for (std::size_t i = 0; i < border.size(); ++i) {
+      const auto [distance, s] = segmentDistance(p, points[i], points[(i + 1) % border.size()]);
+      if (distance > tolerance || s <= 0 || s >= 1) continue;
+      const auto h = holed.find_halfedge(TriMesh::VertexHandle(border[i]),
+                                         TriMesh::VertexHandle(border[(i + 1) % border.size()]));
+      const auto v = holed.split(holed.edge_handle(h), toPoint(p));
+      border.insert(border.begin() + std::ptrdiff_t(i + 1), v.idx());
+      ++splits;
+      break;
+    }
+  }
+  return splits;
+}
+
 // Whether the patch's loop runs along the border's (the patch faces the other way) rather than
 // against it. Three or more shared vertices tell by their order, which must go once around both
 // loops; fewer, by the loops' vector areas.
@@ -245,14 +278,17 @@ PasteMap pasteMap(const WeldResult& result, std::size_t holedVertices,
 
 }  // namespace
 
-WeldResult weld(const TriMesh& holed, const std::vector<int>& border, const TriMesh& patch,
+WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, const TriMesh& patch,
                 const WeldOptions& options) {
-  if (const std::string problem = borderLoopProblem(holed, border); !problem.empty())
+  if (const std::string problem = borderLoopProblem(holedMesh, holeBorder); !problem.empty())
     throw WeldError("border", "not a boundary loop of the holed mesh: " + problem);
   std::vector<int> patchLoop = onlyPatchLoop(patch);
-  const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
   std::vector<Vector3d> patchPoints = loopPoints(patch, patchLoop);
-  const double tolerance = options.shareTolerance * boundingDiagonal(holed);
+  const double tolerance = options.shareTolerance * boundingDiagonal(holedMesh);
+  TriMesh holed = holedMesh;
+  std::vector<int> border = holeBorder;
+  const std::size_t borderSplits = splitBorderAtPatchPoints(holed, border, patchPoints, tolerance);
+  const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
   Seam seam;
   seam.shares = sharedVertices(borderPoints, patchPoints, tolerance);
 
@@ -276,8 +312,9 @@ WeldResult weld(const TriMesh& holed, const std::vector<int>& border, const TriM
   requireClosedSeam(result.mesh, seam);
 
   result.sharedVertices = seam.shares.size();
+  result.borderSplits = borderSplits;
   result.stripFaces = strip.size();
-  result.map = pasteMap(result, holed.n_vertices(), patchIds);
+  result.map = pasteMap(result, holedMesh.n_vertices(), patchIds);
   result.map.seamFaces = sharedEdgeFaces(result.mesh, seam);
   result.map.seamFaces.insert(result.map.seamFaces.end(), strip.begin(), strip.end());
   result.seamSelfIntersections = seamIntersections(result.mesh, seam);

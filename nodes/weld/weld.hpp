@@ -20,14 +20,18 @@ struct WeldOptions {
 };
 
 struct WeldResult {
-  // The holed mesh's vertices and faces in their order, then the patch's vertices that are not
-  // shared and its faces, then the strip faces zipped into the gaps.
+  // The holed mesh's vertices and faces in their order (then the vertices and faces that split
+  // border edges), then the patch's vertices that are not shared and its faces, then the strip
+  // faces zipped into the gaps.
   TriMesh mesh;
   // targetVertex: the holed mesh's vertices; sourceVertex: the patch's (shared vertices have
   // both); seamFaces: the strip faces and the patch faces on a shared seam edge.
   PasteMap map;
   std::size_t sharedVertices = 0;
   std::size_t stripFaces = 0;
+  // Border edges split where a patch boundary vertex lies on one (the new border vertex follows
+  // the holed mesh's; the map ties it to neither input).
+  std::size_t borderSplits = 0;
   bool patchFlipped = false;  // the patch came oriented along the hole and was turned over
   std::size_t seamSelfIntersections = 0;  // face pairs meeting near the seam, either side
 };

@@ -174,6 +174,28 @@ TEST(Weld, AnExactPatchClosesTheGridAsIfNeverCut) {
     EXPECT_GE(f, int(c.holed.n_faces()));
 }
 
+// A patch twice as fine as the hole: every other boundary vertex lies on a border vertex, the
+// rest on the middles of the border's edges, which are split there and shared: no strip at all.
+TEST(Weld, APatchFinerThanTheHoleSplitsTheBordersEdges) {
+  const TriMesh grid = planeGrid(10);
+  const Cut c = cut(grid, inCentreSquare);
+  TriMesh finer = planeGrid(8);
+  for (auto v : finer.vertices())
+    finer.set_point(v, finer.point(v) * 0.4 + TriMesh::Point(0.3, 0.3, 0));
+  const auto result = weld(c.holed, holeLoop(c.holed), finer);
+  EXPECT_EQ(result.sharedVertices, 32u);
+  EXPECT_EQ(result.borderSplits, 16u);
+  EXPECT_EQ(result.stripFaces, 0u);
+  EXPECT_EQ(result.seamSelfIntersections, 0u);
+  expectManifoldWithLoops(result.mesh, 1, test::topology(grid).eulerCharacteristic);
+  EXPECT_NEAR(test::surfaceArea(result.mesh), 1.0, 1e-12);
+  expectFacingUp(result.mesh, 0);
+  for (auto v : c.holed.vertices())
+    EXPECT_EQ(result.mesh.point(v), c.holed.point(v));
+  for (std::size_t v = c.holed.n_vertices(); v < c.holed.n_vertices() + 16; ++v)
+    EXPECT_EQ(result.map.targetVertex[v], -1);  // the split points belong to neither input
+}
+
 TEST(Weld, AShrunkPatchIsJoinedByAStripOfBothLoopsLengths) {
   const Cut c = cut(planeGrid(10), inCentreSquare);
   const TriMesh patch = shrunk(c.patch, {0.5, 0.5, 0}, 0.1);
