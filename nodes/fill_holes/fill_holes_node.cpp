@@ -3,6 +3,7 @@
 
 #include "fill_holes.hpp"
 #include "geobrush/node.hpp"
+#include "geobrush/region.hpp"
 #include "geobrush/registry.hpp"
 #include "geobrush/values.hpp"
 
@@ -63,6 +64,24 @@ std::shared_ptr<geobrush::Metrics> report(const geobrush::FillHolesResult& resul
   return metrics;
 }
 
+// The fill as a paste: the input's vertices are the target's, the rest new; the seam faces are
+// the new faces at the filled borders' vertices.
+std::shared_ptr<geobrush::PasteMap> pasteMap(const geobrush::TriMesh& input,
+                                             const geobrush::TriMesh& filled) {
+  auto map = std::make_shared<geobrush::PasteMap>();
+  map->targetVertex.assign(filled.n_vertices(), -1);
+  map->sourceVertex.assign(filled.n_vertices(), -1);
+  for (std::size_t v = 0; v < input.n_vertices(); ++v)
+    map->targetVertex[v] = int(v);
+  for (std::size_t f = input.n_faces(); f < filled.n_faces(); ++f)
+    for (const auto v : filled.fv_range(geobrush::TriMesh::FaceHandle(int(f))))
+      if (v.idx() < int(input.n_vertices())) {
+        map->seamFaces.push_back(int(f));
+        break;
+      }
+  return map;
+}
+
 class FillHolesNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -82,6 +101,7 @@ class FillHolesNode final : public geobrush::Node {
     auto colors = input->vertexColors;
     if (!colors.empty()) colors.resize(result.mesh.n_vertices(), colors.back());
     ctx.out("mesh", std::make_shared<const Mesh>(result.mesh, std::move(colors)));
+    ctx.out("map", pasteMap(input->surface, result.mesh));
     ctx.out("report", report(result));
   }
 };
@@ -102,6 +122,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                "would. Loops are numbered by their smallest vertex index.")
           .input<Mesh>("mesh", "The mesh with holes.")
           .output<Mesh>("mesh", "The input's vertices and faces in their order, then the fills'.")
+          .output<geobrush::PasteMap>("map",
+                                      "The fill as a paste, for geobrush.metrics and "
+                                      "geobrush.fragment_complete: the input's vertices kept, "
+                                      "the rest new, the new faces at the borders the seam.")
           .output<geobrush::Metrics>("report",
                                      "Per loop (loop.N.*): border_edges, border_mean_edge, "
                                      "filled, new_vertices, new_faces, new_mean_edge, continuity "

@@ -407,6 +407,17 @@ TEST(FillHolesNode, ReportsEachLoopAndNamesABadChoice) {
   EXPECT_GT(report->values.at("loop.1.border_edges"), 0.0);
   ASSERT_EQ(report->notes.size(), 1u);
   EXPECT_TRUE(test::contains(report->notes[0], "loop 0 left open: the largest loop"));
+  // The map: the input's vertices kept, the fill's new, the new faces at the border the seam.
+  const auto map = std::dynamic_pointer_cast<const PasteMap>(ctx.outputs["map"]);
+  ASSERT_TRUE(map);
+  ASSERT_EQ(map->targetVertex.size(), out->surface.n_vertices());
+  for (std::size_t v = 0; v < out->surface.n_vertices(); ++v)
+    EXPECT_EQ(map->targetVertex[v], v < holed.n_vertices() ? int(v) : -1);
+  EXPECT_EQ(double(out->surface.n_vertices() - holed.n_vertices()),
+            report->values.at("new_vertices"));
+  EXPECT_FALSE(map->seamFaces.empty());
+  for (int f : map->seamFaces)
+    EXPECT_GE(f, int(holed.n_faces()));
 
   for (const std::string bad : {"", "1,", "x", "-1"}) {
     test::DirectContext badCtx(*type, {{"mesh", input}}, {{"holes", bad}});
