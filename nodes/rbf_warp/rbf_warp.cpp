@@ -1,5 +1,7 @@
 #include "rbf_warp.hpp"
 
+#include <Eigen/SparseCholesky>
+
 #include <algorithm>
 #include <functional>
 #include <queue>
@@ -94,20 +96,57 @@ std::vector<int> pairLoop(const PointPairs& pairs) {
   return loop;
 }
 
+// The boundary's shifts carried over the patch (Dirichlet problem of the uniform graph
+// Laplacian), so the rings next to the boundary follow it rather than fold against it.
+void extendShifts(TriMesh& patch, std::vector<Eigen::Vector3d>& shift) {
+  std::vector<int> unknown(patch.n_vertices(), -1);
+  int count = 0;
+  for (const auto v : patch.vertices())
+    if (!patch.is_boundary(v)) unknown[std::size_t(v.idx())] = count++;
+  if (count > 0) {
+    std::vector<Eigen::Triplet<double>> entries;
+    Eigen::MatrixX3d rhs = Eigen::MatrixX3d::Zero(count, 3);
+    for (const auto v : patch.vertices()) {
+      const int row = unknown[std::size_t(v.idx())];
+      if (row < 0) continue;
+      for (const auto w : patch.vv_range(v)) {
+        entries.emplace_back(row, row, 1.0);
+        const int column = unknown[std::size_t(w.idx())];
+        if (column >= 0)
+          entries.emplace_back(row, column, -1.0);
+        else
+          rhs.row(row) += shift[std::size_t(w.idx())].transpose();
+      }
+    }
+    Eigen::SparseMatrix<double> laplacian(count, count);
+    laplacian.setFromTriplets(entries.begin(), entries.end());
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+    const Eigen::MatrixX3d solved = solver.solve(rhs);
+    for (const auto v : patch.vertices())
+      if (const int row = unknown[std::size_t(v.idx())]; row >= 0)
+        shift[std::size_t(v.idx())] = solved.row(row).transpose();
+  }
+  for (const auto v : patch.vertices())
+    patch.set_point(v, toPoint(pointOf(patch, v) + shift[std::size_t(v.idx())]));
+}
+
 // Snap [ours]: the cropped template's boundary L laid onto the border polyline: each corner t_b_i
 // at b_i, each vertex of L between corners t_b_i and t_b_j at the point of the segment b_i b_j at
 // its fraction of the path's length (measured before the warp). The weld then shares every
 // boundary vertex rather than zipping a strip against a path that steps along the template's
-// edges.
+// edges; the rest of the patch follows the boundary's shifts (extendShifts).
 void snapBoundary(const TriMesh& mesh, const PointPairs& pairs, RbfWarpResult& result) {
   const std::vector<int> corners = loopCorners(pairs);
   const std::vector<int> loop = pairLoop(pairs);
   const auto segments = pathSegments(mesh, loop);
+  std::vector<Eigen::Vector3d> shift(result.mesh.n_vertices(), Eigen::Vector3d::Zero());
   const auto place = [&](int templateVertex, const Eigen::Vector3d& p) {
     const auto& kept = result.sourceVertex;
     const auto at = std::lower_bound(kept.begin(), kept.end(), templateVertex);
-    if (at != kept.end() && *at == templateVertex)
-      result.mesh.set_point(TriMesh::VertexHandle(int(at - kept.begin())), toPoint(p));
+    if (at == kept.end() || *at != templateVertex) return;
+    const TriMesh::VertexHandle v(int(at - kept.begin()));
+    // Spurs of the path stay inside.
+    if (result.mesh.is_boundary(v)) shift[std::size_t(v.idx())] = p - pointOf(result.mesh, v);
   };
   for (std::size_t k = 0; k < loop.size(); ++k) {
     const Eigen::Vector3d& from = pairs.border[std::size_t(corners[k])];
@@ -121,6 +160,7 @@ void snapBoundary(const TriMesh& mesh, const PointPairs& pairs, RbfWarpResult& r
       place(mesh.to_vertex_handle(segments[k][e]).idx(), from + (along / total) * (to - from));
     }
   }
+  extendShifts(result.mesh, shift);
 }
 
 TriMesh displaced(const TriMesh& mesh, const std::vector<Eigen::Vector3d>& displacement) {
@@ -155,6 +195,10 @@ void crop(const TriMesh& mesh, const TriMesh& warped, const PointPairs& pairs,
                        "the pairs name fewer than 3 distinct template vertices in a row: "
                        "no line L to crop along");
   const std::vector<char> onL = pathEdges(mesh, loop);
+  if (std::find(onL.begin(), onL.end(), 1) == onL.end())
+    throw RbfWarpError("pairs",
+                       "the line L through the paired template vertices does not separate the "
+                       "template: its paths run there and back and enclose nothing");
   const int seed = nearestSurfacePoint(mesh, borderCentroid(pairs)).face;
   const Submesh kept = extractSubmesh(warped, floodFaces(mesh, onL, seed));
   if (kept.unattachedFace >= 0)
@@ -278,10 +322,12 @@ std::vector<std::vector<TriMesh::HalfedgeHandle>> pathSegments(const TriMesh& me
 }
 
 std::vector<char> pathEdges(const TriMesh& mesh, const std::vector<int>& loop) {
+  // An edge two segments run along, there and back, is a spur of the path, not a border between
+  // two sides: L is the edges the path takes an odd number of times.
   std::vector<char> onL(mesh.n_edges(), 0);
   for (const auto& segment : pathSegments(mesh, loop))
     for (const auto h : segment)
-      onL[std::size_t(mesh.edge_handle(h).idx())] = 1;
+      onL[std::size_t(mesh.edge_handle(h).idx())] ^= 1;
   return onL;
 }
 

@@ -81,8 +81,8 @@ std::vector<std::vector<TriMesh::HalfedgeHandle>> pathSegments(const TriMesh& me
 
 // L: the template's edges on the closed path through the t_b_i in pair order, each consecutive
 // two (distinct) joined by a shortest edge path of `mesh` (Dijkstra, Euclidean edge lengths, ties
-// broken the same way on every run). One flag per edge. Throws RbfWarpError("pairs") where two are
-// not connected.
+// broken the same way on every run); an edge the path takes twice (there and back) is a spur and
+// not on L. One flag per edge. Throws RbfWarpError("pairs") where two are not connected.
 std::vector<char> pathEdges(const TriMesh& mesh, const std::vector<int>& loop);
 
 // The faces reached from `seed` through edges not on L, increasing. Throws RbfWarpError("pairs")
