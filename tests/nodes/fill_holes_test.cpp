@@ -35,21 +35,6 @@ TriMesh withoutFaces(TriMesh mesh, const std::function<bool(const Vector3d&)>& r
   return mesh;
 }
 
-// The square [0, 1]^2 at z = 0 cut into n x n squares of two triangles each, facing +z.
-TriMesh planeGrid(int n) {
-  TriMesh mesh;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      mesh.add_vertex(TriMesh::Point(double(i) / n, double(j) / n, 0));
-  auto id = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      mesh.add_face(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-      mesh.add_face(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-    }
-  return mesh;
-}
-
 std::vector<Vector3d> newPoints(const TriMesh& filled, const TriMesh& holed) {
   std::vector<Vector3d> points;
   for (int v = int(holed.n_vertices()); v < int(filled.n_vertices()); ++v)
@@ -91,7 +76,7 @@ std::size_t intersectingPairs(const TriMesh& mesh) {
 }
 
 TEST(FillHoles, FindsEachLoopStartingAtItsSmallestVertex) {
-  const TriMesh holed = withoutFaces(planeGrid(20), [](const Vector3d& c) {
+  const TriMesh holed = withoutFaces(test::unitSquareGrid(20), [](const Vector3d& c) {
     return (c - Vector3d(0.3, 0.3, 0)).norm() < 0.1 || (c - Vector3d(0.7, 0.7, 0)).norm() < 0.12;
   });
   const auto loops = boundaryLoops(holed);
@@ -112,8 +97,9 @@ TEST(FillHoles, FindsEachLoopStartingAtItsSmallestVertex) {
 }
 
 TEST(FillHoles, APlanarHoleFillsFlatWithEdgesLikeItsBorder) {
-  const TriMesh holed = withoutFaces(
-      planeGrid(30), [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.25; });
+  const TriMesh holed = withoutFaces(test::unitSquareGrid(30), [](const Vector3d& c) {
+    return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.25;
+  });
   const auto result = fillHoles(holed, listed({1}));
   expectInputKept(holed, result.mesh);
   const auto topo = test::topology(result.mesh);
@@ -137,7 +123,7 @@ TEST(FillHoles, APlanarHoleFillsFlatWithEdgesLikeItsBorder) {
 }
 
 TEST(FillHoles, ALongSlotFillsFlat) {
-  const TriMesh holed = withoutFaces(planeGrid(40), [](const Vector3d& c) {
+  const TriMesh holed = withoutFaces(test::unitSquareGrid(40), [](const Vector3d& c) {
     return std::abs(c.x() - 0.5) < 0.4 && std::abs(c.y() - 0.5) < 0.03;
   });
   const auto result = fillHoles(holed, listed({1}));
@@ -169,7 +155,7 @@ TEST(FillHoles, ASphereCapComesBackOnTheSphereAndC1BeatsC0) {
 
 TEST(FillHoles, MembraneReproducesAPlaneFromItsRing) {
   // A triangulated hexagon ring around three unknowns, all heights on the plane h = 2u - v + 1.
-  const TriMesh grid = planeGrid(6);
+  const TriMesh grid = test::unitSquareGrid(6);
   const TriMesh holed = withoutFaces(
       grid, [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.2; });
   TriMesh tilted = holed;
@@ -224,8 +210,9 @@ void addPin(TriMesh& mesh, const std::array<OpenMesh::Vec3d, 4>& corners) {
 // A hole at the top of a mound, under a pin that stops short of the hole's plane: the C1 fill
 // rises with the mound's slopes into the pin, the harmonic one stays below it.
 TEST(FillHoles, AFillTheSlopesWouldFoldIntoTheSurfaceIsFilledHarmonic) {
-  TriMesh mesh = withoutFaces(
-      planeGrid(20), [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.25; });
+  TriMesh mesh = withoutFaces(test::unitSquareGrid(20), [](const Vector3d& c) {
+    return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.25;
+  });
   for (auto v : mesh.vertices()) {
     auto p = mesh.point(v);
     p[2] = -0.5 * std::max(0.0, std::hypot(p[0] - 0.5, p[1] - 0.5) - 0.25);
@@ -244,8 +231,9 @@ TEST(FillHoles, AFillTheSlopesWouldFoldIntoTheSurfaceIsFilledHarmonic) {
 
 // A pin through a hole: any disc spanning the hole cuts it, so the fill fails, naming the loop.
 TEST(FillHoles, AFillThatWouldCutTheSurfaceFailsNamingItsLoop) {
-  TriMesh mesh = withoutFaces(
-      planeGrid(10), [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.25; });
+  TriMesh mesh = withoutFaces(test::unitSquareGrid(10), [](const Vector3d& c) {
+    return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.25;
+  });
   const Mesh pin = test::tetrahedron(
       {OpenMesh::Vec3d(0.45, 0.45, -0.5), {0.55, 0.45, -0.5}, {0.5, 0.55, -0.5}, {0.5, 0.5, 0.5}});
   std::vector<TriMesh::VertexHandle> corners;
@@ -296,7 +284,7 @@ TEST(FillHoles, AChordTheMeshAlreadyHasIsSplit) {
 }
 
 TEST(FillHoles, TheChoiceLeavesTheLargestTheUnlistedOrTheLongLoopsOpen) {
-  const TriMesh holed = withoutFaces(planeGrid(20), [](const Vector3d& c) {
+  const TriMesh holed = withoutFaces(test::unitSquareGrid(20), [](const Vector3d& c) {
     return (c - Vector3d(0.3, 0.3, 0)).norm() < 0.1 || (c - Vector3d(0.7, 0.7, 0)).norm() < 0.2;
   });
   FillHolesOptions butLargest;
@@ -391,8 +379,9 @@ INSTANTIATE_TEST_SUITE_P(Cases, CutHole,
 TEST(FillHolesNode, ReportsEachLoopAndNamesABadChoice) {
   const NodeType* type = test::registry().find("geobrush.fill_holes");
   ASSERT_NE(type, nullptr);
-  const TriMesh holed = withoutFaces(
-      planeGrid(20), [](const Vector3d& c) { return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.2; });
+  const TriMesh holed = withoutFaces(test::unitSquareGrid(20), [](const Vector3d& c) {
+    return (c - Vector3d(0.5, 0.5, 0)).norm() < 0.2;
+  });
   auto input = std::make_shared<const Mesh>(holed);
   test::DirectContext ctx(*type, {{"mesh", input}}, {{"holes", std::string("all-but-largest")}});
   type->create()->compute(ctx);

@@ -12,27 +12,13 @@
 #include "geobrush/border_loop.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "geobrush/values.hpp"
+#include "mesh_checks.hpp"
 #include "test_support.hpp"
 
 namespace geobrush {
 namespace {
 
 using Eigen::Vector3d;
-
-// The square [0, 1]^2 at z = 0 cut into n x n squares of two triangles each, facing +z.
-TriMesh planeGrid(int n) {
-  TriMesh mesh;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      mesh.add_vertex(TriMesh::Point(double(i) / n, double(j) / n, 0));
-  auto id = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      mesh.add_face(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-      mesh.add_face(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-    }
-  return mesh;
-}
 
 // The grid vertices on the square with corners (lo, lo) and (hi, hi), counter-clockwise.
 std::vector<int> squareLoop(int n, int lo, int hi) {
@@ -78,7 +64,7 @@ bool inside(const Vector3d& p, double lo, double hi) {
 // along z (each D_i is a multiple of (0, 0, h)); the interior's deviation from h is recorded.
 TEST(RbfWarp, RaisedSquareLoopReachesItsHeight) {
   const int n = 24;
-  const TriMesh plane = planeGrid(n);
+  const TriMesh plane = test::unitSquareGrid(n);
   const auto loop = squareLoop(n, 6, 18);
   const double h = 0.1;
   RbfWarpOptions options;
@@ -111,7 +97,7 @@ TEST(RbfWarp, RaisedSquareLoopReachesItsHeight) {
 // The crop keeps exactly the faces inside the loop, and its boundary is the loop itself.
 TEST(RbfWarp, CropKeepsExactlyTheInsideOfASquareLoop) {
   const int n = 24, lo = 6, hi = 18;
-  const TriMesh plane = planeGrid(n);
+  const TriMesh plane = test::unitSquareGrid(n);
   const auto loop = squareLoop(n, lo, hi);
   const RbfWarpResult result = warp(plane, raised(plane, loop, 0.05));
   EXPECT_EQ(result.mesh.n_faces(), std::size_t(2 * (hi - lo) * (hi - lo)));
@@ -133,7 +119,7 @@ TEST(RbfWarp, CropKeepsExactlyTheInsideOfASquareLoop) {
 // Pairs clockwise or counter-clockwise, the crop keeps the side holding the border's centroid.
 TEST(RbfWarp, CropDoesNotDependOnTheLoopsDirection) {
   const int n = 20;
-  const TriMesh plane = planeGrid(n);
+  const TriMesh plane = test::unitSquareGrid(n);
   auto loop = squareLoop(n, 4, 12);
   const RbfWarpResult forward = warp(plane, raised(plane, loop, 0.05));
   std::reverse(loop.begin(), loop.end());
@@ -148,7 +134,7 @@ TEST(RbfWarp, CropDoesNotDependOnTheLoopsDirection) {
 // the segments), with straight distances and a kernel the border's size.
 TEST(RbfWarp, TheCroppedBoundaryIsLaidOnTheBorderPolyline) {
   const int n = 20;
-  const TriMesh mesh = planeGrid(n);
+  const TriMesh mesh = test::unitSquareGrid(n);
   std::vector<int> corners;
   const std::vector<int> loop = squareLoop(n, 4, 16);
   for (std::size_t i = 0; i < loop.size(); i += 2)
@@ -187,7 +173,7 @@ TEST(RbfWarp, TheCroppedBoundaryIsLaidOnTheBorderPolyline) {
 
 TEST(RbfWarp, StrideThinsTheConstraints) {
   const int n = 24;
-  const TriMesh plane = planeGrid(n);
+  const TriMesh plane = test::unitSquareGrid(n);
   const auto loop = squareLoop(n, 6, 18);
   const auto pairs = pairsOn(plane, loop, [](const Vector3d& p) {
     return Vector3d(0.02 * std::sin(6 * p.y()), 0.01, 0.05 * std::cos(5 * p.x()));
@@ -212,7 +198,7 @@ TEST(RbfWarp, StrideThinsTheConstraints) {
 // Two pairs on one template vertex cannot both hold: the later one is dropped and counted.
 TEST(RbfWarp, PairsSharingATemplateVertexConstrainOnce) {
   const int n = 16;
-  const TriMesh plane = planeGrid(n);
+  const TriMesh plane = test::unitSquareGrid(n);
   auto loop = squareLoop(n, 4, 12);
   loop.insert(loop.begin() + 5, loop[4]);
   const RbfWarpResult result = warp(plane, raised(plane, loop, 0.05));
@@ -233,7 +219,7 @@ test::NodeRun runWarp(const TriMesh& mesh, const PointPairs& pairs, const ParamM
 
 TEST(RbfWarpNode, ReportsAndRepeatsBitForBit) {
   const int n = 20;
-  const TriMesh plane = planeGrid(n);
+  const TriMesh plane = test::unitSquareGrid(n);
   const auto pairs = raised(plane, squareLoop(n, 5, 15), 0.1);
   const auto first = runWarp(plane, pairs);
   const auto second = runWarp(plane, pairs);
@@ -253,7 +239,7 @@ TEST(RbfWarpNode, ReportsAndRepeatsBitForBit) {
 // The template's kNN graph is derived data: new pairs or a new t_max reuse it, a new k does not.
 TEST(RbfWarpNode, BuildsTheTemplatesGraphOncePerK) {
   const int n = 16;
-  const TriMesh plane = planeGrid(n);
+  const TriMesh plane = test::unitSquareGrid(n);
   const auto mesh = std::make_shared<const Mesh>(plane);
   const NodeType* type = test::registry().find("geobrush.rbf_warp");
   ASSERT_TRUE(type);
@@ -288,7 +274,7 @@ void expectRefused(const TriMesh& mesh, const PointPairs& pairs, const std::stri
 
 TEST(RbfWarpNode, RefusesBadInputNamingThePort) {
   const int n = 12;
-  const TriMesh plane = planeGrid(n);
+  const TriMesh plane = test::unitSquareGrid(n);
   const auto loop = squareLoop(n, 3, 9);
   const PointPairs good = raised(plane, loop, 0.1);
 

@@ -23,21 +23,6 @@ namespace {
 
 using Eigen::Vector3d;
 
-// The square [0, 1]^2 at z = 0 cut into n x n squares of two triangles each, facing +z.
-TriMesh planeGrid(int n) {
-  TriMesh mesh;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      mesh.add_vertex(TriMesh::Point(double(i) / n, double(j) / n, 0));
-  auto id = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      mesh.add_face(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-      mesh.add_face(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-    }
-  return mesh;
-}
-
 Vector3d centroid(const TriMesh& mesh, TriMesh::FaceHandle f) {
   Vector3d sum = Vector3d::Zero();
   for (auto v : mesh.fv_range(f))
@@ -141,7 +126,7 @@ void expectFacingUp(const TriMesh& mesh, int first) {
 }
 
 TEST(Weld, AnExactPatchClosesTheGridAsIfNeverCut) {
-  const TriMesh grid = planeGrid(10);
+  const TriMesh grid = test::unitSquareGrid(10);
   const Cut c = cut(grid, inCentreSquare);
   ASSERT_EQ(c.patch.n_faces(), 32u);
   const auto result = weld(c.holed, holeLoop(c.holed), c.patch);
@@ -177,9 +162,9 @@ TEST(Weld, AnExactPatchClosesTheGridAsIfNeverCut) {
 // A patch twice as fine as the hole: every other boundary vertex lies on a border vertex, the
 // rest on the middles of the border's edges, which are split there and shared: no strip at all.
 TEST(Weld, APatchFinerThanTheHoleSplitsTheBordersEdges) {
-  const TriMesh grid = planeGrid(10);
+  const TriMesh grid = test::unitSquareGrid(10);
   const Cut c = cut(grid, inCentreSquare);
-  TriMesh finer = planeGrid(8);
+  TriMesh finer = test::unitSquareGrid(8);
   for (auto v : finer.vertices())
     finer.set_point(v, finer.point(v) * 0.4 + TriMesh::Point(0.3, 0.3, 0));
   const auto result = weld(c.holed, holeLoop(c.holed), finer);
@@ -197,7 +182,7 @@ TEST(Weld, APatchFinerThanTheHoleSplitsTheBordersEdges) {
 }
 
 TEST(Weld, AShrunkPatchIsJoinedByAStripOfBothLoopsLengths) {
-  const Cut c = cut(planeGrid(10), inCentreSquare);
+  const Cut c = cut(test::unitSquareGrid(10), inCentreSquare);
   const TriMesh patch = shrunk(c.patch, {0.5, 0.5, 0}, 0.1);
   const auto result = weld(c.holed, holeLoop(c.holed), patch);
   EXPECT_EQ(result.sharedVertices, 0u);
@@ -214,7 +199,7 @@ TEST(Weld, AShrunkPatchIsJoinedByAStripOfBothLoopsLengths) {
 }
 
 TEST(Weld, APatchSharingEveryOtherVertexGetsTwoTrianglesPerGap) {
-  const Cut c = cut(planeGrid(10), inCentreSquare);
+  const Cut c = cut(test::unitSquareGrid(10), inCentreSquare);
   const auto patchLoop = boundaryLoops(c.patch).front();  // starts at a corner of the square
   ASSERT_EQ(patchLoop.size(), 16u);
   std::vector<char> odd(c.patch.n_vertices(), 0);
@@ -232,7 +217,7 @@ TEST(Weld, APatchSharingEveryOtherVertexGetsTwoTrianglesPerGap) {
 }
 
 TEST(Weld, AReversedPatchIsTurnedOver) {
-  const TriMesh grid = planeGrid(10);
+  const TriMesh grid = test::unitSquareGrid(10);
   const Cut c = cut(grid, inCentreSquare);
   const auto exact = weld(c.holed, holeLoop(c.holed), flipped(c.patch));
   EXPECT_TRUE(exact.patchFlipped);
@@ -273,7 +258,7 @@ TEST(Weld, ASphereCapHoleIsClosedByTheRemovedCap) {
 }
 
 TEST(Weld, IsDeterministic) {
-  const Cut c = cut(planeGrid(12),
+  const Cut c = cut(test::unitSquareGrid(12),
                     [](const Vector3d& p) { return (p - Vector3d(0.5, 0.5, 0)).norm() < 0.3; });
   const TriMesh patch = shrunk(c.patch, {0.5, 0.5, 0}, 0.05);
   const auto a = weld(c.holed, holeLoop(c.holed), patch);
@@ -340,7 +325,7 @@ std::string refusal(const ValuePtr& border, const ValuePtr& patch) {
 }
 
 TEST(WeldNode, WarnsWhenItTurnsThePatchOver) {
-  const Cut c = cut(planeGrid(10), inCentreSquare);
+  const Cut c = cut(test::unitSquareGrid(10), inCentreSquare);
   auto border = std::make_shared<BorderLoop>();
   border->mesh = std::make_shared<const Mesh>(c.holed);
   border->vertex = holeLoop(c.holed);
@@ -353,7 +338,7 @@ TEST(WeldNode, WarnsWhenItTurnsThePatchOver) {
 }
 
 TEST(WeldNode, RefusesInputsThatCannotBeWeldedNamingThePort) {
-  const Cut c = cut(planeGrid(10), inCentreSquare);
+  const Cut c = cut(test::unitSquareGrid(10), inCentreSquare);
   auto border = std::make_shared<BorderLoop>();
   border->mesh = std::make_shared<const Mesh>(c.holed);
   border->vertex = holeLoop(c.holed);
@@ -362,7 +347,7 @@ TEST(WeldNode, RefusesInputsThatCannotBeWeldedNamingThePort) {
   EXPECT_TRUE(
       test::contains(refusal(border, closed), "input 'patch': the patch has 0 boundary loops"));
 
-  const Cut ring = cut(planeGrid(10), [](const Vector3d& p) {
+  const Cut ring = cut(test::unitSquareGrid(10), [](const Vector3d& p) {
     return std::abs(p.x() - 0.5) < 0.4 && std::abs(p.y() - 0.5) < 0.4 && !inCentreSquare(p);
   });
   const auto annulus = std::make_shared<const Mesh>(ring.patch);
@@ -381,7 +366,7 @@ TEST(WeldNode, RefusesInputsThatCannotBeWeldedNamingThePort) {
 
   // The hole's loop given with another mesh than the one it bounds.
   auto elsewhere = std::make_shared<BorderLoop>(*border);
-  elsewhere->mesh = std::make_shared<const Mesh>(planeGrid(10));
+  elsewhere->mesh = std::make_shared<const Mesh>(test::unitSquareGrid(10));
   EXPECT_TRUE(test::contains(refusal(elsewhere, std::make_shared<const Mesh>(c.patch)),
                              "input 'border': not a boundary loop of the holed mesh"));
   auto empty = std::make_shared<BorderLoop>();

@@ -42,6 +42,20 @@ Mesh tetrahedron(const std::array<OpenMesh::Vec3d, 4>& corners) {
   return Mesh(std::move(mesh));
 }
 
+TriMesh unitSquareGrid(int n) {
+  TriMesh mesh;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      mesh.add_vertex(TriMesh::Point(double(i) / n, double(j) / n, 0));
+  auto id = [n](int i, int j) { return TriMesh::VertexHandle(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      mesh.add_face(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      mesh.add_face(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  return mesh;
+}
+
 TriMesh icosphere(int levels) {
   const double t = (1 + std::sqrt(5.0)) / 2;
   std::vector<Eigen::Vector3d> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},

@@ -22,6 +22,9 @@ TriMesh boxCage(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n);
 // An icosahedron split `levels` times (4^levels x 20 faces), its vertices pushed onto the unit
 // sphere: a large closed test surface.
 TriMesh icosphere(int levels);
+// The square [0, 1]^2 at z = 0 cut into n x n squares of two triangles each, facing +z; vertex
+// (i, j) is j (n + 1) + i.
+TriMesh unitSquareGrid(int n);
 
 double surfaceArea(const TriMesh& mesh);
 
