@@ -130,11 +130,42 @@ void extendShifts(TriMesh& patch, std::vector<Eigen::Vector3d>& shift) {
     patch.set_point(v, toPoint(pointOf(patch, v) + shift[std::size_t(v.idx())]));
 }
 
+// The border polyline from pair `first`'s point to pair `last`'s through the pairs between (those
+// whose template vertex merged into a corner of L included), by arc length.
+class BorderStretch {
+ public:
+  BorderStretch(const PointPairs& pairs, int first, int last) {
+    const auto n = int(pairs.border.size());
+    for (int i = first;; i = (i + 1) % n) {
+      points_.push_back(pairs.border[std::size_t(i)]);
+      if (i == last) break;
+    }
+    lengths_.push_back(0);
+    for (std::size_t i = 1; i < points_.size(); ++i)
+      lengths_.push_back(lengths_.back() + (points_[i] - points_[i - 1]).norm());
+  }
+  // The point at fraction s of the stretch's length.
+  Eigen::Vector3d at(double s) const {
+    const double target = s * lengths_.back();
+    std::size_t i = 1;
+    while (i + 1 < points_.size() && lengths_[i] < target)
+      ++i;
+    if (i >= points_.size()) return points_.front();
+    const double piece = lengths_[i] - lengths_[i - 1];
+    const double t = piece > 0 ? std::clamp((target - lengths_[i - 1]) / piece, 0.0, 1.0) : 0.0;
+    return points_[i - 1] + t * (points_[i] - points_[i - 1]);
+  }
+
+ private:
+  std::vector<Eigen::Vector3d> points_;
+  std::vector<double> lengths_;
+};
+
 // Snap [ours]: the cropped template's boundary L laid onto the border polyline: each corner t_b_i
-// at b_i, each vertex of L between corners t_b_i and t_b_j at the point of the segment b_i b_j at
-// its fraction of the path's length (measured before the warp). The weld then shares every
-// boundary vertex rather than zipping a strip against a path that steps along the template's
-// edges; the rest of the patch follows the boundary's shifts (extendShifts).
+// at b_i, each vertex of L between corners t_b_i and t_b_j at the point of the border polyline
+// from b_i to b_j at its fraction of the path's length (measured before the warp). The weld then
+// shares every boundary vertex rather than zipping a strip against a path that steps along the
+// template's edges; the rest of the patch follows the boundary's shifts (extendShifts).
 void snapBoundary(const TriMesh& mesh, const PointPairs& pairs, RbfWarpResult& result) {
   const std::vector<int> corners = loopCorners(pairs);
   const std::vector<int> loop = pairLoop(pairs);
@@ -149,15 +180,14 @@ void snapBoundary(const TriMesh& mesh, const PointPairs& pairs, RbfWarpResult& r
     if (result.mesh.is_boundary(v)) shift[std::size_t(v.idx())] = p - pointOf(result.mesh, v);
   };
   for (std::size_t k = 0; k < loop.size(); ++k) {
-    const Eigen::Vector3d& from = pairs.border[std::size_t(corners[k])];
-    const Eigen::Vector3d& to = pairs.border[std::size_t(corners[(k + 1) % loop.size()])];
+    const BorderStretch stretch(pairs, corners[k], corners[(k + 1) % loop.size()]);
     double total = 0, along = 0;
     for (const auto h : segments[k])
       total += mesh.calc_edge_length(h);
-    place(loop[k], from);
+    place(loop[k], stretch.at(0));
     for (std::size_t e = 0; e + 1 < segments[k].size(); ++e) {
       along += mesh.calc_edge_length(segments[k][e]);
-      place(mesh.to_vertex_handle(segments[k][e]).idx(), from + (along / total) * (to - from));
+      place(mesh.to_vertex_handle(segments[k][e]).idx(), stretch.at(along / total));
     }
   }
   extendShifts(result.mesh, shift);
