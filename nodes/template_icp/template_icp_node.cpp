@@ -1,4 +1,7 @@
+#include <algorithm>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "geobrush/border_loop.hpp"
 #include "geobrush/node.hpp"
@@ -41,6 +44,13 @@ std::shared_ptr<const geobrush::PointNeighbours> templateTree(Context& ctx, cons
   }
 }
 
+// Pairs whose template vertex an earlier pair already has.
+std::size_t pairsOnASharedVertex(const geobrush::PointPairs& pairs) {
+  std::vector<int> vertices = pairs.templateVertex;
+  std::sort(vertices.begin(), vertices.end());
+  return std::size_t(vertices.end() - std::unique(vertices.begin(), vertices.end()));
+}
+
 std::shared_ptr<const geobrush::Metrics> report(const geobrush::TemplateIcpResult& result) {
   auto metrics = std::make_shared<geobrush::Metrics>();
   metrics->values = {{"rms_before", result.rmsBefore},
@@ -81,6 +91,11 @@ class TemplateIcpNode final : public geobrush::Node {
       pairs->border.push_back(points[std::size_t(pair.border)]);
       pairs->templateVertex.push_back(pair.templateVertex);
     }
+    if (const std::size_t shared = pairsOnASharedVertex(*pairs); shared > 0)
+      ctx.warn(std::to_string(shared) +
+               " border points pair with a template vertex another one took: the template is "
+               "coarser than the border, and the warp keeps one pair per vertex (raise the "
+               "template's resolution)");
     ctx.out("template",
             std::make_shared<const Mesh>(geobrush::moveRigidly(mesh->surface, result.motion),
                                          mesh->vertexColors));

@@ -363,6 +363,12 @@ TEST(TemplateIcpNode, PrealignPutsAPlaneMadeAtTheOriginIntoATiltedHole) {
   // Without the frame alignment the template stays in the plane z = 0, far from the hole.
   const auto unaligned = runIcp(plane, border, {{"iterations", std::int64_t(0)}});
   EXPECT_GT(unaligned.get<Metrics>("report")->values.at("rms_after"), 1.0);
+  EXPECT_TRUE(run.warnings.empty());  // finer than the border: one border point per vertex
+  // A template coarser than the border pairs several border points with one vertex: warned.
+  const auto coarse =
+      runIcp(std::make_shared<const Mesh>(centredGrid(6, 0.2)), border, {{"prealign", true}});
+  ASSERT_EQ(coarse.warnings.size(), 1u);
+  EXPECT_TRUE(test::contains(coarse.warnings[0], "coarser than the border"));
 }
 
 }  // namespace
