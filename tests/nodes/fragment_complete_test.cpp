@@ -357,15 +357,14 @@ TEST(FragmentCompleteNode, CompletesTheBunnyBackFill) {
   EXPECT_GT(moved, 0u);
   // The patch reaches past the hole: the whole original bunny is the ground truth of every
   // completed vertex, the removed patch that of those over the hole.
-  const MeshPtr removed =
-      readMesh(test::meshPath("cases/bunny_small_back_removed_patch.obj")).mesh;
+  const MeshPtr removed = readMesh(test::meshPath("cases/bunny_small_back_removed_patch.obj")).mesh;
   const MeshPtr whole = readMesh(test::meshPath("bunny_small.obj")).mesh;
   const auto metrics = run.get<Metrics>("report");
-  std::printf(
-      "bunny back: %g completed, %g candidates, mean best cost %g, mean edge %.4g\n",
-      metrics->values.at("completed"), metrics->values.at("candidates"),
-      metrics->values.at("mean_best_cost"), meanEdgeLength(filled->surface));
-  for (const auto& [name, truth] : {std::pair{"removed_patch", removed}, std::pair{"bunny", whole}}) {
+  std::printf("bunny back: %g completed, %g candidates, mean best cost %g, mean edge %.4g\n",
+              metrics->values.at("completed"), metrics->values.at("candidates"),
+              metrics->values.at("mean_best_cost"), meanEdgeLength(filled->surface));
+  for (const auto& [name, truth] :
+       {std::pair{"removed_patch", removed}, std::pair{"bunny", whole}}) {
     const double fill = meanDistance(filled->surface, original, truth->surface);
     const double done = meanDistance(completed->surface, original, truth->surface);
     std::printf("mean distance to the %s: fill %.4g, completed %.4g\n", name, fill, done);
