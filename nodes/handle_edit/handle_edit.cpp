@@ -186,7 +186,7 @@ RigidMotion handleMotion(const HandleEdit& edit, const Eigen::Vector3d& pivot) {
         Eigen::AngleAxisd(edit.angleDegrees * std::numbers::pi / 180, edit.axis.normalized())
             .toRotationMatrix();
   // pivot - R pivot is exactly 0 without a rotation, so a pure translation adds exactly t.
-  motion.offset = edit.translation + (pivot - motion.rotation * pivot);
+  motion.translation = edit.translation + (pivot - motion.rotation * pivot);
   return motion;
 }
 

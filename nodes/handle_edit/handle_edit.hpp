@@ -14,6 +14,7 @@
 
 #include "geobrush/knn_graph.hpp"
 #include "geobrush/mesh.hpp"
+#include "geobrush/rigid_motion.hpp"
 
 namespace geobrush {
 
@@ -84,12 +85,6 @@ HandleRegion handleRegion(const TriMesh& mesh, const KnnGraph& graph,
                           double radius);
 
 // A rigid map x -> rotation x + offset.
-struct RigidMotion {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
-  Eigen::Vector3d operator()(const Eigen::Vector3d& x) const { return rotation * x + offset; }
-};
-
 // The edit's T: rotation about the axis through `pivot`, then the translation.
 RigidMotion handleMotion(const HandleEdit& edit, const Eigen::Vector3d& pivot);
 

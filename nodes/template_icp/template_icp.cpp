@@ -52,7 +52,7 @@ std::vector<double> pairDistances(const PointNeighbours& tree,
   distance.reserve(pairs.size());
   for (const IcpPair& pair : pairs)
     distance.push_back(
-        (motion.apply(tree.point(pair.templateVertex)) - border[std::size_t(pair.border)]).norm());
+        (motion(tree.point(pair.templateVertex)) - border[std::size_t(pair.border)]).norm());
   return distance;
 }
 
@@ -160,12 +160,6 @@ TemplateIcpResult solveExplicit(const PointNeighbours& tree,
 
 }  // namespace
 
-double RigidMotion::angleDegrees() const {
-  const Eigen::Vector3d axis(rotation(2, 1) - rotation(1, 2), rotation(0, 2) - rotation(2, 0),
-                             rotation(1, 0) - rotation(0, 1));
-  return std::atan2(0.5 * axis.norm(), 0.5 * (rotation.trace() - 1)) * 180 / std::numbers::pi;
-}
-
 RigidMotion fitRigidMotion(std::span<const Eigen::Vector3d> from,
                            std::span<const Eigen::Vector3d> to) {
   if (from.empty() || from.size() != to.size())
@@ -195,7 +189,7 @@ RigidMotion fitRigidMotion(std::span<const Eigen::Vector3d> from,
 TriMesh moveRigidly(const TriMesh& mesh, const RigidMotion& motion) {
   TriMesh moved = mesh;
   for (const auto v : moved.vertices())
-    moved.set_point(v, toPoint(motion.apply(pointOf(moved, v))));
+    moved.set_point(v, toPoint(motion(pointOf(moved, v))));
   return moved;
 }
 

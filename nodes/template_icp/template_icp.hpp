@@ -12,18 +12,9 @@
 
 #include "geobrush/mesh.hpp"
 #include "geobrush/point_neighbours.hpp"
+#include "geobrush/rigid_motion.hpp"
 
 namespace geobrush {
-
-// x -> rotation * x + translation.
-struct RigidMotion {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-
-  Eigen::Vector3d apply(const Eigen::Vector3d& x) const { return rotation * x + translation; }
-  // The rotation's angle in degrees, in [0, 180].
-  double angleDegrees() const;
-};
 
 // The rotation and translation minimizing sum |R from_i + t - to_i|^2 (Kabsch's SVD solution;
 // where the best orthogonal map is a reflection, the best proper rotation instead). With fewer

@@ -58,7 +58,7 @@ TriMesh withHole(const TriMesh& mesh, const Eigen::Vector2d& centre, double radi
 TriMesh moved(const TriMesh& mesh, const RigidMotion& motion) {
   TriMesh out = mesh;
   for (const auto v : out.vertices())
-    out.set_point(v, toPoint(motion.apply(pointOf(out, v))));
+    out.set_point(v, toPoint(motion(pointOf(out, v))));
   return out;
 }
 
@@ -134,7 +134,7 @@ TEST(FitRigidMotion, RecoversAMotionFromExactPairs) {
   const auto from = spread({1, 2, 3});
   std::vector<Eigen::Vector3d> to;
   for (const auto& p : from)
-    to.push_back(truth.apply(p));
+    to.push_back(truth(p));
   const RigidMotion fit = fitRigidMotion(from, to);
   EXPECT_LT((fit.rotation - truth.rotation).norm(), 1e-12);
   EXPECT_LT((fit.translation - truth.translation).norm(), 1e-12);
@@ -164,7 +164,7 @@ TEST(FitRigidMotion, RecoversARotationFromCoplanarPoints) {
     const RigidMotion truth = motion(degrees, {0.3, 1, -0.2}, {0.5, 0, -1});
     std::vector<Eigen::Vector3d> to;
     for (const auto& p : from)
-      to.push_back(truth.apply(p));
+      to.push_back(truth(p));
     const RigidMotion fit = fitRigidMotion(from, to);
     EXPECT_LT((fit.rotation - truth.rotation).norm(), 1e-12) << degrees;
     EXPECT_LT((fit.translation - truth.translation).norm(), 1e-12) << degrees;
