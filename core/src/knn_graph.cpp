@@ -9,6 +9,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "geobrush/mesh.hpp"
+#include "geobrush/node.hpp"
+
 namespace geobrush {
 namespace {
 
@@ -90,6 +93,18 @@ std::vector<double> graphDistances(const KnnGraph& graph, std::span<const int> s
     }
   }
   return distance;
+}
+
+std::shared_ptr<const KnnGraph> derivedVertexGraph(Context& ctx, std::string_view port, int k) {
+  const auto mesh = ctx.in<Mesh>(port);
+  if (mesh->surface.n_vertices() == 0) throw NodeError::input(port, "the mesh has no vertices");
+  return ctx.derived("knn_graph", {port}, Hasher().u64(std::uint64_t(k)).digest(), [&] {
+    try {
+      return std::make_shared<const KnnGraph>(vertexPoints(mesh->surface), k);
+    } catch (const std::invalid_argument& e) {
+      throw NodeError::input(port, e.what());
+    }
+  });
 }
 
 }  // namespace geobrush

@@ -37,6 +37,14 @@ std::string Mesh::summary() const {
          count(surface.n_faces(), "face", "faces");
 }
 
+std::vector<Eigen::Vector3d> vertexPoints(const TriMesh& mesh) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices())
+    points.push_back(pointOf(mesh, v));
+  return points;
+}
+
 double boundingDiagonal(const TriMesh& mesh) {
   Eigen::AlignedBox3d box;
   for (auto v : mesh.vertices()) {

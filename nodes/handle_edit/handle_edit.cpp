@@ -139,11 +139,8 @@ std::vector<HandleEdit> editsFromRows(std::span<const double> rows) {
 KnnGraph vertexGraph(const TriMesh& mesh, int k) {
   if (k < 1) throw HandleEditError("k", "k must be at least 1");
   if (mesh.n_vertices() == 0) throw HandleEditError("template", "the template has no vertices");
-  std::vector<Eigen::Vector3d> points(mesh.n_vertices());
-  for (int v = 0; v < int(points.size()); ++v)
-    points[std::size_t(v)] = pointOf(mesh, v);
   try {
-    return KnnGraph(points, k);
+    return KnnGraph(vertexPoints(mesh), k);
   } catch (const std::invalid_argument& e) {
     throw HandleEditError("template", e.what());
   }

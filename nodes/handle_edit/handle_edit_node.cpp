@@ -21,9 +21,7 @@ std::vector<std::shared_ptr<const geobrush::HandleRegion>> derivedRegions(
     Context& ctx, const std::shared_ptr<const Mesh>& tmpl,
     const geobrush::HandleEditOptions& options) {
   const int k = options.k;
-  const auto graph = ctx.derived("knn_graph", {"template"}, Hasher().u64(k).digest(), [&] {
-    return std::make_shared<const geobrush::KnnGraph>(geobrush::vertexGraph(tmpl->surface, k));
-  });
+  const auto graph = geobrush::derivedVertexGraph(ctx, "template", k);
   const auto boundary =
       ctx.derived("handle_edit_boundary", {"template"}, Hasher().u64(k).digest(), [&] {
         return std::make_shared<const geobrush::BoundaryDistances>(

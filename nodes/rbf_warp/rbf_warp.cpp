@@ -260,7 +260,7 @@ void solveWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPairs& pai
   rbf.tMax = result.tMax;
   rbf.reg = options.reg;
   const std::vector<Eigen::Vector3d> points =
-      options.straightDistance ? templatePoints(mesh) : std::vector<Eigen::Vector3d>{};
+      options.straightDistance ? vertexPoints(mesh) : std::vector<Eigen::Vector3d>{};
   rbf.straightPoints = points;
   GeodesicRbfResult solved;
   try {
@@ -285,14 +285,6 @@ double maxDistance(const std::vector<Eigen::Vector3d>& points, const PointPairs&
 }
 
 }  // namespace
-
-std::vector<Eigen::Vector3d> templatePoints(const TriMesh& mesh) {
-  std::vector<Eigen::Vector3d> points;
-  points.reserve(mesh.n_vertices());
-  for (auto v : mesh.vertices())
-    points.push_back(pointOf(mesh, v));
-  return points;
-}
 
 void requireValidInputs(const TriMesh& mesh, const PointPairs& pairs) {
   if (mesh.n_faces() == 0) throw RbfWarpError("template", "the template has no faces");
@@ -406,7 +398,7 @@ RbfWarpResult rbfWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPai
   solveWarp(mesh, graph, pairs, options, result);
 
   const TriMesh warped = displaced(mesh, result.displacement);
-  const auto points = templatePoints(warped);
+  const auto points = vertexPoints(warped);
   const double diagonal = result.bboxDiagonal > 0 ? result.bboxDiagonal : 1.0;
   result.maxResidual = maxDistance(points, pairs, result.constraintPair) / diagonal;
   result.maxResidualAllPairs = maxDistance(points, pairs, identity(pairs.border.size())) / diagonal;

@@ -60,9 +60,6 @@ struct RbfWarpResult {
   int constraintsKept = 0;         // constraints whose vertex the crop keeps
 };
 
-// The template's vertices, for its kNN graph.
-std::vector<Eigen::Vector3d> templatePoints(const TriMesh& mesh);
-
 // Throws RbfWarpError("pairs") unless every pair has a finite border point and a template
 // vertex of `mesh`, and there are as many of each; RbfWarpError("template") for a mesh without
 // faces.
@@ -90,7 +87,7 @@ std::vector<char> pathEdges(const TriMesh& mesh, const std::vector<int>& loop);
 // round it). Where L runs along the mesh boundary alone, every face is kept.
 std::vector<int> floodFaces(const TriMesh& mesh, const std::vector<char>& onL, int seed);
 
-// Warps (Eqs. 3-6) and crops `mesh` given its kNN graph (over templatePoints(mesh), options.k).
+// Warps (Eqs. 3-6) and crops `mesh` given its kNN graph (over vertexPoints(mesh), options.k).
 // The crop is found on `mesh` before the warp and applied to the warped template: L through every
 // pair's t_b_i (not only the constraints), flooded from the face nearest the centroid of the b_i.
 // Throws RbfWarpError.

@@ -45,17 +45,9 @@ class RbfWarpNode final : public geobrush::Node {
     options.snapBoundary = ctx.param<bool>("snap_boundary");
     options.tMaxFromBorder = ctx.param<std::string>("t_max_auto") == "border_radius";
     options.straightDistance = ctx.param<std::string>("distance") == "straight";
-    // The geodesic delta's graph over the template's vertices: shared with any node that asks
+    // The geodesic delta's graph over the template's vertices, shared with any node that asks
     // for the same template and k.
-    const auto graph = ctx.derived("knn_graph", {"template"},
-                                   geobrush::Hasher().u64(std::uint64_t(options.k)).digest(), [&] {
-                                     try {
-                                       return std::make_shared<const geobrush::KnnGraph>(
-                                           geobrush::templatePoints(templ->surface), options.k);
-                                     } catch (const std::invalid_argument& e) {
-                                       throw NodeError::input("template", e.what());
-                                     }
-                                   });
+    const auto graph = geobrush::derivedVertexGraph(ctx, "template", options.k);
     geobrush::RbfWarpResult result;
     try {
       result = geobrush::rbfWarp(templ->surface, *graph, *pairs, options);

@@ -34,10 +34,8 @@ std::shared_ptr<const geobrush::PointNeighbours> templateTree(Context& ctx, cons
   if (mesh.surface.n_vertices() == 0) throw NodeError::input("template", "the template is empty");
   try {
     return ctx.derived("point_neighbours", {"template"}, 0, [&] {
-      std::vector<Eigen::Vector3d> points;
-      for (const auto v : mesh.surface.vertices())
-        points.push_back(geobrush::pointOf(mesh.surface, v));
-      return std::make_shared<const geobrush::PointNeighbours>(std::move(points));
+      return std::make_shared<const geobrush::PointNeighbours>(
+          geobrush::vertexPoints(mesh.surface));
     });
   } catch (const std::invalid_argument& e) {
     throw NodeError::input("template", std::string("the template's ") + e.what());

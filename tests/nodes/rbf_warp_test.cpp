@@ -51,7 +51,7 @@ PointPairs raised(const TriMesh& mesh, const std::vector<int>& loop, double h) {
 }
 
 RbfWarpResult warp(const TriMesh& mesh, const PointPairs& pairs, RbfWarpOptions options = {}) {
-  const KnnGraph graph(templatePoints(mesh), options.k);
+  const KnnGraph graph(vertexPoints(mesh), options.k);
   return rbfWarp(mesh, graph, pairs, options);
 }
 

@@ -6,7 +6,9 @@
 
 #include <Eigen/Core>
 #include <limits>
+#include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 namespace geobrush {
@@ -36,6 +38,12 @@ class KnnGraph {
   std::vector<std::size_t> offsets_;  // CSR: neighbours of v at [offsets_[v], offsets_[v + 1])
   std::vector<KnnEdge> edges_;
 };
+
+class Context;
+// The graph of the vertices of the Mesh on input `port`, derived by the framework once per mesh
+// and k (Context::derived) and shared by every node that asks. Throws NodeError on the port for a
+// mesh without vertices or with a point that is not finite.
+std::shared_ptr<const KnnGraph> derivedVertexGraph(Context& ctx, std::string_view port, int k);
 
 inline constexpr double kUnreached = std::numeric_limits<double>::infinity();
 

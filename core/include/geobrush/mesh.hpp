@@ -66,6 +66,9 @@ inline TriMesh::Point toPoint(const Eigen::Vector3d& p) {
   return {p.x(), p.y(), p.z()};
 }
 
+// Every vertex's point, in vertex order.
+std::vector<Eigen::Vector3d> vertexPoints(const TriMesh& mesh);
+
 // The length of the diagonal of the mesh's axis-aligned bounding box; 0 for a mesh without
 // vertices. What tolerances relative to a mesh's size are measured in.
 double boundingDiagonal(const TriMesh& mesh);
