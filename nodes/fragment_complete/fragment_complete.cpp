@@ -223,7 +223,8 @@ std::vector<std::vector<Vector3d>> scaleSpace(const TriMesh& mesh, int levels) {
   return space;
 }
 
-std::vector<Vector3d> vertexNormals(const TriMesh& mesh, const std::vector<Vector3d>& points) {
+std::vector<Vector3d> areaWeightedNormals(const TriMesh& mesh,
+                                          const std::vector<Vector3d>& points) {
   Points sum(points.size(), Vector3d::Zero());
   for (auto f : mesh.faces()) {
     int c[3], k = 0;
@@ -335,9 +336,9 @@ struct Job {
 std::pair<Points, std::size_t> completeLevel(const Job& job, const Points& inputFine,
                                              const Points& inputBase, const Points& base,
                                              bool coarsest, std::vector<double>& cost) {
-  const Points normal = vertexNormals(job.mesh, base);
+  const Points normal = areaWeightedNormals(job.mesh, base);
   const PointNeighbours tree(base);
-  auto detail = detailOf(inputFine, inputBase, vertexNormals(job.mesh, inputBase));
+  auto detail = detailOf(inputFine, inputBase, areaWeightedNormals(job.mesh, inputBase));
   Level level{base, normal, tree, std::move(detail), job.original, job.original, coarsest};
   const Candidates candidates = candidateDescriptors(level, job.layout, job.candidates,
                                                      job.options.rotations, job.options.threads);

@@ -73,8 +73,8 @@ std::vector<std::vector<Eigen::Vector3d>> scaleSpace(const TriMesh& mesh, int le
 
 // Unit area-weighted vertex normals of the mesh's connectivity at `points` (zero where every face
 // around a vertex is degenerate).
-std::vector<Eigen::Vector3d> vertexNormals(const TriMesh& mesh,
-                                           const std::vector<Eigen::Vector3d>& points);
+std::vector<Eigen::Vector3d> areaWeightedNormals(const TriMesh& mesh,
+                                                 const std::vector<Eigen::Vector3d>& points);
 
 // The vertices not marked original, in rim-inward order: increasing number of edges to the
 // nearest original vertex, ties by index; vertices no original one reaches come last, by index.

@@ -98,7 +98,7 @@ TEST(FragmentComplete, TheScaleSpaceKeepsAPlaneAndItsNormals) {
   for (const auto& level : space)
     for (const auto& p : level)
       EXPECT_NEAR(p.z(), plane(p.x(), p.y()), 1e-12);
-  for (const auto& normal : vertexNormals(mesh, space[2]))
+  for (const auto& normal : areaWeightedNormals(mesh, space[2]))
     EXPECT_NEAR(normal.dot(n), 1.0, 1e-12);
 }
 
