@@ -41,9 +41,11 @@ TEST(Text, EscapesInvalidUtf8AndC1Controls) {
 TEST(Text, CutsAtTheLimitAndSaysHowLongTheTextWas) {
   EXPECT_EQ(escapeText(std::string(1000, 'x'), 10), "xxxxxxxxxx... (1000 bytes)");
   EXPECT_EQ(escapeText(std::string(10, 'x'), 10), "xxxxxxxxxx");
-  EXPECT_EQ(
-      escapeText(std::string(kExcerptLimit + 1, 'y')),
-      std::string(kExcerptLimit, 'y') + "... (" + std::to_string(kExcerptLimit + 1) + " bytes)");
+  std::string cut(kExcerptLimit, 'y');
+  cut += "... (";
+  cut += std::to_string(kExcerptLimit + 1);
+  cut += " bytes)";
+  EXPECT_EQ(escapeText(std::string(kExcerptLimit + 1, 'y')), cut);
   // The limit counts characters: a UTF-8 character or an escape is one.
   EXPECT_EQ(escapeText("\xE2\x82\xAC\xE2\x82\xAC\xE2\x82\xAC", 2),
             "\xE2\x82\xAC\xE2\x82\xAC... (9 bytes)");
@@ -56,7 +58,9 @@ TEST(Text, MessageLineIsOneBoundedLineThatKeepsItsQuotedEscapes) {
   const std::string message = "graph.json: node " + quoteText("a\nb") + ": failed\n";
   EXPECT_EQ(messageLine(message), "graph.json: node 'a\\nb': failed\\n");
   const std::string line = messageLine(std::string(100000, 'm'));
-  EXPECT_EQ(line, std::string(2000, 'm') + "... (100000 bytes)");
+  std::string cut(2000, 'm');
+  cut += "... (100000 bytes)";
+  EXPECT_EQ(line, cut);
   EXPECT_EQ(line.find('\n'), std::string::npos);
 }
 
