@@ -155,6 +155,7 @@ TemplateIcpResult solveExplicit(const PointNeighbours& tree,
   result.motion = fitPairs(tree, border, result.pairs);
   result.iterations = 1;
   result.rmsAfter = rms(pairDistances(tree, border, result.motion, result.pairs));
+  result.rmsAllPairs = result.rmsAfter;
   return result;
 }
 
@@ -260,15 +261,15 @@ RigidMotion frameAlignment(const TriMesh& templateMesh, const TriMesh& holed,
   return motion;
 }
 
-TemplateIcpResult alignTemplate(const PointNeighbours& templatePoints,
-                                std::span<const Eigen::Vector3d> border,
-                                const TemplateIcpOptions& options) {
-  checkInputs(templatePoints, border, options);
-  if (!options.explicitPairs.empty())
-    return solveExplicit(templatePoints, border, options.explicitPairs);
+namespace {
+
+// ICP from one start: pair, reject, fit, until the pairs stop changing or the rounds run out.
+TemplateIcpResult alignFrom(const PointNeighbours& templatePoints,
+                            std::span<const Eigen::Vector3d> border,
+                            const TemplateIcpOptions& options, const RigidMotion& start) {
   const double floor = kRejectFloor * diagonal(templatePoints.points());
   TemplateIcpResult result;
-  result.motion = options.initial;
+  result.motion = start;
   Pairing pairing = pairAndReject(templatePoints, border, result.motion, options.reject, floor);
   result.rmsBefore = rms(pairing.distance);
   while (result.iterations < options.iterations) {
@@ -280,10 +281,30 @@ TemplateIcpResult alignTemplate(const PointNeighbours& templatePoints,
     pairing = std::move(next);
     if (converged) break;
   }
-  result.pairs = std::move(pairing.pairs);
   result.rejected = pairing.rejected;
   result.rmsAfter = rms(pairing.distance);
+  // Rejection only guards the fit: the warp must meet every border point.
+  Pairing all = pairAndReject(templatePoints, border, result.motion, 0, floor);
+  result.pairs = std::move(all.pairs);
+  result.rmsAllPairs = rms(all.distance);
   return result;
+}
+
+}  // namespace
+
+TemplateIcpResult alignTemplate(const PointNeighbours& templatePoints,
+                                std::span<const Eigen::Vector3d> border,
+                                const TemplateIcpOptions& options) {
+  checkInputs(templatePoints, border, options);
+  if (!options.explicitPairs.empty())
+    return solveExplicit(templatePoints, border, options.explicitPairs);
+  TemplateIcpResult best = alignFrom(templatePoints, border, options, options.initial);
+  for (std::size_t i = 0; i < options.otherStarts.size(); ++i) {
+    TemplateIcpResult other = alignFrom(templatePoints, border, options, options.otherStarts[i]);
+    other.start = int(i) + 1;
+    if (other.rmsAllPairs < best.rmsAllPairs) best = std::move(other);
+  }
+  return best;
 }
 
 }  // namespace geobrush

@@ -37,22 +37,31 @@ struct IcpPair {
 struct TemplateIcpOptions {
   // Pair, reject, solve, apply: at most this many times; fewer once the pairs stop changing.
   int iterations = 5;
-  // Drop pairs farther apart than this multiple of the median pair distance; 0 keeps every pair.
+  // Leave pairs farther apart than this multiple of the median pair distance out of the fit; 0
+  // keeps every pair.
   // Must be 0 or at least 1 (below 1 it could drop every pair).
   double reject = 3;
   // User-given pairs; when any are given the motion is solved once from them, without rejection.
   std::vector<IcpPair> explicitPairs;
   // Where the automatic pairing starts (e.g. frameAlignment); explicit pairs ignore it.
   RigidMotion initial;
+  // Further starts, each run as `initial` is [ours]: the run that ends with its template closest
+  // to every border point (rmsAllPairs; ties: the earlier start) is the result.
+  std::vector<RigidMotion> otherStarts;
 };
 
 struct TemplateIcpResult {
-  RigidMotion motion;          // maps the template onto the border
-  std::vector<IcpPair> pairs;  // after the last motion, outliers left out, in border order
-  int rejected = 0;            // pairs left out of `pairs`
-  int iterations = 0;          // motions solved
-  double rmsBefore = 0;        // RMS distance of the first pairs kept, template at `initial`
-  double rmsAfter = 0;         // RMS distance of `pairs`, template moved
+  RigidMotion motion;  // maps the template onto the border
+  // Every border point with its closest template vertex after the last motion, in border order
+  // (the outliers only stay out of the fit: the warp must meet every border point); or the
+  // explicit pairs.
+  std::vector<IcpPair> pairs;
+  int rejected = 0;        // pairs the last fit left out as outliers
+  int iterations = 0;      // motions solved
+  double rmsBefore = 0;    // RMS distance of the first pairs kept, template at `initial`
+  double rmsAfter = 0;     // RMS distance of the pairs the last fit kept, template moved
+  double rmsAllPairs = 0;  // RMS distance of `pairs`, template moved
+  int start = 0;           // the start the result came from: 0 `initial`, i + 1 otherStarts[i]
 };
 
 // A bad input. `option()` names what to change: "template", "border", "iterations", "reject"

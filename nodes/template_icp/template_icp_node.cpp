@@ -56,8 +56,10 @@ std::shared_ptr<const geobrush::Metrics> report(const geobrush::TemplateIcpResul
                      {"rotation_degrees", result.motion.angleDegrees()},
                      {"translation", result.motion.translation.norm()},
                      {"iterations", result.iterations},
-                     {"pairs_kept", double(result.pairs.size())},
-                     {"pairs_rejected", result.rejected}};
+                     {"pairs_kept", double(result.pairs.size()) - result.rejected},
+                     {"pairs_rejected", result.rejected},
+                     {"rms_all_pairs", result.rmsAllPairs},
+                     {"started_where_placed", result.start == 1 ? 1.0 : 0.0}};
   return metrics;
 }
 
@@ -71,9 +73,11 @@ class TemplateIcpNode final : public geobrush::Node {
     geobrush::TemplateIcpOptions options;
     options.iterations = int(ctx.param<int>("iterations"));
     options.reject = ctx.param<double>("reject");
-    if (ctx.param<bool>("prealign"))
+    if (ctx.param<bool>("prealign")) {
       options.initial =
           geobrush::frameAlignment(mesh->surface, border->mesh->surface, border->vertex);
+      options.otherStarts = {geobrush::RigidMotion()};
+    }
     geobrush::TemplateIcpResult result;
     try {
       options.explicitPairs =
@@ -116,21 +120,24 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .output<geobrush::PointPairs>(
                 "pairs",
                 "Per border point, in loop order: b_i and its closest vertex of T' "
-                "(or the explicit pairs); outliers left out.")
+                "(or the explicit pairs); outliers stay out of the fit only.")
             .output<geobrush::Metrics>("report",
-                                       "RMS pair distance before and after, rotation "
+                                       "RMS pair distance before and after (pairs "
+                                       "fitted) and of every pair after, rotation "
                                        "degrees, translation, iterations, pairs kept "
-                                       "and rejected.")
+                                       "and rejected, started_where_placed.")
             .paramInt("iterations", 5, "At most this many pair-and-move rounds (\"a few\").")
             .range(0, 1000)
             .paramDouble("reject", 3.0,
-                         "Drop pairs farther apart than this multiple of the median pair "
-                         "distance; 0 keeps every pair, otherwise at least 1.")
+                         "Leave pairs farther apart than this multiple of the median pair "
+                         "distance out of the fit; 0 keeps every pair, otherwise at least 1.")
             .range(0, 1e9)
             .paramBool("prealign", true,
                        "Start from the template's centroid on the border's and its mean normal "
                        "turned onto the surface's along the border, so that a primitive made at "
-                       "the origin needs no placing by hand. Off: start where the template is.")
+                       "the origin needs no placing by hand, and also where the template is; "
+                       "the start whose fit ends closer to every border point wins "
+                       "(started_where_placed). Off: start where the template is.")
             .paramList("explicit_pairs", int(geobrush::kIcpPairRowSize), {},
                        "Rows of border index, template vertex: when given, the motion is solved "
                        "once from these pairs. Empty: pairs found automatically.")

@@ -13,8 +13,11 @@
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
 #include "geobrush/border_loop.hpp"
+#include "geobrush/intersection.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/point_neighbours.hpp"
 #include "geobrush/point_pairs.hpp"
+#include "geobrush/submesh.hpp"
 #include "geobrush/values.hpp"
 #include "test_support.hpp"
 
@@ -238,8 +241,8 @@ TEST(TemplateIcpNode, ExplicitPairsRecoverAnyMotionInOneStep) {
     EXPECT_EQ(pairs->templateVertex[i], int(rows[2 * i + 1]));
 }
 
-// Two border vertices lifted far off the surface: with rejection they are left out and the
-// motion is exact; kept, they pull it away.
+// Two border vertices lifted far off the surface: with rejection they are left out of the fit
+// and the motion is exact; kept, they pull it away. Either way every border point is paired.
 TEST(TemplateIcpNode, RejectsOutlierPairs) {
   const MeshPtr full = templateMesh();
   const RigidMotion truth = turnAboutTheHole(full, 12, {2, -1, 1});
@@ -254,10 +257,14 @@ TEST(TemplateIcpNode, RejectsOutlierPairs) {
   const auto run = runIcp(full, border);
   EXPECT_LT(maxDifference(run.get<Mesh>("template")->surface, moved(full->surface, truth)), 1e-9);
   EXPECT_EQ(run.get<Metrics>("report")->values.at("pairs_rejected"), 2);
-  std::vector<int> expected = loop;
-  expected.erase(expected.begin() + 11);
-  expected.erase(expected.begin() + 3);
-  EXPECT_EQ(run.get<PointPairs>("pairs")->templateVertex, expected);
+  EXPECT_EQ(run.get<Metrics>("report")->values.at("pairs_kept"), double(loop.size() - 2));
+  const auto& paired = run.get<PointPairs>("pairs")->templateVertex;
+  ASSERT_EQ(paired.size(), loop.size());
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    if (i != lifted[0] && i != lifted[1]) {
+      EXPECT_EQ(paired[i], loop[i]) << i;
+    }
+  }
   const auto kept = runIcp(full, border, {{"reject", 0.0}});
   EXPECT_GT(maxDifference(kept.get<Mesh>("template")->surface, moved(full->surface, truth)), 1e-3);
   EXPECT_EQ(kept.get<Metrics>("report")->values.at("pairs_rejected"), 0);
@@ -311,6 +318,9 @@ TEST(TemplateIcpNode, PutsTheRemovedBunnyPatchBackIntoItsHole) {
   ASSERT_EQ(pairs->border.size(), border->vertex.size());
   for (std::size_t i = 0; i < pairs->border.size(); ++i)
     EXPECT_EQ(pointOf(patch->surface, pairs->templateVertex[i]), pairs->border[i]) << i;
+  // With the frame alignment on as well, the same result.
+  const auto both = runIcp(displaced, border, {{"prealign", true}});
+  EXPECT_LT(maxDifference(both.get<Mesh>("template")->surface, patch->surface), 1e-9);
 }
 
 // A flat grid of n x n squares of side h centred on the origin, facing +z; faces whose centroid
@@ -336,7 +346,8 @@ TriMesh centredGrid(int n, double h, double hole = 0) {
 }
 
 // A plane template made at the origin and a hole in a tilted, moved plane: the frame alignment
-// brings the template into the hole's plane, facing the surface's way, and ICP keeps it there.
+// brings the template into the hole's plane, facing the surface's way, and ICP keeps it there
+// (the start where the plane lies ends far from the hole).
 TEST(TemplateIcpNode, PrealignPutsAPlaneMadeAtTheOriginIntoATiltedHole) {
   const RigidMotion placed = motion(35, {1, 1, 0}, {5, -3, 2});
   auto holed = std::make_shared<Mesh>(moved(centredGrid(24, 0.1, 0.5), placed));
@@ -360,6 +371,7 @@ TEST(TemplateIcpNode, PrealignPutsAPlaneMadeAtTheOriginIntoATiltedHole) {
     c.push_back(pointOf(aligned->surface, v));
   EXPECT_GT((c[1] - c[0]).cross(c[2] - c[0]).dot(normal), 0);  // facing the surface's way
   EXPECT_LT(run.get<Metrics>("report")->values.at("rms_after"), 0.04);
+  EXPECT_EQ(run.get<Metrics>("report")->values.at("started_where_placed"), 0);
   // Without the frame alignment the template stays in the plane z = 0, far from the hole.
   const auto unaligned = runIcp(plane, border, {{"iterations", std::int64_t(0)}});
   EXPECT_GT(unaligned.get<Metrics>("report")->values.at("rms_after"), 1.0);
@@ -369,6 +381,45 @@ TEST(TemplateIcpNode, PrealignPutsAPlaneMadeAtTheOriginIntoATiltedHole) {
       runIcp(std::make_shared<const Mesh>(centredGrid(6, 0.2)), border, {{"prealign", true}});
   ASSERT_EQ(coarse.warnings.size(), 1u);
   EXPECT_TRUE(test::contains(coarse.warnings[0], "coarser than the border"));
+}
+
+// A tall bump filling a hole in a plane, placed where it belongs: the frame alignment would sink
+// it by its centroid's height, and ICP from there settles short of the truth; the start where
+// it lies fits every border point exactly and wins.
+TEST(TemplateIcpNode, PrealignKeepsATemplatePlacedInTheHoleWhereItIs) {
+  const double radius = 0.5;
+  auto holed = std::make_shared<Mesh>(centredGrid(24, 0.1, radius));
+  const auto loops = boundaryLoops(holed->surface);
+  auto border = std::make_shared<BorderLoop>();
+  border->mesh = holed;
+  for (const auto& loop : loops)
+    if (border->vertex.empty() || loop.size() < border->vertex.size()) border->vertex = loop;
+  // The grid's faces the hole left out, the inner vertices raised into a bump twice the radius.
+  const TriMesh grid = centredGrid(24, 0.1);
+  std::vector<int> inside;
+  for (const auto f : grid.faces()) {
+    const auto t = faceTriangle(grid, f.idx());
+    if (((t[0] + t[1] + t[2]) / 3).norm() < radius) inside.push_back(f.idx());
+  }
+  TriMesh bump = extractSubmesh(grid, inside).surface;
+  for (const auto v : bump.vertices()) {
+    const Eigen::Vector3d p = pointOf(bump, v);
+    if (!bump.is_boundary(v)) bump.set_point(v, toPoint(p + Eigen::Vector3d(0, 0, 2 * radius)));
+  }
+  const auto placed = std::make_shared<const Mesh>(bump);
+  const auto run = runIcp(placed, border, {{"prealign", true}});
+  const auto report = run.get<Metrics>("report");
+  EXPECT_EQ(report->values.at("started_where_placed"), 1);
+  EXPECT_LT(report->values.at("rms_all_pairs"), 1e-12);
+  EXPECT_LT(maxDifference(run.get<Mesh>("template")->surface, bump), 1e-12);
+  // From the frame alignment alone the fit ends away from the border.
+  geobrush::TemplateIcpOptions options;
+  options.initial = frameAlignment(bump, holed->surface, border->vertex);
+  const PointNeighbours tree(vertexPoints(bump));
+  std::vector<Eigen::Vector3d> points;
+  for (int v : border->vertex)
+    points.push_back(pointOf(holed->surface, v));
+  EXPECT_GT(alignTemplate(tree, points, options).rmsAllPairs, 0.01);
 }
 
 }  // namespace
