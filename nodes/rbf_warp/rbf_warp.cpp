@@ -3,10 +3,13 @@
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
+#include <limits>
 #include <queue>
 #include <utility>
 
+#include "geobrush/border_loop.hpp"
 #include "geobrush/submesh.hpp"
 #include "geobrush/surface_point.hpp"
 
@@ -155,41 +158,204 @@ class BorderStretch {
     const double t = piece > 0 ? std::clamp((target - lengths_[i - 1]) / piece, 0.0, 1.0) : 0.0;
     return points_[i - 1] + t * (points_[i] - points_[i - 1]);
   }
+  // The points strictly between the ends (the border points of pairs merged into a corner) and
+  // their fractions of the stretch's length.
+  std::size_t innerCount() const { return points_.size() - 2; }
+  const Eigen::Vector3d& inner(std::size_t i) const { return points_[i + 1]; }
+  double innerFraction(std::size_t i) const {
+    return lengths_.back() > 0 ? lengths_[i + 1] / lengths_.back() : 0.0;
+  }
 
  private:
   std::vector<Eigen::Vector3d> points_;
   std::vector<double> lengths_;
 };
 
-// Snap [ours]: the cropped template's boundary L laid onto the border polyline: each corner t_b_i
-// at b_i, each vertex of L between corners t_b_i and t_b_j at the point of the border polyline
-// from b_i to b_j at its fraction of the path's length (measured before the warp). The weld then
-// shares every boundary vertex rather than zipping a strip against a path that steps along the
-// template's edges; the rest of the patch follows the boundary's shifts (extendShifts).
-void snapBoundary(const TriMesh& mesh, const PointPairs& pairs, RbfWarpResult& result) {
-  const std::vector<int> corners = loopCorners(pairs);
-  const std::vector<int> loop = pairLoop(pairs);
-  const auto segments = pathSegments(mesh, loop);
-  std::vector<Eigen::Vector3d> shift(result.mesh.n_vertices(), Eigen::Vector3d::Zero());
-  const auto place = [&](int templateVertex, const Eigen::Vector3d& p) {
-    const auto& kept = result.sourceVertex;
-    const auto at = std::lower_bound(kept.begin(), kept.end(), templateVertex);
-    if (at == kept.end() || *at != templateVertex) return;
-    const TriMesh::VertexHandle v(int(at - kept.begin()));
-    // Spurs of the path stay inside.
-    if (result.mesh.is_boundary(v)) shift[std::size_t(v.idx())] = p - pointOf(result.mesh, v);
-  };
-  for (std::size_t k = 0; k < loop.size(); ++k) {
-    const BorderStretch stretch(pairs, corners[k], corners[(k + 1) % loop.size()]);
-    double total = 0, along = 0;
-    for (const auto h : segments[k])
-      total += mesh.calc_edge_length(h);
-    place(loop[k], stretch.at(0));
-    for (std::size_t e = 0; e + 1 < segments[k].size(); ++e) {
-      along += mesh.calc_edge_length(segments[k][e]);
-      place(mesh.to_vertex_handle(segments[k][e]).idx(), stretch.at(along / total));
+// Order-preserving matching [ours]: index pairs (i, j), both increasing, that match every element
+// of the shorter of `a` and `b` to one of the longer with the least total |a_i - b_j| (dynamic
+// programming over prefixes).
+std::vector<std::pair<std::size_t, std::size_t>> monotoneMatch(const std::vector<double>& a,
+                                                               const std::vector<double>& b) {
+  if (a.size() > b.size()) {
+    auto swapped = monotoneMatch(b, a);
+    for (auto& [i, j] : swapped)
+      std::swap(i, j);
+    return swapped;
+  }
+  const std::size_t n = a.size(), m = b.size();
+  const double unreachable = std::numeric_limits<double>::infinity();
+  // cost[i][j]: a's first i matched into b's first j.
+  std::vector<std::vector<double>> cost(n + 1, std::vector<double>(m + 1, unreachable));
+  std::fill(cost[0].begin(), cost[0].end(), 0.0);
+  for (std::size_t i = 1; i <= n; ++i)
+    for (std::size_t j = i; j <= m; ++j)
+      cost[i][j] = std::min(cost[i][j - 1], cost[i - 1][j - 1] + std::abs(a[i - 1] - b[j - 1]));
+  std::vector<std::pair<std::size_t, std::size_t>> matched;
+  for (std::size_t i = n, j = m; i > 0; --j) {
+    if (cost[i][j] == cost[i - 1][j - 1] + std::abs(a[i - 1] - b[j - 1])) {
+      matched.emplace_back(i - 1, j - 1);
+      --i;
     }
   }
+  std::reverse(matched.begin(), matched.end());
+  return matched;
+}
+
+// Fraction s of a path mapped through the anchors (path fraction, stretch fraction), both
+// increasing, and the ends (0, 0) and (1, 1), piecewise linearly.
+double throughAnchors(double s, const std::vector<std::pair<double, double>>& anchors) {
+  std::pair<double, double> from{0.0, 0.0}, to{1.0, 1.0};
+  for (const auto& anchor : anchors) {
+    if (anchor.first <= s) from = anchor;
+    if (anchor.first > s) {
+      to = anchor;
+      break;
+    }
+  }
+  const double width = to.first - from.first;
+  return width > 0 ? from.second + (s - from.first) / width * (to.second - from.second)
+                   : from.second;
+}
+
+// The cropped template's boundary vertex of a template vertex; invalid where the crop left it out
+// or left it inside (a spur of the path).
+TriMesh::VertexHandle croppedBoundaryVertex(const RbfWarpResult& result, int templateVertex) {
+  const auto& kept = result.sourceVertex;
+  const auto at = std::lower_bound(kept.begin(), kept.end(), templateVertex);
+  if (at == kept.end() || *at != templateVertex) return TriMesh::VertexHandle();
+  const TriMesh::VertexHandle v(int(at - kept.begin()));
+  return result.mesh.is_boundary(v) ? v : TriMesh::VertexHandle();
+}
+
+// Where the crop's boundary is pinned to the border: the boundary loop that holds the most corners
+// t_b_i, turned to run in pair order, and its corners as (position on the loop, pair index), each
+// further along the loop than the one before, within one turn.
+struct SnapAnchors {
+  std::vector<int> loop;
+  std::vector<std::pair<std::size_t, int>> pinned;
+};
+
+// The corners on `loop` in pair order, those that would step backwards or past a turn left out.
+std::vector<std::pair<std::size_t, int>> pinnedCorners(const RbfWarpResult& result,
+                                                       const PointPairs& pairs,
+                                                       const std::vector<int>& loop) {
+  std::vector<int> position(result.mesh.n_vertices(), -1);
+  for (std::size_t i = 0; i < loop.size(); ++i)
+    position[std::size_t(loop[i])] = int(i);
+  std::vector<std::pair<std::size_t, int>> pinned;
+  std::size_t travelled = 0;
+  for (int corner : loopCorners(pairs)) {
+    const auto v = croppedBoundaryVertex(result, pairs.templateVertex[std::size_t(corner)]);
+    if (!v.is_valid() || position[std::size_t(v.idx())] < 0) continue;
+    const auto at = std::size_t(position[std::size_t(v.idx())]);
+    const std::size_t step =
+        pinned.empty() ? 0 : (at + loop.size() - pinned.back().first) % loop.size();
+    if (!pinned.empty() && (step == 0 || travelled + step >= loop.size())) continue;
+    travelled += step;
+    pinned.emplace_back(at, corner);
+  }
+  return pinned;
+}
+
+SnapAnchors snapAnchors(const RbfWarpResult& result, const PointPairs& pairs) {
+  SnapAnchors best;
+  for (auto loop : boundaryLoops(result.mesh))
+    for (int turn = 0; turn < 2; ++turn) {
+      if (turn == 1) std::reverse(loop.begin(), loop.end());
+      auto pinned = pinnedCorners(result, pairs, loop);
+      if (pinned.size() > best.pinned.size()) best = {loop, std::move(pinned)};
+    }
+  return best;
+}
+
+// Ears [ours]: a boundary vertex with one face, snapped between its two neighbours where the border
+// runs straight, would make that face flat against the holed mesh's; the face is left out (its
+// neighbours' edge becomes the boundary). Flat: within this fraction of the neighbours' distance
+// of the line through them.
+constexpr double kFlatEar = 1e-3;
+
+void dropFlatEars(RbfWarpResult& result, std::vector<Eigen::Vector3d>& shift) {
+  const TriMesh& mesh = result.mesh;
+  const auto target = [&](TriMesh::VertexHandle v) {
+    return Eigen::Vector3d(pointOf(mesh, v) + shift[std::size_t(v.idx())]);
+  };
+  std::vector<char> flat(mesh.n_faces(), 0);
+  std::size_t dropped = 0;
+  for (const auto v : mesh.vertices()) {
+    if (!mesh.is_boundary(v) || mesh.valence(v) != 2) continue;
+    const auto out = mesh.halfedge_handle(v);
+    const Eigen::Vector3d a = target(mesh.to_vertex_handle(out));
+    const Eigen::Vector3d b = target(mesh.from_vertex_handle(mesh.prev_halfedge_handle(out)));
+    const double chord = (b - a).norm();
+    if ((target(v) - a).cross(b - a).norm() > kFlatEar * chord * chord) continue;
+    const auto face = mesh.face_handle(mesh.opposite_halfedge_handle(out));
+    if (!flat[std::size_t(face.idx())]) ++dropped;
+    flat[std::size_t(face.idx())] = 1;
+  }
+  if (dropped == 0 || dropped == mesh.n_faces()) return;
+  std::vector<int> faces;
+  for (const auto f : mesh.faces())
+    if (!flat[std::size_t(f.idx())]) faces.push_back(f.idx());
+  Submesh kept = extractSubmesh(mesh, faces);
+  if (kept.unattachedFace >= 0) return;
+  std::vector<Eigen::Vector3d> keptShift;
+  std::vector<int> keptSource;
+  for (int v : kept.sourceVertex) {
+    keptShift.push_back(shift[std::size_t(v)]);
+    keptSource.push_back(result.sourceVertex[std::size_t(v)]);
+  }
+  result.mesh = std::move(kept.surface);
+  result.sourceVertex = std::move(keptSource);
+  shift = std::move(keptShift);
+}
+
+// Snap [ours]: the cropped template's boundary laid onto the border polyline. Each pinned corner
+// t_b_i goes to b_i. Between pinned corners t_b_i and t_b_j, the border points between b_i and b_j
+// each take the boundary vertex nearest in fraction of length (monotoneMatch), so that the weld
+// shares every border point rather than zipping a strip across a reflex one; the other boundary
+// vertices go to the border polyline at their fraction of the boundary's length (measured on the
+// template before the warp), mapped through those anchors. Flat ears are left out (dropFlatEars)
+// and the rest of the patch follows the boundary's shifts (extendShifts).
+void snapBoundary(const TriMesh& mesh, const PointPairs& pairs, RbfWarpResult& result) {
+  const SnapAnchors anchors = snapAnchors(result, pairs);
+  if (anchors.pinned.size() < 2) return;
+  const auto& loop = anchors.loop;
+  const auto templatePoint = [&](std::size_t position) {
+    const int v = loop[position % loop.size()];
+    return pointOf(mesh, TriMesh::VertexHandle(result.sourceVertex[std::size_t(v)]));
+  };
+  std::vector<Eigen::Vector3d> shift(result.mesh.n_vertices(), Eigen::Vector3d::Zero());
+  const auto place = [&](std::size_t position, const Eigen::Vector3d& p) {
+    const TriMesh::VertexHandle v(loop[position % loop.size()]);
+    shift[std::size_t(v.idx())] = p - pointOf(result.mesh, v);
+  };
+  for (std::size_t k = 0; k < anchors.pinned.size(); ++k) {
+    const auto [from, first] = anchors.pinned[k];
+    const auto [to, last] = anchors.pinned[(k + 1) % anchors.pinned.size()];
+    const std::size_t steps = (to + loop.size() - from) % loop.size();
+    const BorderStretch stretch(pairs, first, last);
+    place(from, pairs.border[std::size_t(first)]);
+    std::vector<double> along{0.0}, borderFraction;
+    for (std::size_t i = 1; i <= steps; ++i)
+      along.push_back(along.back() +
+                      (templatePoint(from + i) - templatePoint(from + i - 1)).norm());
+    std::vector<double> innerFraction;
+    for (std::size_t i = 1; i < steps; ++i)
+      innerFraction.push_back(along.back() > 0 ? along[i] / along.back() : 0.0);
+    for (std::size_t i = 0; i < stretch.innerCount(); ++i)
+      borderFraction.push_back(stretch.innerFraction(i));
+    std::vector<std::pair<double, double>> matched;
+    std::vector<int> anchoredTo(innerFraction.size(), -1);
+    for (const auto& [i, j] : monotoneMatch(innerFraction, borderFraction)) {
+      matched.emplace_back(innerFraction[i], borderFraction[j]);
+      anchoredTo[i] = int(j);
+    }
+    for (std::size_t i = 0; i < innerFraction.size(); ++i)
+      place(from + 1 + i, anchoredTo[i] >= 0
+                              ? stretch.inner(std::size_t(anchoredTo[i]))
+                              : stretch.at(throughAnchors(innerFraction[i], matched)));
+  }
+  dropFlatEars(result, shift);
   extendShifts(result.mesh, shift);
 }
 

@@ -10,6 +10,7 @@
 
 #include "direct_context.hpp"
 #include "geobrush/border_loop.hpp"
+#include "geobrush/intersection.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "geobrush/values.hpp"
 #include "mesh_checks.hpp"
@@ -168,6 +169,85 @@ TEST(RbfWarp, TheCroppedBoundaryIsLaidOnTheBorderPolyline) {
         std::lower_bound(result.sourceVertex.begin(), result.sourceVertex.end(), corners[i]);
     ASSERT_NE(at, result.sourceVertex.end());
     EXPECT_EQ(pointOf(result.mesh, int(at - result.sourceVertex.begin())), pairs.border[i]);
+  }
+}
+
+// Distance from p to the closed polyline through `points`.
+double toPolyline(const Vector3d& p, const std::vector<Vector3d>& points) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vector3d a = points[i], b = points[(i + 1) % points.size()];
+    const double s = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    nearest = std::min(nearest, (a + s * (b - a) - p).norm());
+  }
+  return nearest;
+}
+
+RbfWarpOptions snapping() {
+  RbfWarpOptions options;
+  options.straightDistance = true;
+  options.tMaxFromBorder = true;
+  return options;
+}
+
+// Border points paired with the template vertex of the pair before them (a border finer than the
+// template there) each still get a boundary vertex of their own, so that the weld shares them all;
+// here those points sit off the straight path, inside the square.
+TEST(RbfWarp, EveryBorderPointGetsABoundaryVertex) {
+  const int n = 24;
+  const TriMesh mesh = test::unitSquareGrid(n);
+  const std::vector<int> loop = squareLoop(n, 4, 20);
+  PointPairs pairs;
+  const Vector3d centre(0.5, 0.5, 0);
+  for (std::size_t i = 0; i < loop.size(); i += 3) {
+    const Vector3d corner = pointOf(mesh, loop[i]);
+    pairs.templateVertex.push_back(loop[i]);
+    pairs.border.push_back(corner + Vector3d(0, 0, 0.02 * std::sin(9 * corner.x())));
+    if (i % 6 != 0) continue;
+    // A point a third of the way to the next boundary vertex, pulled a little inside.
+    const Vector3d next = pointOf(mesh, loop[(i + 1) % loop.size()]);
+    pairs.templateVertex.push_back(loop[i]);
+    pairs.border.push_back(corner + (next - corner) / 3 + 0.01 * (centre - corner).normalized());
+  }
+  const RbfWarpResult result = warp(mesh, pairs, snapping());
+  const auto loops = boundaryLoops(result.mesh);
+  ASSERT_EQ(loops.size(), 1u);
+  for (const Vector3d& b : pairs.border) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int v : loops[0])
+      nearest = std::min(nearest, (pointOf(result.mesh, v) - b).norm());
+    EXPECT_LT(nearest, 1e-12) << b.transpose();
+  }
+  for (int v : loops[0])
+    EXPECT_LT(toPolyline(pointOf(result.mesh, v), pairs.border), 1e-12) << v;
+}
+
+// Pairs on every other vertex of a square loop, starting at its second: the square's two corners
+// with one face inside lie between pairs, and snapped onto the straight border between their
+// neighbours they would make that face flat. Those faces are left out; no face is flat.
+TEST(RbfWarp, TheSnapLeavesOutEarsItWouldFlatten) {
+  const int n = 20;
+  const TriMesh mesh = test::unitSquareGrid(n);
+  const std::vector<int> loop = squareLoop(n, 4, 16);
+  std::vector<int> corners;
+  for (std::size_t i = 1; i < loop.size(); i += 2)
+    corners.push_back(loop[i]);
+  const PointPairs pairs = pairsOn(mesh, corners, [](const Vector3d& p) {
+    return Vector3d(0, 0, 0.05 * std::sin(7 * p.x()) * std::cos(5 * p.y()));
+  });
+  const RbfWarpResult result = warp(mesh, pairs, snapping());
+  const auto ear = [n](int i, int j) { return j * (n + 1) + i; };
+  for (int v : {ear(16, 4), ear(4, 16)})
+    EXPECT_FALSE(std::binary_search(result.sourceVertex.begin(), result.sourceVertex.end(), v));
+  const auto loops = boundaryLoops(result.mesh);
+  ASSERT_EQ(loops.size(), 1u);
+  EXPECT_EQ(loops[0].size(), loop.size() - 2);
+  for (int v : loops[0])
+    EXPECT_LT(toPolyline(pointOf(result.mesh, v), pairs.border), 1e-12) << v;
+  const double spacing = 1.0 / n;
+  for (const auto f : result.mesh.faces()) {
+    const auto t = faceTriangle(result.mesh, f.idx());
+    EXPECT_GT((t[1] - t[0]).cross(t[2] - t[0]).norm(), 0.1 * spacing * spacing) << f.idx();
   }
 }
 
