@@ -261,6 +261,14 @@ void measureAgainstReference(const TriMesh& result, const PasteMap& map, const T
     angles.push_back(degrees(std::acos(std::clamp(cosine, -1.0, 1.0))));
   }
   auto& values = metrics.values;
+  // The other way too: each reference vertex to the result's nearest point, so that a repair that
+  // leaves out part of the truth (a smooth fill where an ear stood) does not measure as close.
+  const SurfaceLocator resultLocator(result);
+  std::vector<double> back;
+  for (auto v : reference.vertices())
+    back.push_back(resultLocator.nearest(pointOf(reference, v)).distance / diagonal);
+  values["reference_to_result_mean_distance"] = mean(back);
+  values["reference_to_result_max_distance"] = *std::max_element(back.begin(), back.end());
   values["reference_vertices"] = double(distances.size());
   if (distances.empty()) {
     const std::string note = "the result has no new vertex to measure against the reference";

@@ -38,9 +38,11 @@ PasteMetrics measurePaste(const TriMesh& result, const PasteMap* map, const TriM
 // Against a reference surface, e.g. the patch a hole case removed (the ground truth of a fill):
 // each new vertex (one the map ties to no target vertex) measured to the reference's nearest
 // point, distances over the result's bounding-box diagonal, and the angle between the result's
-// vertex normal there and the reference face's normal. Adds reference_mean_distance,
-// reference_max_distance, reference_normal_mean_deg and reference_vertices to `metrics` (a note
-// where there is no new vertex). The reference must have a face.
+// vertex normal there and the reference face's normal; and the other way, each reference vertex
+// to the result's nearest point. Adds reference_mean_distance, reference_max_distance,
+// reference_normal_mean_deg, reference_vertices, reference_to_result_mean_distance and
+// reference_to_result_max_distance to `metrics` (a note where there is no new vertex). The
+// reference must have a face.
 void measureAgainstReference(const TriMesh& result, const PasteMap& map, const TriMesh& reference,
                              PasteMetrics& metrics);
 

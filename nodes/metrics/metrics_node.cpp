@@ -69,7 +69,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                  "scaling by scale_ratio. new_self_intersections: intersecting face pairs with a "
                  "pasted or seam face. With a reference (a hole's removed patch): "
                  "reference_mean_distance and reference_max_distance of the new vertices over "
-                 "the bounding-box diagonal, reference_normal_mean_deg.")
+                 "the bounding-box diagonal, reference_normal_mean_deg; and the other way, "
+                 "reference_to_result_mean_distance and reference_to_result_max_distance of "
+                 "the reference's vertices to the result.")
             .input<Mesh>("mesh", "The result of a paste.")
             .optionalInput<PasteMap>("map",
                                      "Where each vertex came from and the seam faces (the "

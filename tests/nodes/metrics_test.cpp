@@ -263,6 +263,30 @@ TEST(Metrics, NewVerticesAreMeasuredAgainstAReferenceSurface) {
   EXPECT_EQ(none.notes.size(), 1u);
 }
 
+// A bump of height h as the truth and a flat fill as the result: the fill's vertices lie close to
+// the bump's foot, but the bump's top stands h above the fill, which the reference's distances to
+// the result show.
+TEST(Metrics, AReferenceTheResultLeavesOutIsMeasuredFromTheReference) {
+  const int n = 8;
+  const TriMesh result = flatGrid(n, 0);
+  PasteMap map;
+  map.targetVertex.resize(result.n_vertices());
+  map.sourceVertex.assign(result.n_vertices(), -1);
+  std::iota(map.targetVertex.begin(), map.targetVertex.end(), 0);
+  map.targetVertex[40] = -1;  // the fill's vertex under the bump's top
+  TriMesh reference = flatGrid(n, 0);
+  const double h = 3;
+  reference.point(TriMesh::VertexHandle(40))[2] = h;
+  PasteMetrics metrics;
+  measureAgainstReference(result, map, reference, metrics);
+  const double diagonal = boundingDiagonal(result);
+  EXPECT_EQ(metrics.values.at("reference_vertices"), 1);
+  EXPECT_LT(metrics.values.at("reference_max_distance"), h / diagonal);
+  EXPECT_NEAR(metrics.values.at("reference_to_result_max_distance"), h / diagonal, 1e-15);
+  EXPECT_NEAR(metrics.values.at("reference_to_result_mean_distance"),
+              h / diagonal / double(reference.n_vertices()), 1e-15);
+}
+
 // The whole bunny measured against the patch its hole case removed, the removed vertices counted
 // as new: they lie on the patch, so the distances vanish.
 TEST(MetricsNode, TheRemovedVerticesOfAHoleCaseLieOnItsPatch) {
@@ -284,6 +308,7 @@ TEST(MetricsNode, TheRemovedVerticesOfAHoleCaseLieOnItsPatch) {
   ASSERT_TRUE(metrics);
   EXPECT_EQ(metrics->values.at("reference_vertices"), 20);
   EXPECT_LT(metrics->values.at("reference_max_distance"), 1e-9);
+  EXPECT_LT(metrics->values.at("reference_to_result_max_distance"), 1e-9);
   EXPECT_LT(metrics->values.at("reference_normal_mean_deg"), 30);
 
   test::DirectContext unmapped(*type, {{"mesh", whole}, {"reference", patch}});
