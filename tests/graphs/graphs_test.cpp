@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <unordered_set>
 
@@ -472,4 +473,35 @@ TEST(CompareGraphs, TheMembraneAndTheVariationalPasteAgree) {
   EXPECT_LT(std::abs(membrane.at("detail_difference_percent") -
                      variational.at("detail_difference_percent")),
             5);
+}
+
+// The armadillo's right ear cut away and rebuilt from its left ear, mirrored (surface inpainting
+// with a fitted template): the cut ear lies close to the result, where the fill of the same cut
+// leaves the ear out.
+TEST(InpaintGraphs, TheOtherEarRestoresACutEarThatTheFillLeavesOut) {
+  const auto file = test::sourceDir() / "graphs" / "inpaint_armadillo_ear.json";
+  const auto rebuilt = test::graphMetrics(file);
+  ASSERT_TRUE(rebuilt.count("reference_to_result_mean_distance"));
+  EXPECT_EQ(rebuilt.at("manifold"), 1);
+  EXPECT_EQ(rebuilt.at("new_self_intersections"), 0);
+  // The same cut filled instead: the template's chain and the outputs replaced by fill_holes.
+  Graph filled = readGraphFile(file);
+  const std::set<std::string> dropped = {"other_canvas", "other_map", "other_strokes", "other",
+                                         "mirror", "icp", "warp", "insert", "weld",
+                                         "save_result", "render_result"};
+  for (const auto& name : dropped)
+    filled.nodes.erase(name);
+  std::erase_if(filled.connections, [&](const Connection& c) {
+    return dropped.count(c.from.node) || dropped.count(c.to.node);
+  });
+  filled.nodes["fill"] = GraphNode{"geobrush.fill_holes", 1, {}};
+  filled.connections.push_back({{"hole", "mesh"}, {"fill", "mesh"}});
+  filled.connections.push_back({{"fill", "mesh"}, {"metrics", "mesh"}});
+  filled.connections.push_back({{"fill", "map"}, {"metrics", "map"}});
+  const auto fill = test::graphMetrics(std::move(filled));
+  ASSERT_TRUE(fill.count("reference_to_result_mean_distance"));
+  EXPECT_LT(rebuilt.at("reference_to_result_mean_distance"),
+            0.25 * fill.at("reference_to_result_mean_distance"));
+  EXPECT_LT(rebuilt.at("reference_to_result_max_distance"),
+            0.5 * fill.at("reference_to_result_max_distance"));
 }
