@@ -486,9 +486,9 @@ TEST(InpaintGraphs, TheOtherEarRestoresACutEarThatTheFillLeavesOut) {
   EXPECT_EQ(rebuilt.at("new_self_intersections"), 0);
   // The same cut filled instead: the template's chain and the outputs replaced by fill_holes.
   Graph filled = readGraphFile(file);
-  const std::set<std::string> dropped = {"other_canvas", "other_map", "other_strokes", "other",
-                                         "mirror", "icp", "warp", "insert", "weld",
-                                         "save_result", "render_result"};
+  const std::set<std::string> dropped = {"other_canvas", "other_map",   "other_strokes", "other",
+                                         "mirror",       "icp",         "warp",          "insert",
+                                         "weld",         "save_result", "render_result"};
   for (const auto& name : dropped)
     filled.nodes.erase(name);
   std::erase_if(filled.connections, [&](const Connection& c) {
