@@ -95,7 +95,78 @@ void measure(const TriMesh& unedited, const TriMesh& edited, HandleEditReport& r
   }
 }
 
+// Adds the non-rigid handle's field; a zero displacement (alpha = 0) leaves a point's bits.
+void displace(TriMesh& mesh, const NonrigidHandleField& field) {
+  parallelBlocks(mesh.n_vertices(), kBlock, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t v = first; v < last; ++v) {
+      if (field.displacement[v].isZero(0)) continue;
+      const TriMesh::VertexHandle vh{int(v)};
+      mesh.set_point(vh, toPoint(toEigen(mesh.point(vh)) + field.displacement[v]));
+    }
+  });
+}
+
+HandleVertexMove moveFromRow(std::span<const double> r, std::size_t row) {
+  for (double x : r)
+    if (!std::isfinite(x))
+      throw HandleEditError("nonrigid_handle", rowText(row) + ": every number must be finite");
+  return {{r[0], r[1], r[2]}, {r[3], r[4], r[5]}};
+}
+
 }  // namespace
+
+std::vector<HandleVertexMove> movesFromRows(std::span<const double> rows) {
+  if (rows.size() % kMoveRowSize != 0)
+    throw HandleEditError("nonrigid_handle",
+                          "expected rows of 6 numbers (px, py, pz, tx, ty, tz), got " +
+                              std::to_string(rows.size()) + " numbers");
+  std::vector<HandleVertexMove> moves;
+  for (std::size_t row = 0; row * kMoveRowSize < rows.size(); ++row)
+    moves.push_back(moveFromRow(rows.subspan(row * kMoveRowSize, kMoveRowSize), row));
+  return moves;
+}
+
+NonrigidHandleField nonrigidHandleField(const TriMesh& unedited, const KnnGraph& graph,
+                                        const BoundaryDistances& boundary,
+                                        std::span<const HandleVertexMove> moves,
+                                        HandleProfile profile) {
+  NonrigidHandleField field;
+  if (moves.empty()) return field;
+  std::vector<Eigen::Vector3d> translation;
+  for (std::size_t row = 0; row < moves.size(); ++row) {
+    const int v = nearestVertex(unedited, moves[row].point);
+    const double toL = boundary.toBoundary[std::size_t(v)];
+    if (toL == 0 || toL == kUnreached)
+      throw HandleEditError("nonrigid_handle",
+                            rowText(row) + (toL == 0 ? ": the vertex is on the template's "
+                                                       "boundary, which Eq. 7 keeps fixed"
+                                                     : ": no path joins the vertex to the "
+                                                       "template's boundary"));
+    if (std::find(field.handle.begin(), field.handle.end(), v) != field.handle.end())
+      throw HandleEditError("nonrigid_handle",
+                            rowText(row) + ": an earlier row moves the same vertex");
+    field.handle.push_back(v);
+    translation.push_back(moves[row].translation);
+    field.tMax += toL / double(moves.size());
+  }
+  GeodesicRbfOptions rbf;
+  rbf.tMax = field.tMax;
+  GeodesicRbfResult carried = geodesicRbf(graph, field.handle, translation, rbf);
+  field.conditionNumber = carried.conditionNumber;
+  std::vector<int> sorted = field.handle;
+  std::sort(sorted.begin(), sorted.end());
+  const std::vector<double> toHandle = graphDistances(graph, sorted);
+  field.displacement = std::move(carried.displacement);
+  for (std::size_t v = 0; v < field.displacement.size(); ++v) {
+    const double alpha = profileValue(profile, shapeArgument(toHandle[v], boundary.toBoundary[v]));
+    field.displacement[v] = alpha == 0 ? Eigen::Vector3d::Zero().eval()
+                                       : Eigen::Vector3d(alpha * field.displacement[v]);
+  }
+  // On H alpha is exactly 1, and d_h meets each translation: keep them exact.
+  for (std::size_t i = 0; i < field.handle.size(); ++i)
+    field.displacement[std::size_t(field.handle[i])] = translation[i];
+  return field;
+}
 
 const std::vector<std::string>& handleProfileNames() {
   static const std::vector<std::string> names = {"smoothstep", "linear", "cosine"};
@@ -189,7 +260,8 @@ RigidMotion handleMotion(const HandleEdit& edit, const Eigen::Vector3d& pivot) {
 
 HandleEditReport applyHandleEdits(const TriMesh& unedited, TriMesh& mesh,
                                   std::span<const HandleRegion* const> regions,
-                                  const HandleEditOptions& options) {
+                                  const HandleEditOptions& options,
+                                  const NonrigidHandleField* nonrigid) {
   if (regions.size() != options.edits.size())
     throw std::invalid_argument("handle edit: one region per edit is needed");
   HandleEditReport report;
@@ -201,6 +273,10 @@ HandleEditReport applyHandleEdits(const TriMesh& unedited, TriMesh& mesh,
                                          "Eq. 7 keeps fixed");
     const Eigen::Vector3d pivot = pointOf(mesh, region.seed);
     blend(mesh, region, handleMotion(options.edits[row], pivot), options.profile);
+    ++report.handles;
+  }
+  if (nonrigid && !nonrigid->handle.empty()) {
+    displace(mesh, *nonrigid);
     ++report.handles;
   }
   measure(unedited, mesh, report);
@@ -216,8 +292,10 @@ HandleEditResult editTemplate(const TriMesh& mesh, const HandleEditOptions& opti
   std::vector<const HandleRegion*> pointers;
   for (const HandleRegion& region : regions)
     pointers.push_back(&region);
+  const NonrigidHandleField nonrigid =
+      nonrigidHandleField(mesh, graph, boundary, options.nonrigid, options.profile);
   HandleEditResult result{mesh, {}};
-  result.report = applyHandleEdits(mesh, result.mesh, pointers, options);
+  result.report = applyHandleEdits(mesh, result.mesh, pointers, options, &nonrigid);
   return result;
 }
 

@@ -1,7 +1,9 @@
-// Free-form edits of a template by rigid handles with a shape function over geodesic distance
-// (Freeform surface inpainting, section 5): x_new = alpha(x) T x + (1 - alpha(x)) x, with
-// alpha(x) = profile(D(x,H) / (D(x,H) + D(x,L))) (Eq. 7), H the handle and L the template's
-// boundary, D the graph distance on the symmetric kNN graph of the vertices (section 5.1).
+// Free-form edits of a template by rigid and non-rigid handles with a shape function over geodesic
+// distance (Freeform surface inpainting, section 5): x_new = alpha(x) T x + (1 - alpha(x)) x for a
+// rigid handle, x_new = x + alpha(x) d_h(x) for a non-rigid one (d_h its vertices' translations
+// carried over by Eqs. 4-6), with alpha(x) = profile(D(x,H) / (D(x,H) + D(x,L))) (Eq. 7), H the
+// handle and L the template's boundary, D the graph distance on the symmetric kNN graph of the
+// vertices (section 5.1).
 #pragma once
 
 #include <Eigen/Core>
@@ -12,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "geobrush/geodesic_rbf.hpp"
 #include "geobrush/knn_graph.hpp"
 #include "geobrush/mesh.hpp"
 #include "geobrush/rigid_motion.hpp"
@@ -88,10 +91,45 @@ HandleRegion handleRegion(const TriMesh& mesh, const KnnGraph& graph,
 // The edit's T: rotation about the axis through `pivot`, then the translation.
 RigidMotion handleMotion(const HandleEdit& edit, const Eigen::Vector3d& pivot);
 
+// One vertex of a non-rigid handle (section 5): the template vertex nearest `point`, moved by its
+// own `translation`.
+struct HandleVertexMove {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+};
+
+// Numbers per non-rigid handle row: px, py, pz, tx, ty, tz.
+inline constexpr std::size_t kMoveRowSize = 6;
+
+// The moves of `rows`, in order. Throws HandleEditError("nonrigid_handle", ...) naming the first
+// bad row: a count that is not a multiple of 6 or a non-finite number.
+std::vector<HandleVertexMove> movesFromRows(std::span<const double> rows);
+
+// A non-rigid handle's effect on the template (section 5): H the vertices nearest the moves'
+// points, each given its own translation, carried over the template by Gaussian RBFs of the graph
+// distance (Eqs. 4-6; t_max the mean of D(h, L) over H [ours], the reach of the edit) and
+// weighted by Eq. 7's alpha: each point moves by alpha(x) d_h(x), exactly 0 on L and the move's
+// translation on H (to the solve's precision).
+struct NonrigidHandleField {
+  std::vector<int> handle;                    // H, in row order
+  std::vector<Eigen::Vector3d> displacement;  // alpha(x) d_h(x) per vertex
+  double tMax = 0;
+  double conditionNumber = 0;  // of Eq. 6's A
+};
+
+// The field of `moves` on the unedited template whose graph and boundary distances are given;
+// empty for no moves. Throws HandleEditError("nonrigid_handle", "row r: ...") for a move on L,
+// on a vertex no path joins to L, or on the vertex of an earlier row.
+NonrigidHandleField nonrigidHandleField(const TriMesh& unedited, const KnnGraph& graph,
+                                        const BoundaryDistances& boundary,
+                                        std::span<const HandleVertexMove> moves,
+                                        HandleProfile profile);
+
 struct HandleEditOptions {
   int k = 8;  // neighbours per vertex in the kNN graph
   HandleProfile profile = HandleProfile::Smoothstep;
-  std::vector<HandleEdit> edits;  // applied in order
+  std::vector<HandleEdit> edits;           // applied in order
+  std::vector<HandleVertexMove> nonrigid;  // one non-rigid handle, after the edits
 };
 
 struct HandleEditReport {
@@ -101,7 +139,8 @@ struct HandleEditReport {
 };
 
 // Applies the edits in order to `mesh`, a copy of `unedited`, the template the regions were made
-// on (one region per edit); the report compares the two. Every region's distances are those of the
+// on (one region per edit), then the non-rigid handle's field where one is given; the report
+// compares the two. Every region's distances are those of the
 // unedited template: a later edit acts on the points earlier edits moved, but H, D(x,H) and D(x,L)
 // stay the template's, so changing one edit's T reuses every region. The pivot of an edit's
 // rotation is its seed vertex where earlier edits left it. Points with alpha = 0 (on L) stay
@@ -109,14 +148,16 @@ struct HandleEditReport {
 // r: ...") for a handle touching L.
 HandleEditReport applyHandleEdits(const TriMesh& unedited, TriMesh& mesh,
                                   std::span<const HandleRegion* const> regions,
-                                  const HandleEditOptions& options);
+                                  const HandleEditOptions& options,
+                                  const NonrigidHandleField* nonrigid = nullptr);
 
 struct HandleEditResult {
   TriMesh mesh;
   HandleEditReport report;
 };
 
-// The whole edit on a template: its kNN graph, D(x, L), each edit's region, then the edits.
+// The whole edit on a template: its kNN graph, D(x, L), each edit's region, then the edits and
+// the non-rigid handle.
 // Throws HandleEditError naming the option or input at fault.
 HandleEditResult editTemplate(const TriMesh& mesh, const HandleEditOptions& options);
 

@@ -15,28 +15,32 @@ using geobrush::Hasher;
 using geobrush::Mesh;
 using geobrush::NodeError;
 
-// The kNN graph of the unedited template, D(x, L) and each edit's region, as derived data: the
-// graph under a generic name, so that other nodes on the same template and k share it.
-std::vector<std::shared_ptr<const geobrush::HandleRegion>> derivedRegions(
-    Context& ctx, const std::shared_ptr<const Mesh>& tmpl,
-    const geobrush::HandleEditOptions& options) {
-  const int k = options.k;
-  const auto graph = geobrush::derivedVertexGraph(ctx, "template", k);
-  const auto boundary =
-      ctx.derived("handle_edit_boundary", {"template"}, Hasher().u64(k).digest(), [&] {
-        return std::make_shared<const geobrush::BoundaryDistances>(
-            geobrush::boundaryDistances(tmpl->surface, *graph));
-      });
+// What the edits need of the unedited template, all derived data: its kNN graph (under a generic
+// name, so that other nodes on the same template and k share it), D(x, L) and each edit's region.
+struct Derived {
+  std::shared_ptr<const geobrush::KnnGraph> graph;
+  std::shared_ptr<const geobrush::BoundaryDistances> boundary;
   std::vector<std::shared_ptr<const geobrush::HandleRegion>> regions;
+};
+
+Derived derived(Context& ctx, const std::shared_ptr<const Mesh>& tmpl,
+                const geobrush::HandleEditOptions& options) {
+  const int k = options.k;
+  Derived d;
+  d.graph = geobrush::derivedVertexGraph(ctx, "template", k);
+  d.boundary = ctx.derived("handle_edit_boundary", {"template"}, Hasher().u64(k).digest(), [&] {
+    return std::make_shared<const geobrush::BoundaryDistances>(
+        geobrush::boundaryDistances(tmpl->surface, *d.graph));
+  });
   for (const geobrush::HandleEdit& edit : options.edits) {
     Hasher where;
     where.u64(k).f64(edit.point.x()).f64(edit.point.y()).f64(edit.point.z()).f64(edit.radius);
-    regions.push_back(ctx.derived("handle_edit_region", {"template"}, where.digest(), [&] {
+    d.regions.push_back(ctx.derived("handle_edit_region", {"template"}, where.digest(), [&] {
       return std::make_shared<const geobrush::HandleRegion>(
-          geobrush::handleRegion(tmpl->surface, *graph, *boundary, edit.point, edit.radius));
+          geobrush::handleRegion(tmpl->surface, *d.graph, *d.boundary, edit.point, edit.radius));
     }));
   }
-  return regions;
+  return d;
 }
 
 // A drag re-evaluates this node with only the last edit's T changed. The kNN graph, D(x, L) and
@@ -55,18 +59,23 @@ class HandleEditNode final : public geobrush::Node {
       options.k = ctx.param<int>("k");
       options.profile = geobrush::parseHandleProfile(ctx.param<std::string>("profile"));
       options.edits = geobrush::editsFromRows(ctx.param<std::vector<double>>("edits"));
-      const auto regions = derivedRegions(ctx, tmpl, options);
+      options.nonrigid = geobrush::movesFromRows(ctx.param<std::vector<double>>("nonrigid_handle"));
+      const Derived d = derived(ctx, tmpl, options);
       std::vector<const geobrush::HandleRegion*> pointers;
-      for (const auto& region : regions)
+      for (const auto& region : d.regions)
         pointers.push_back(region.get());
+      const auto nonrigid = geobrush::nonrigidHandleField(tmpl->surface, *d.graph, *d.boundary,
+                                                          options.nonrigid, options.profile);
       const auto edited = copyOf(tmpl);
       const auto report =
-          geobrush::applyHandleEdits(tmpl->surface, edited->surface, pointers, options);
+          geobrush::applyHandleEdits(tmpl->surface, edited->surface, pointers, options, &nonrigid);
       ctx.out("template", edited);
       auto metrics = std::make_shared<geobrush::Metrics>();
       metrics->values = {{"handles", report.handles},
                          {"vertices_moved", report.verticesMoved},
-                         {"max_displacement", report.maxDisplacement}};
+                         {"max_displacement", report.maxDisplacement},
+                         {"nonrigid_vertices", double(nonrigid.handle.size())},
+                         {"nonrigid_condition_number", nonrigid.conditionNumber}};
       ctx.out("report", std::move(metrics));
     } catch (const geobrush::HandleEditError& e) {
       if (e.option() == "template") throw NodeError::input(e.option(), e.what());
@@ -102,16 +111,19 @@ void registerNodes(geobrush::PluginRegistrar& r) {
   r.add(geobrush::NodeTypeBuilder("geobrush.handle_edit", 1)
             .label("Handle Edit")
             .category("Inpainting")
-            .doc("Free-form edits of a template by rigid handles (Freeform surface inpainting, "
-                 "section 5): x_new = alpha T x + (1 - alpha) x, alpha = profile(D(x,H) / (D(x,H) "
-                 "+ D(x,L))) (Eq. 7), D the kNN-graph distance, H the handle, L the template's "
-                 "boundary, which stays fixed. Edits are rows, so a modelling session replays "
-                 "headless; every row's distances are those of the unedited template.")
+            .doc("Free-form edits of a template by rigid handles and a non-rigid one (Freeform "
+                 "surface inpainting, section 5): x_new = alpha T x + (1 - alpha) x, or x + "
+                 "alpha d_h(x) with d_h the non-rigid handle's translations carried over by "
+                 "Eqs. 4-6; alpha = profile(D(x,H) / (D(x,H) + D(x,L))) (Eq. 7), D the "
+                 "kNN-graph distance, H the handle, L the template's boundary, which stays "
+                 "fixed. Edits are rows, so a modelling session replays headless; every row's "
+                 "distances are those of the unedited template.")
             .input<Mesh>("template", "The template to edit; it must have a boundary.")
             .output<Mesh>("template", "The edited template: the same connectivity, moved points.")
             .output<geobrush::Metrics>("report",
-                                       "handles, vertices_moved and max_displacement (the "
-                                       "largest distance of a point from its input position).")
+                                       "handles, vertices_moved, max_displacement (the "
+                                       "largest distance of a point from its input position), "
+                                       "nonrigid_vertices and nonrigid_condition_number.")
             .paramInt("k", 8, "Neighbours per vertex in the symmetric kNN graph (section 5.1).")
             .range(1, 64)
             .paramEnum("profile", "smoothstep", geobrush::handleProfileNames(),
@@ -122,6 +134,11 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                        "applied in order: H is the vertices within graph distance radius of the "
                        "vertex nearest p; T turns by angle_deg about the axis a through that "
                        "vertex (where earlier rows moved it), then translates by t.")
+            .paramList("nonrigid_handle", int(geobrush::kMoveRowSize), {},
+                       "A non-rigid handle, applied after the edits, as rows of px, py, pz, tx, "
+                       "ty, tz: the vertex nearest p moves by t; H is those vertices, and the "
+                       "translations are carried over the template by Gaussian RBFs of the graph "
+                       "distance, t_max the mean distance from H to L.")
             .node<HandleEditNode>()
             .build());
 }

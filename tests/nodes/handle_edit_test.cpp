@@ -4,8 +4,10 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <vector>
 
 #include "direct_context.hpp"
@@ -324,6 +326,90 @@ TEST(HandleEdit, EditsARealPatchKeepingItsBoundary) {
   EXPECT_TRUE(test::bitIdentical(result.mesh, editTemplate(patch, options).mesh));
 }
 
+// U4 for a non-rigid handle: two vertices of the grid moved by different translations. Each
+// lands exactly at its own translation, the rim keeps its bits, and the vertex halfway between
+// the two moves by a blend of both.
+TEST(HandleEdit, ANonrigidHandleMovesEachVertexByItsOwnTranslation) {
+  const TriMesh flat = grid(kGrid);
+  HandleEditOptions options;
+  // The grid's vertices at x = -0.3 and 0.3 on the middle row.
+  const int va = gridVertex(14, kGrid / 2), vb = gridVertex(26, kGrid / 2);
+  const Eigen::Vector3d a = pointOf(flat, va), b = pointOf(flat, vb);
+  options.nonrigid = {{a, {0, 0, 0.2}}, {b, {0.05, 0, 0.1}}};
+  const auto result = editTemplate(flat, options);
+  EXPECT_EQ(pointOf(result.mesh, va), a + Eigen::Vector3d(0, 0, 0.2));
+  EXPECT_EQ(pointOf(result.mesh, vb), b + Eigen::Vector3d(0.05, 0, 0.1));
+  expectBoundaryBitIdentical(flat, result.mesh);
+  EXPECT_EQ(result.report.handles, 1);
+  const Eigen::Vector3d middle = pointOf(result.mesh, gridVertex(kGrid / 2, kGrid / 2));
+  EXPECT_GT(middle.z(), 0.1 * 0.5);
+  EXPECT_LT(middle.z(), 0.2);
+  EXPECT_GT(middle.x(), 0);
+  EXPECT_LT(middle.x(), 0.05);
+  EXPECT_TRUE(test::bitIdentical(result.mesh, editTemplate(flat, options).mesh));
+}
+
+TEST(HandleEdit, ANonrigidHandleRefusesAVertexOnTheBoundaryOrTwiceTheSame) {
+  const TriMesh flat = grid(kGrid);
+  const KnnGraph graph = vertexGraph(flat, 8);
+  const BoundaryDistances boundary = boundaryDistances(flat, graph);
+  const auto refusal = [&](const std::vector<HandleVertexMove>& moves) {
+    try {
+      nonrigidHandleField(flat, graph, boundary, moves, HandleProfile::Smoothstep);
+    } catch (const HandleEditError& e) {
+      EXPECT_EQ(e.option(), "nonrigid_handle");
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  EXPECT_TRUE(test::contains(refusal({{{1, 0, 0}, {0, 0, 1}}}), "row 1: the vertex is on"));
+  EXPECT_TRUE(test::contains(refusal({{{0, 0, 0}, {0, 0, 1}}, {{0.001, 0, 0}, {0, 0, 2}}}),
+                             "row 2: an earlier row moves the same vertex"));
+  EXPECT_EQ(refusal({{{0, 0, 0}, {0, 0, 1}}}), "(accepted)");
+  try {
+    movesFromRows(std::vector<double>{0, 0, 0, 1, 2});
+    ADD_FAILURE() << "five numbers accepted";
+  } catch (const HandleEditError& e) {
+    EXPECT_EQ(e.option(), "nonrigid_handle");
+  }
+}
+
+// On a real patch: three vertices far from its boundary and apart from each other, pushed along
+// different directions, keep their translations exactly and the patch's boundary stays.
+TEST(HandleEdit, ANonrigidHandleShapesARealPatchKeepingItsBoundary) {
+  const TriMesh patch = readMesh("cases/nefertiti_back_removed_patch.obj");
+  const double diagonal = boundingDiagonal(patch);
+  const KnnGraph graph = vertexGraph(patch, 8);
+  const BoundaryDistances boundary = boundaryDistances(patch, graph);
+  // From the farthest from the boundary on, vertices a tenth of the diagonal from those taken.
+  std::vector<int> byDepth(patch.n_vertices());
+  std::iota(byDepth.begin(), byDepth.end(), 0);
+  std::sort(byDepth.begin(), byDepth.end(), [&](int u, int v) {
+    return boundary.toBoundary[std::size_t(u)] > boundary.toBoundary[std::size_t(v)];
+  });
+  std::vector<int> order;
+  for (int v : byDepth) {
+    bool apart = true;
+    for (int u : order)
+      apart = apart && (pointOf(patch, u) - pointOf(patch, v)).norm() > 0.1 * diagonal;
+    if (apart) order.push_back(v);
+    if (order.size() == 3) break;
+  }
+  ASSERT_EQ(order.size(), 3u);
+  HandleEditOptions options;
+  const std::vector<Eigen::Vector3d> pushes = {
+      {0.04 * diagonal, 0, 0}, {0, 0.04 * diagonal, 0}, {0, 0, 0.04 * diagonal}};
+  for (int i = 0; i < 3; ++i)
+    options.nonrigid.push_back({pointOf(patch, order[std::size_t(i)]), pushes[std::size_t(i)]});
+  const auto result = editTemplate(patch, options);
+  expectBoundaryBitIdentical(patch, result.mesh);
+  for (int i = 0; i < 3; ++i) {
+    const int v = order[std::size_t(i)];
+    EXPECT_EQ(pointOf(result.mesh, v), pointOf(patch, v) + pushes[std::size_t(i)]);
+  }
+  EXPECT_GT(result.report.verticesMoved, 3);
+}
+
 // The node on a plane primitive: `edits` rows as the studio writes them.
 Graph planeGraph(const std::vector<double>& edits, std::int64_t resolution = 40) {
   Graph graph;
@@ -421,6 +507,17 @@ TEST(HandleEditNode, NamesThePortOrParamOfEachBadInput) {
   EXPECT_EQ(nodeError(plane, {{"edits", std::vector<double>(12, 0.0)}}).where(), "param 'edits'");
   EXPECT_EQ(nodeError(plane, {{"edits", centre}, {"profile", std::string("cubic")}}).where(),
             "param 'profile'");
+  const NodeError moveOnRim =
+      nodeError(plane, {{"nonrigid_handle", std::vector<double>{1, 0, 0, 0, 0, 0.1}}});
+  EXPECT_EQ(moveOnRim.where(), "param 'nonrigid_handle'");
+  EXPECT_TRUE(test::contains(moveOnRim.what(), "row 1"));
+  // A non-rigid handle through the node: its vertex moved exactly, reported.
+  const auto moved = test::runNode("geobrush.handle_edit", {{"template", plane}},
+                                   {{"nonrigid_handle", std::vector<double>{0, 0, 0, 0, 0, 0.1}}});
+  const int centreVertex = gridVertex(kGrid / 2, kGrid / 2);
+  EXPECT_EQ(pointOf(moved.get<Mesh>("template")->surface, centreVertex),
+            Eigen::Vector3d(0, 0, 0.1));
+  EXPECT_EQ(moved.get<Metrics>("report")->values.at("nonrigid_vertices"), 1);
 
   // No edits: the template passes unchanged.
   const auto run = test::runNode("geobrush.handle_edit", {{"template", plane}});
