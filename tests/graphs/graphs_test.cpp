@@ -17,6 +17,7 @@
 #include "geobrush/image.hpp"
 #include "geobrush/intersection.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/submesh.hpp"
 #include "geobrush/surface_point.hpp"
 #include "geobrush/values.hpp"
 #include "test_support.hpp"
@@ -504,4 +505,121 @@ TEST(InpaintGraphs, TheOtherEarRestoresACutEarThatTheFillLeavesOut) {
             0.25 * fill.at("reference_to_result_mean_distance"));
   EXPECT_LT(rebuilt.at("reference_to_result_max_distance"),
             0.5 * fill.at("reference_to_result_max_distance"));
+}
+
+namespace {
+
+// Two mirror-image bumps on the unit square, n x n squares (n even) whose diagonals mirror about
+// x = 0.5 too: Gaussian, height h, at x = 0.3 and x = 0.7 on the middle line.
+TriMesh twoBumps(int n, double h) {
+  TriMesh mesh;
+  std::vector<TriMesh::VertexHandle> v;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = double(i) / n, y = double(j) / n;
+      double z = 0;
+      for (const double bump : {0.3, 0.7})
+        z += h * std::exp(-((x - bump) * (x - bump) + (y - 0.5) * (y - 0.5)) / 0.004);
+      v.push_back(mesh.add_vertex(TriMesh::Point(x, y, z)));
+    }
+  const auto at = [&](int i, int j) { return v[std::size_t(j * (n + 1) + i)]; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      if (2 * i < n) {
+        mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+        mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+      } else {
+        mesh.add_face(at(i, j), at(i + 1, j), at(i, j + 1));
+        mesh.add_face(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+      }
+  return mesh;
+}
+
+// The faces of `mesh` whose centroid in the plane lies within `radius` of (x, 0.5), or (with
+// `inside` false) every other face, as a mesh of its own.
+TriMesh facesNear(const TriMesh& mesh, double x, double radius, bool inside) {
+  std::vector<int> kept;
+  for (const auto f : mesh.faces()) {
+    const auto t = faceTriangle(mesh, f.idx());
+    const Eigen::Vector3d c = (t[0] + t[1] + t[2]) / 3;
+    if ((std::hypot(c.x() - x, c.y() - 0.5) < radius) == inside) kept.push_back(f.idx());
+  }
+  return extractSubmesh(mesh, kept).surface;
+}
+
+}  // namespace
+
+// U6 (mirror bumps): one of two mirror-image bumps cut out. The other, cut wider and mirrored,
+// restores it through the template chain; the fill of the same hole is smooth and leaves the bump
+// out.
+TEST(InpaintGraphs, AMirroredBumpRestoresTheCutOneWhereTheFillIsSmooth) {
+  const double h = 0.08, radius = 0.15;
+  const TriMesh bumps = twoBumps(48, h);
+  const auto dir = test::tempDir("mirror-bumps");
+  writeMeshFile(Mesh(facesNear(bumps, 0.7, radius, false)), dir / "holed.obj");
+  writeMeshFile(Mesh(facesNear(bumps, 0.7, radius, true)), dir / "truth.obj");
+  // The template reaches past the hole, for the warp to crop.
+  writeMeshFile(Mesh(facesNear(bumps, 0.3, 1.5 * radius, true)), dir / "other.obj");
+  const auto load = [&](const char* file) {
+    return GraphNode{"geobrush.load_mesh", 1, {{"path", (dir / file).string()}}};
+  };
+  const auto graphWith = [&](bool templated) {
+    Graph graph;
+    graph.file = dir / (templated ? "templated.json" : "filled.json");
+    graph.nodes["holed"] = load("holed.obj");
+    graph.nodes["truth"] = load("truth.obj");
+    graph.nodes["hole"] = GraphNode{"geobrush.cut_region", 1, {{"near", Vec3{0.7, 0.5, 0}}}};
+    graph.nodes["metrics"] = GraphNode{"geobrush.metrics", 1, {}};
+    graph.connections = {{{"holed", "mesh"}, {"hole", "mesh"}},
+                         {{"holed", "mesh"}, {"metrics", "target"}},
+                         {{"truth", "mesh"}, {"metrics", "reference"}}};
+    std::string result = "fill";
+    if (templated) {
+      graph.nodes["other"] = load("other.obj");
+      graph.nodes["mirror"] = GraphNode{
+          "geobrush.transform", 1, {{"scale", Vec3{-1, 1, 1}}, {"pivot", Vec3{0.5, 0, 0}}}};
+      graph.nodes["icp"] = GraphNode{"geobrush.template_icp", 1, {}};
+      graph.nodes["warp"] = GraphNode{"geobrush.rbf_warp",
+                                      1,
+                                      {{"distance", std::string("straight")},
+                                       {"t_max_auto", std::string("border_radius")},
+                                       {"reg", 0.01}}};
+      graph.nodes["insert"] = GraphNode{"geobrush.point_insert", 1, {}};
+      graph.nodes["weld"] = GraphNode{"geobrush.weld", 1, {}};
+      for (const Connection& c :
+           std::vector<Connection>{{{"other", "mesh"}, {"mirror", "mesh"}},
+                                   {{"mirror", "mesh"}, {"icp", "template"}},
+                                   {{"hole", "border"}, {"icp", "border"}},
+                                   {{"icp", "template"}, {"warp", "template"}},
+                                   {{"icp", "pairs"}, {"warp", "pairs"}},
+                                   {{"warp", "template"}, {"insert", "template"}},
+                                   {{"hole", "border"}, {"insert", "border"}},
+                                   {{"hole", "border"}, {"weld", "border"}},
+                                   {{"insert", "template"}, {"weld", "patch"}}})
+        graph.connections.push_back(c);
+      result = "weld";
+    } else {
+      // The hole, not the square's rim (4 x 48 edges).
+      graph.nodes["fill"] =
+          GraphNode{"geobrush.fill_holes", 1, {{"max_border", std::int64_t(150)}}};
+      graph.connections.push_back({{"hole", "mesh"}, {"fill", "mesh"}});
+    }
+    graph.connections.push_back({{result, "mesh"}, {"metrics", "mesh"}});
+    graph.connections.push_back(
+        {{result, result == "weld" ? "paste_map" : "map"}, {"metrics", "map"}});
+    return graph;
+  };
+  const auto restored = test::graphMetrics(graphWith(true));
+  const auto filled = test::graphMetrics(graphWith(false));
+  ASSERT_TRUE(restored.count("reference_to_result_max_distance"));
+  ASSERT_TRUE(filled.count("reference_to_result_max_distance"));
+  for (const auto* m : {&restored, &filled}) {
+    EXPECT_EQ(m->at("manifold"), 1);
+    EXPECT_EQ(m->at("new_self_intersections"), 0);
+  }
+  const double diagonal = boundingDiagonal(bumps);
+  // The fill misses the bump's top by most of its height; the mirrored bump restores it.
+  EXPECT_GT(filled.at("reference_to_result_max_distance"), 0.5 * h / diagonal);
+  EXPECT_LT(restored.at("reference_to_result_max_distance"),
+            0.1 * filled.at("reference_to_result_max_distance"));
 }
