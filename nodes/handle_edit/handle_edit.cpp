@@ -63,10 +63,10 @@ double shapeArgument(double toHandle, double toBoundary) {
 // Moves the points by one edit's blend x_new = alpha T x + (1 - alpha) x (section 5); alpha = 0
 // leaves a point untouched, so the boundary keeps its bits.
 void blend(TriMesh& mesh, const HandleRegion& region, const RigidMotion& motion,
-           HandleProfile profile) {
+           const HandleShape& shape) {
   parallelBlocks(mesh.n_vertices(), kBlock, 0, [&](std::size_t first, std::size_t last) {
     for (std::size_t v = first; v < last; ++v) {
-      const double alpha = profileValue(profile, region.t[v]);
+      const double alpha = shape(region.t[v]);
       if (alpha == 0) continue;
       const TriMesh::VertexHandle vh{int(v)};
       const Eigen::Vector3d x = toEigen(mesh.point(vh));
@@ -129,7 +129,7 @@ std::vector<HandleVertexMove> movesFromRows(std::span<const double> rows) {
 NonrigidHandleField nonrigidHandleField(const TriMesh& unedited, const KnnGraph& graph,
                                         const BoundaryDistances& boundary,
                                         std::span<const HandleVertexMove> moves,
-                                        HandleProfile profile) {
+                                        const HandleShape& shape) {
   NonrigidHandleField field;
   if (moves.empty()) return field;
   std::vector<Eigen::Vector3d> translation;
@@ -158,7 +158,7 @@ NonrigidHandleField nonrigidHandleField(const TriMesh& unedited, const KnnGraph&
   const std::vector<double> toHandle = graphDistances(graph, sorted);
   field.displacement = std::move(carried.displacement);
   for (std::size_t v = 0; v < field.displacement.size(); ++v) {
-    const double alpha = profileValue(profile, shapeArgument(toHandle[v], boundary.toBoundary[v]));
+    const double alpha = shape(shapeArgument(toHandle[v], boundary.toBoundary[v]));
     field.displacement[v] = alpha == 0 ? Eigen::Vector3d::Zero().eval()
                                        : Eigen::Vector3d(alpha * field.displacement[v]);
   }
@@ -169,7 +169,7 @@ NonrigidHandleField nonrigidHandleField(const TriMesh& unedited, const KnnGraph&
 }
 
 const std::vector<std::string>& handleProfileNames() {
-  static const std::vector<std::string> names = {"smoothstep", "linear", "cosine"};
+  static const std::vector<std::string> names = {"smoothstep", "linear", "cosine", "custom"};
   return names;
 }
 
@@ -177,8 +177,35 @@ HandleProfile parseHandleProfile(std::string_view name) {
   if (name == "smoothstep") return HandleProfile::Smoothstep;
   if (name == "linear") return HandleProfile::Linear;
   if (name == "cosine") return HandleProfile::Cosine;
-  throw HandleEditError(
-      "profile", "unknown profile '" + std::string(name) + "' (smoothstep, linear or cosine)");
+  if (name == "custom") return HandleProfile::Custom;
+  throw HandleEditError("profile", "unknown profile '" + std::string(name) +
+                                       "' (smoothstep, linear, cosine or custom)");
+}
+
+double HandleShape::operator()(double t) const {
+  if (profile != HandleProfile::Custom) return profileValue(profile, t);
+  // The ends exactly: t is 0 on H and 1 on L.
+  if (t <= 0) return samples.front();
+  if (t >= 1) return samples.back();
+  const double at = t * double(samples.size() - 1);
+  const auto i = std::min(std::size_t(at), samples.size() - 2);
+  const double u = at - double(i);
+  return (1 - u) * samples[i] + u * samples[i + 1];
+}
+
+HandleShape customShape(std::vector<double> samples) {
+  if (samples.size() < 2)
+    throw HandleEditError("profile_samples",
+                          "the custom profile needs at least 2 samples (alpha at t = 0 and 1)");
+  for (double a : samples)
+    if (!std::isfinite(a)) throw HandleEditError("profile_samples", "every sample must be finite");
+  if (samples.front() != 1 || samples.back() != 0)
+    throw HandleEditError("profile_samples",
+                          "the custom profile must start at 1 (on the handle) and end at 0 (on "
+                          "the template's boundary)");
+  HandleShape shape(HandleProfile::Custom);
+  shape.samples = std::move(samples);
+  return shape;
 }
 
 double profileValue(HandleProfile profile, double t) {
@@ -191,8 +218,10 @@ double profileValue(HandleProfile profile, double t) {
       // cos(pi) is -1 + 1e-16 short of exact: pin the ends so that L stays fixed.
       if (t >= 1) return 0;
       return (1 + std::cos(std::numbers::pi * t)) / 2;
+    case HandleProfile::Custom:
+      break;
   }
-  return 0;
+  throw std::invalid_argument("the custom profile's values come from its samples");
 }
 
 std::vector<HandleEdit> editsFromRows(std::span<const double> rows) {

@@ -22,7 +22,7 @@
 namespace geobrush {
 
 // A bad input or option. `option()` is the node's port or param it concerns: "template",
-// "edits", "k" or "profile".
+// "edits", "nonrigid_handle", "k", "profile" or "profile_samples".
 class HandleEditError : public std::invalid_argument {
  public:
   HandleEditError(std::string option, const std::string& message)
@@ -34,15 +34,29 @@ class HandleEditError : public std::invalid_argument {
 };
 
 // The shape function alpha(t) of Eq. 7: 1 at t = 0 (on H), 0 at t = 1 (on L). The paper leaves
-// it free; smoothstep (the default) has a zero slope at both ends.
-enum class HandleProfile { Smoothstep, Linear, Cosine };
+// it free; smoothstep (the default) has a zero slope at both ends; custom is drawn by the user.
+enum class HandleProfile { Smoothstep, Linear, Cosine, Custom };
 
-// "smoothstep", "linear", "cosine", as graph files name them.
+// "smoothstep", "linear", "cosine", "custom", as graph files name them.
 const std::vector<std::string>& handleProfileNames();
 // Throws HandleEditError("profile", ...) for an unknown name.
 HandleProfile parseHandleProfile(std::string_view name);
-// smoothstep 1 - 3t^2 + 2t^3, linear 1 - t, cosine (1 + cos(pi t)) / 2, for t in [0, 1].
+// smoothstep 1 - 3t^2 + 2t^3, linear 1 - t, cosine (1 + cos(pi t)) / 2, for t in [0, 1]. Custom
+// has no values of its own (HandleShape gives them): throws std::invalid_argument.
 double profileValue(HandleProfile profile, double t);
+
+// The shape function the edits use: a named profile, or a custom one from its samples, alpha at
+// t = 0, 1/(m-1), ..., 1 joined by straight lines (creases allowed, as the paper says).
+struct HandleShape {
+  HandleShape(HandleProfile profile = HandleProfile::Smoothstep) : profile(profile) {}
+  HandleProfile profile;
+  std::vector<double> samples;  // with Custom
+  double operator()(double t) const;
+};
+
+// A custom shape from its samples. Throws HandleEditError("profile_samples", ...) for fewer than
+// 2, a non-finite one, or ends other than 1 at t = 0 and 0 at t = 1 (H moves by T, L stays).
+HandleShape customShape(std::vector<double> samples);
 
 // One rigid-handle edit (section 5): H is the vertices within graph distance `radius` of the
 // vertex nearest `point`; T rotates by `angleDegrees` about `axis` through the handle's point,
@@ -123,11 +137,11 @@ struct NonrigidHandleField {
 NonrigidHandleField nonrigidHandleField(const TriMesh& unedited, const KnnGraph& graph,
                                         const BoundaryDistances& boundary,
                                         std::span<const HandleVertexMove> moves,
-                                        HandleProfile profile);
+                                        const HandleShape& shape);
 
 struct HandleEditOptions {
   int k = 8;  // neighbours per vertex in the kNN graph
-  HandleProfile profile = HandleProfile::Smoothstep;
+  HandleShape profile;
   std::vector<HandleEdit> edits;           // applied in order
   std::vector<HandleVertexMove> nonrigid;  // one non-rigid handle, after the edits
 };

@@ -43,6 +43,15 @@ Derived derived(Context& ctx, const std::shared_ptr<const Mesh>& tmpl,
   return d;
 }
 
+// The profile param, or with "custom" the shape its samples draw.
+geobrush::HandleShape shapeOf(Context& ctx) {
+  const auto profile = geobrush::parseHandleProfile(ctx.param<std::string>("profile"));
+  auto samples = ctx.param<std::vector<double>>("profile_samples");
+  if (profile == geobrush::HandleProfile::Custom) return geobrush::customShape(std::move(samples));
+  if (!samples.empty()) ctx.warn("profile_samples are read only with profile=custom");
+  return profile;
+}
+
 // A drag re-evaluates this node with only the last edit's T changed. The kNN graph, D(x, L) and
 // each edit's region (H and D(x, H)) are derived data of the unedited template, so the drag finds
 // them all and costs a copy of the template's points and one blend per edit. Copying a whole
@@ -57,7 +66,7 @@ class HandleEditNode final : public geobrush::Node {
       const auto tmpl = ctx.in<Mesh>("template");
       geobrush::HandleEditOptions options;
       options.k = ctx.param<int>("k");
-      options.profile = geobrush::parseHandleProfile(ctx.param<std::string>("profile"));
+      options.profile = shapeOf(ctx);
       options.edits = geobrush::editsFromRows(ctx.param<std::vector<double>>("edits"));
       options.nonrigid = geobrush::movesFromRows(ctx.param<std::vector<double>>("nonrigid_handle"));
       const Derived d = derived(ctx, tmpl, options);
@@ -127,8 +136,11 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .paramInt("k", 8, "Neighbours per vertex in the symmetric kNN graph (section 5.1).")
             .range(1, 64)
             .paramEnum("profile", "smoothstep", geobrush::handleProfileNames(),
-                       "The shape function alpha(t): smoothstep 1 - 3t^2 + 2t^3, linear 1 - t, or "
-                       "cosine (1 + cos(pi t)) / 2.")
+                       "The shape function alpha(t): smoothstep 1 - 3t^2 + 2t^3, linear 1 - t, "
+                       "cosine (1 + cos(pi t)) / 2, or custom (profile_samples).")
+            .paramList("profile_samples", 1, {},
+                       "With profile=custom: alpha at t = 0, 1/(m-1), ..., 1, joined by straight "
+                       "lines; the first 1 (the handle moves by T), the last 0 (L stays).")
             .paramList("edits", int(geobrush::kEditRowSize), {},
                        "Edits as rows of px, py, pz, radius, tx, ty, tz, ax, ay, az, angle_deg, "
                        "applied in order: H is the vertices within graph distance radius of the "

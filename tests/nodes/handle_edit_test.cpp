@@ -56,7 +56,7 @@ HandleEdit translation(const Eigen::Vector3d& point, double radius, const Eigen:
 }
 
 HandleEditResult editGrid(std::vector<HandleEdit> edits,
-                          HandleProfile profile = HandleProfile::Smoothstep) {
+                          HandleShape profile = HandleProfile::Smoothstep) {
   HandleEditOptions options;
   options.profile = profile;
   options.edits = std::move(edits);
@@ -100,6 +100,46 @@ TEST(HandleEdit, ProfilesHaveTheirValuesAtZeroHalfAndOne) {
     ADD_FAILURE() << "an unknown profile was accepted";
   } catch (const HandleEditError& e) {
     EXPECT_EQ(e.option(), "profile");
+  }
+}
+
+// A custom profile is its samples joined by straight lines: {1, 0.5, 0} is the linear profile, a
+// plateau {1, 1, 0} holds alpha at 1 to t = 1/2; bad samples are refused.
+TEST(HandleEdit, ACustomProfileDrawsAlphaThroughItsSamples) {
+  const HandleShape straight = customShape({1, 0.5, 0});
+  const HandleShape plateau = customShape({1, 1, 0});
+  for (int i = 0; i <= 20; ++i) {
+    const double t = i / 20.0;
+    EXPECT_NEAR(straight(t), profileValue(HandleProfile::Linear, t), 1e-15) << t;
+    EXPECT_EQ(plateau(t), t <= 0.5 ? 1.0 : 2 * (1 - t)) << t;
+  }
+  EXPECT_EQ(plateau(0), 1.0);
+  EXPECT_EQ(plateau(1), 0.0);
+  for (const auto& bad : std::vector<std::vector<double>>{{1}, {0.9, 0}, {1, 0.1}, {1, NAN, 0}}) {
+    try {
+      customShape(bad);
+      ADD_FAILURE() << "accepted " << bad.size() << " samples";
+    } catch (const HandleEditError& e) {
+      EXPECT_EQ(e.option(), "profile_samples");
+    }
+  }
+}
+
+// The centre raised by h with the plateau profile: on the ray to the rim t = x, so the points up
+// to x = 1/2 rise by exactly h and the rest by h * 2 (1 - x); the rim stays.
+TEST(HandleEdit, APlateauProfileMovesTheInnerHalfRigidly) {
+  const double h = 0.3;
+  const TriMesh flat = grid(kGrid);
+  const auto result = editGrid({translation({0, 0, 0}, 0, {0, 0, h})}, customShape({1, 1, 0}));
+  expectBoundaryBitIdentical(flat, result.mesh);
+  for (int i = kGrid / 2; i < kGrid; ++i) {
+    const double x = flat.point(TriMesh::VertexHandle(gridVertex(i, kGrid / 2)))[0];
+    const double z = result.mesh.point(TriMesh::VertexHandle(gridVertex(i, kGrid / 2)))[2];
+    if (x <= 0.5) {
+      EXPECT_EQ(z, h) << x;
+    } else {
+      EXPECT_NEAR(z, h * 2 * (1 - x), 1e-12) << x;
+    }
   }
 }
 
@@ -507,6 +547,8 @@ TEST(HandleEditNode, NamesThePortOrParamOfEachBadInput) {
   EXPECT_EQ(nodeError(plane, {{"edits", std::vector<double>(12, 0.0)}}).where(), "param 'edits'");
   EXPECT_EQ(nodeError(plane, {{"edits", centre}, {"profile", std::string("cubic")}}).where(),
             "param 'profile'");
+  EXPECT_EQ(nodeError(plane, {{"edits", centre}, {"profile", std::string("custom")}}).where(),
+            "param 'profile_samples'");
   const NodeError moveOnRim =
       nodeError(plane, {{"nonrigid_handle", std::vector<double>{1, 0, 0, 0, 0, 0.1}}});
   EXPECT_EQ(moveOnRim.where(), "param 'nonrigid_handle'");
