@@ -63,16 +63,20 @@ Eigen::MatrixXd basisColumns(const KnnGraph& graph, std::span<const int> constra
                              const GeodesicRbfOptions& options, std::size_t first,
                              std::size_t last) {
   const double tMax = options.tMax;
+  const bool scodef = options.kernel == RbfKernel::Scodef;
+  const double reach = scodef ? tMax : kPhiVanishes * tMax;
   Eigen::MatrixXd phi(graph.size(), Eigen::Index(last - first));
   parallelBlocks(last - first, 1, 0, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const int source[] = {constraint[first + i]};
       const auto distance = options.straightPoints.empty()
-                                ? graphDistances(graph, source, kPhiVanishes * tMax)
+                                ? graphDistances(graph, source, reach)
                                 : straightDistances(options.straightPoints, source[0]);
       for (int x = 0; x < graph.size(); ++x) {
         const double d = distance[std::size_t(x)];
-        phi(x, Eigen::Index(i)) = d == kUnreached ? 0.0 : gaussianRbf(d, tMax);
+        phi(x, Eigen::Index(i)) = d == kUnreached ? 0.0
+                                  : scodef        ? scodefRbf(d, tMax)
+                                                  : gaussianRbf(d, tMax);
       }
     }
   });

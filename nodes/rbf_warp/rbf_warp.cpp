@@ -423,6 +423,7 @@ void solveWarp(const TriMesh& mesh, const KnnGraph& graph, const PointPairs& pai
     translation.push_back(pairs.border[std::size_t(i)] - pointOf(mesh, v));
   }
   GeodesicRbfOptions rbf;
+  rbf.kernel = options.kernel;
   rbf.tMax = result.tMax;
   rbf.reg = options.reg;
   const std::vector<Eigen::Vector3d> points =

@@ -32,6 +32,8 @@ struct RbfWarpOptions {
   // delta as the straight distance between template vertices instead of the kNN graph's
   // (GeodesicRbfOptions::straightPoints) [ours]: for flat or gently curved templates.
   bool straightDistance = false;
+  // phi: the paper's Gaussian, or SCODEF's compact cubic for comparison (RbfKernel).
+  RbfKernel kernel = RbfKernel::Gaussian;
 };
 
 // An input that gives no warp. `option()` names the input to change: "template" or "pairs".

@@ -45,6 +45,7 @@ class RbfWarpNode final : public geobrush::Node {
     options.snapBoundary = ctx.param<bool>("snap_boundary");
     options.tMaxFromBorder = ctx.param<std::string>("t_max_auto") == "border_radius";
     options.straightDistance = ctx.param<std::string>("distance") == "straight";
+    if (ctx.param<std::string>("kernel") == "scodef") options.kernel = geobrush::RbfKernel::Scodef;
     // The geodesic delta's graph over the template's vertices, shared with any node that asks
     // for the same template and k.
     const auto graph = geobrush::derivedVertexGraph(ctx, "template", options.k);
@@ -108,6 +109,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                        "delta: the kNN graph's geodesic (the paper's), or the straight distance "
                        "between template vertices, which equals it on a flat template without "
                        "the graph's direction error [ours].")
+            .paramEnum("kernel", "gaussian", {"gaussian", "scodef"},
+                       "phi: the paper's Gaussian exp(-(t/t_max)^2), or SCODEF's cubic 1 - 3s^2 + "
+                       "2s^3 (s = t/t_max, 0 beyond), the point constraints the paper starts from "
+                       "(Eqs. 1-2), for comparison.")
             .node<RbfWarpNode>()
             .build());
 }

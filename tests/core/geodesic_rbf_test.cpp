@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "geobrush/geodesic_rbf.hpp"
@@ -234,6 +235,37 @@ TEST(GeodesicRbf, StraightDistancesGiveThePlainGaussianInterpolant) {
   }
   options.straightPoints = std::span<const Eigen::Vector3d>(points).first(5);
   EXPECT_THROW(geodesicRbf(graph, constraint, displacement, options), std::invalid_argument);
+}
+
+// SCODEF's kernel (Borrel and Rappoport 1994): the cubic 1 - 3s^2 + 2s^3 with compact support.
+// The constraints hold, and a point farther than t_max from every constraint does not move.
+TEST(GeodesicRbf, TheScodefKernelInterpolatesWithCompactSupport) {
+  EXPECT_EQ(scodefRbf(0, 2), 1.0);
+  EXPECT_EQ(scodefRbf(1, 2), 0.5);
+  EXPECT_EQ(scodefRbf(2, 2), 0.0);
+  EXPECT_EQ(scodefRbf(3, 2), 0.0);
+  const int n = 31;
+  const auto points = grid(n);
+  const KnnGraph graph(points, 8);
+  const auto at = ring(n, 4, 2);
+  const auto d = wavy(points, at);
+  GeodesicRbfOptions options;
+  options.kernel = RbfKernel::Scodef;
+  options.tMax = 5;
+  options.straightPoints = points;
+  const auto result = geodesicRbf(graph, at, d, options);
+  EXPECT_LT(maxMiss(result, at, d), 1e-9);
+  for (std::size_t x = 0; x < points.size(); ++x) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int c : at)
+      nearest = std::min(nearest, (points[x] - points[std::size_t(c)]).norm());
+    if (nearest >= options.tMax) {
+      EXPECT_EQ(result.displacement[x], Vector3d::Zero()) << x;
+    }
+  }
+  // The grid's corner is far from the ring: untouched; the centre, inside it, moves.
+  EXPECT_EQ(result.displacement[0], Vector3d::Zero());
+  EXPECT_GT(result.displacement[std::size_t((n / 2) * n + n / 2)].norm(), 0.5);
 }
 
 }  // namespace

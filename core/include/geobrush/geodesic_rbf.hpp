@@ -12,7 +12,13 @@
 
 namespace geobrush {
 
+// phi of Eq. 4: the paper's Gaussian (Eq. 5), or SCODEF's cubic (Borrel and Rappoport 1994, the
+// shape functions of Eqs. 1-2 that the paper starts from): 1 - 3s^2 + 2s^3 of s = t / t_max, 0
+// from t_max on, so each constraint reaches a ball of radius t_max; for comparison.
+enum class RbfKernel { Gaussian, Scodef };
+
 struct GeodesicRbfOptions {
+  RbfKernel kernel = RbfKernel::Gaussian;
   double tMax = 1.0;  // phi(t) = exp(-(t / t_max)^2), Eq. 5; the paper takes the bbox diagonal
   // Tikhonov term [ours]: the paper's t_max makes A near-singular for dense constraints. A
   // Gaussian of graph distances is in general indefinite (the graph metric is no Euclidean one),
@@ -42,6 +48,12 @@ struct GeodesicRbfResult {
 inline double gaussianRbf(double t, double tMax) {
   const double s = t / tMax;
   return std::exp(-s * s);
+}
+
+// SCODEF's shape function, 0 from `radius` on.
+inline double scodefRbf(double t, double radius) {
+  const double s = t / radius;
+  return s >= 1 ? 0.0 : 1 - s * s * (3 - 2 * s);
 }
 
 // Interpolates `displacement[i]` at graph vertex `constraint[i]` (distinct vertices) over the
