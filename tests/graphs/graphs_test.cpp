@@ -60,6 +60,14 @@ void checkImageFile(const std::filesystem::path& path) {
 
 class SavedGraph : public testing::TestWithParam<std::string> {};
 
+// Under the sanitizers each saved graph runs once: the second run checks determinism, which the
+// optimized build's run of this suite checks, and repeats the first run's memory accesses.
+#ifdef GEOBRUSH_UNDER_SANITIZERS
+constexpr bool kSecondRun = false;
+#else
+constexpr bool kSecondRun = true;
+#endif
+
 }  // namespace
 
 TEST(SavedGraphs, ThereIsADefaultGraph) {
@@ -82,6 +90,7 @@ TEST_P(SavedGraph, RunsAndWritesValidDeterministicOutputs) {
     else
       checkMeshFile(path);
   }
+  if (!kSecondRun) return;
   const EvalReport b = runGraph(file, second);
   ASSERT_TRUE(b.ok) << b.error;
   ASSERT_EQ(a.filesWritten.size(), b.filesWritten.size());
