@@ -6,6 +6,8 @@
 #include <QEventLoop>
 #include <QTimer>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 
 #include "geobrush/memory.hpp"
 #include "studio_window.hpp"
@@ -30,7 +32,18 @@ int main(int argc, char** argv) {
   for (const auto& error : registry.loadPlugins(geobrush::defaultPluginDirs()).errors)
     std::fprintf(stderr, "warning: %s\n", error.c_str());
   geobrush::studio::StudioWindow window(registry);
-  if (parser.isSet(out)) window.setOutputDir(parser.value(out).toStdString());
+  if (parser.isSet(out)) {
+    // As `geobrush run --out` does: the folder is made where it is missing.
+    const std::filesystem::path dir = parser.value(out).toStdString();
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) {
+      std::fprintf(stderr, "error: %s: cannot create the output folder: %s\n", dir.c_str(),
+                   ec.message().c_str());
+      return 2;
+    }
+    window.setOutputDir(dir);
+  }
   const QStringList args = parser.positionalArguments();
   const bool opened = !args.isEmpty() && window.openFile(args.front());
   if (!parser.isSet(screenshot)) {

@@ -200,17 +200,20 @@ TEST(StudioWindow, AFailingNodeIsReportedAndTheWindowStaysUsable) {
   EXPECT_TRUE(evaluateAndWait(window));
 }
 
+// --out makes its folder where it is missing, as `geobrush run --out` does.
 TEST(StudioCommand, WritesAScreenshotOfTheEvaluatedGraph) {
   const auto dir = test::tempDir("studio-screenshot");
   const auto png = dir / "studio.png";
+  const auto outputs = dir / "new" / "outputs";
   const std::string command = (test::cliPath().parent_path() / "geobrush-studio").string() + " " +
-                              graphFile("relief_cube.json").string() + " --out " + dir.string() +
-                              " --screenshot " + png.string() + " 2> " + (dir / "err.txt").string();
+                              graphFile("relief_cube.json").string() + " --out " +
+                              outputs.string() + " --screenshot " + png.string() + " 2> " +
+                              (dir / "err.txt").string();
   EXPECT_EQ(std::system(command.c_str()), 0) << bytes(dir / "err.txt");
   const QImage shot(QString::fromStdString(png.string()));
   EXPECT_GT(shot.width(), 600);
   EXPECT_GT(shot.height(), 400);
-  EXPECT_TRUE(std::filesystem::exists(dir / "relief_cube.png"));
+  EXPECT_TRUE(std::filesystem::exists(outputs / "relief_cube.png"));
   const std::string missing = (test::cliPath().parent_path() / "geobrush-studio").string() +
                               " /no/such/graph.json --screenshot " + png.string() + " 2> " +
                               (dir / "err2.txt").string();
