@@ -1,6 +1,6 @@
 // geobrush-studio [GRAPH] [--out DIR] [--screenshot PNG]: the interactive host. With --screenshot
 // it opens the graph, evaluates it, writes a picture of the whole window and exits (for docs and
-// tests).
+// tests); without a graph, a picture of the empty window.
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QEventLoop>
@@ -50,18 +50,15 @@ int main(int argc, char** argv) {
     window.show();
     return app.exec();
   }
-  if (args.isEmpty()) {
-    std::fprintf(stderr, "error: --screenshot needs a graph file\n");
-    return 2;
-  }
-  if (!opened) {
+  if (!args.isEmpty() && !opened) {
     std::fprintf(stderr, "error: %s: the graph could not be opened (see the log)\n",
                  args.front().toLocal8Bit().constData());
     return 2;
   }
   window.show();
   bool ok = true;
-  if (window.document().evaluable()) {
+  // Without a graph: the empty window.
+  if (opened && window.document().evaluable()) {
     // The whole graph, files written, then whatever follows it (a settling pass) to its end.
     QEventLoop loop;
     QObject::connect(&window, &geobrush::studio::StudioWindow::becameIdle, &loop,

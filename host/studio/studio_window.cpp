@@ -135,6 +135,7 @@ bool StudioWindow::openFile(const QString& path) {
     return false;
   }
   startOver();
+  log_->clear();
   for (const auto& name : document_.missingNodes())
     log("warning: " + path + ": node '" + QString::fromStdString(name) +
         "': no loaded plugin provides '" +
@@ -278,6 +279,10 @@ void StudioWindow::finishEvaluation(int generation, EvalMode mode, EvalReport re
             "': " + QString::fromStdString(warning));
     if (!report_.ok) log("error: " + QString::fromStdString(report_.error));
   }
+  // Only a full evaluation writes the graph's files: say which.
+  if (mode == EvalMode::Full)
+    for (const auto& path : report_.filesWritten)
+      log("wrote " + QString::fromStdString(path.string()));
   refresh(&report_);
   if (clone_->roles().found()) {
     if (!radiusChosen_ && view.values.sourceMesh) {
@@ -314,6 +319,10 @@ void StudioWindow::stopWorker() {
 
 void StudioWindow::refresh(const EvalReport* report) {
   editor_->show(document_, document_.statuses(report));
+}
+
+QString StudioWindow::logText() const {
+  return log_->toPlainText();
 }
 
 void StudioWindow::log(const QString& line) {

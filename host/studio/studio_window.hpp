@@ -55,6 +55,8 @@ class StudioWindow : public QMainWindow {
   bool evaluating() const { return worker_.joinable() && !finished_; }
   const StudioDocument& document() const { return document_; }
   const EvalReport& lastReport() const { return report_; }
+  // What the log shows: the open graph's messages (opening another graph clears it).
+  QString logText() const;
   // The evaluator of the open graph (read it only while idle()).
   const Evaluator& evaluator() const { return *evaluator_; }
 

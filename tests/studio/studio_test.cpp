@@ -196,8 +196,16 @@ TEST(StudioWindow, AFailingNodeIsReportedAndTheWindowStaysUsable) {
   const auto statuses = window.document().statuses(&window.lastReport());
   EXPECT_EQ(statuses.at("load").state, NodeState::Error);
   EXPECT_NE(window.lastReport().error.find("nothing.obj"), std::string::npos);
+  EXPECT_TRUE(window.logText().contains("nothing.obj"));
+  // Another graph opens with its own log; F5 says which files it wrote.
   ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("relief_cube.json").string())));
+  ASSERT_TRUE(waitUntilIdle(window));
+  EXPECT_FALSE(window.logText().contains("nothing.obj"));
   EXPECT_TRUE(evaluateAndWait(window));
+  ASSERT_FALSE(window.lastReport().filesWritten.empty());
+  for (const auto& path : window.lastReport().filesWritten)
+    EXPECT_TRUE(window.logText().contains("wrote " + QString::fromStdString(path.string())))
+        << path;
 }
 
 // --out makes its folder where it is missing, as `geobrush run --out` does.
@@ -219,6 +227,12 @@ TEST(StudioCommand, WritesAScreenshotOfTheEvaluatedGraph) {
                               (dir / "err2.txt").string();
   EXPECT_NE(std::system(missing.c_str()), 0);
   EXPECT_NE(bytes(dir / "err2.txt").find("graph.json"), std::string::npos);
+  // No graph: the empty window.
+  const auto empty = dir / "empty.png";
+  const std::string bare = (test::cliPath().parent_path() / "geobrush-studio").string() +
+                           " --screenshot " + empty.string() + " 2> " + (dir / "err3.txt").string();
+  EXPECT_EQ(std::system(bare.c_str()), 0) << bytes(dir / "err3.txt");
+  EXPECT_GT(QImage(QString::fromStdString(empty.string())).width(), 600);
 }
 
 TEST(StudioDocument, EditsAreCheckedAndUndoable) {
