@@ -1,5 +1,8 @@
 #include "studio_document.hpp"
 
+#include <algorithm>
+#include <set>
+
 namespace geobrush::studio {
 
 void StudioDocument::newGraph() {
@@ -109,6 +112,77 @@ void StudioDocument::endGesture() {
   if (gestureChanged_) undo_.push_back(std::move(*gestureStart_));
   gestureStart_.reset();
   gestureChanged_ = false;
+}
+
+namespace {
+
+// "what 'a'" or "what 'a' and n more".
+std::string named(const std::string& what, const std::vector<std::string>& names) {
+  std::string text = what + " " + names.front();
+  if (names.size() > 1) text += " and " + std::to_string(names.size() - 1) + " more";
+  return text;
+}
+
+std::string endpointText(const Endpoint& e) {
+  return e.node + "." + e.port;
+}
+
+std::vector<std::string> paramsChanged(const Graph& before, const Graph& after) {
+  std::vector<std::string> changed;
+  for (const auto& [name, node] : after.nodes) {
+    const auto was = before.nodes.find(name);
+    if (was == before.nodes.end()) continue;
+    std::set<std::string> keys;
+    for (const auto& [key, value] : node.params)
+      keys.insert(key);
+    for (const auto& [key, value] : was->second.params)
+      keys.insert(key);
+    for (const auto& key : keys) {
+      const auto now = node.params.find(key), then = was->second.params.find(key);
+      const bool same = now != node.params.end() && then != was->second.params.end()
+                            ? now->second == then->second
+                            : now == node.params.end() && then == was->second.params.end();
+      if (!same) changed.push_back(name + "." + key);
+    }
+  }
+  return changed;
+}
+
+}  // namespace
+
+std::string describeEdit(const Graph& before, const Graph& after) {
+  std::vector<std::string> added, removed;
+  for (const auto& [name, node] : after.nodes)
+    if (!before.nodes.count(name)) added.push_back(name);
+  for (const auto& [name, node] : before.nodes)
+    if (!after.nodes.count(name)) removed.push_back(name);
+  if (!added.empty()) return named("add", added);
+  if (!removed.empty()) return named("delete", removed);
+  if (const auto changed = paramsChanged(before, after); !changed.empty())
+    return named("set", changed);
+  for (const Connection& c : after.connections)
+    if (std::find(before.connections.begin(), before.connections.end(), c) ==
+        before.connections.end())
+      return "connect " + endpointText(c.from) + " to " + endpointText(c.to);
+  for (const Connection& c : before.connections)
+    if (std::find(after.connections.begin(), after.connections.end(), c) == after.connections.end())
+      return "disconnect " + endpointText(c.from) + " from " + endpointText(c.to);
+  std::vector<std::string> moved;
+  for (const auto& [name, position] : after.ui) {
+    const auto was = before.ui.find(name);
+    if (was == before.ui.end() || !(was->second == position)) moved.push_back(name);
+  }
+  if (!moved.empty()) return named("move", moved);
+  return "edit";
+}
+
+std::string StudioDocument::undoText() const {
+  if (gestureStart_ && gestureChanged_) return describeEdit(*gestureStart_, graph_);
+  return undo_.empty() ? std::string() : describeEdit(undo_.back(), graph_);
+}
+
+std::string StudioDocument::redoText() const {
+  return redo_.empty() ? std::string() : describeEdit(graph_, redo_.back());
 }
 
 bool StudioDocument::undo() {

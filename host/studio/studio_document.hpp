@@ -74,6 +74,9 @@ class StudioDocument {
   bool redo();
   bool canUndo() const { return !undo_.empty() || gestureChanged_; }
   bool canRedo() const { return !redo_.empty(); }
+  // What undo and redo would change, in words (describeEdit); empty when there is nothing to.
+  std::string undoText() const;
+  std::string redoText() const;
 
   // The statuses after an evaluation (or the missing marks); every node has one.
   std::map<std::string, NodeStatus> statuses(const EvalReport* report) const;
@@ -92,5 +95,10 @@ class StudioDocument {
   void commit(Graph edited);
   void updateMissing();
 };
+
+// An edit from `before` to `after` in words, for the Undo and Redo commands: the nodes added or
+// removed, else the params changed ("set strokes.dabs"), else the connections made or removed,
+// else the nodes moved.
+std::string describeEdit(const Graph& before, const Graph& after);
 
 }  // namespace geobrush::studio

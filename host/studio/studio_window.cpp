@@ -75,7 +75,7 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
   };
   editor_->onMoved = [this](const std::string& node, double x, double y) {
     document_.moveNode(node, x, y);
-    undoAction_->setEnabled(document_.canUndo());
+    updateUndoActions();
   };
   editor_->onSelected = [this](const std::string& node) {
     selected_ = node;
@@ -157,8 +157,7 @@ void StudioWindow::startOver() {
   clone_->clear();
   updateRoles();
   params_->showNode(document_, selected_);
-  undoAction_->setEnabled(false);
-  redoAction_->setEnabled(false);
+  updateUndoActions();
 }
 
 void StudioWindow::newFile() {
@@ -350,8 +349,7 @@ void StudioWindow::edited(const std::string& error) {
     params_->showNode(document_, selected_);
     return;
   }
-  undoAction_->setEnabled(document_.canUndo());
-  redoAction_->setEnabled(document_.canRedo());
+  updateUndoActions();
   updateRoles();
   evaluateLive();
   QTimer::singleShot(0, this, [this] {
@@ -361,8 +359,18 @@ void StudioWindow::edited(const std::string& error) {
 }
 
 void StudioWindow::undoRedo(bool undo) {
+  const std::string what = undo ? document_.undoText() : document_.redoText();
   if (!(undo ? document_.undo() : document_.redo())) return;
+  log(QString(undo ? "undo: " : "redo: ") + QString::fromStdString(what));
   edited({});
+}
+
+void StudioWindow::updateUndoActions() {
+  undoAction_->setEnabled(document_.canUndo());
+  redoAction_->setEnabled(document_.canRedo());
+  const std::string undo = document_.undoText(), redo = document_.redoText();
+  undoAction_->setText(undo.empty() ? "&Undo" : "&Undo " + QString::fromStdString(undo));
+  redoAction_->setText(redo.empty() ? "&Redo" : "&Redo " + QString::fromStdString(redo));
 }
 
 }  // namespace geobrush::studio

@@ -71,6 +71,8 @@ class StudioWindow : public QMainWindow {
   // graph to the editor (after the current event, which may come from an item being replaced).
   void edited(const std::string& error);
   void undoRedo(bool undo);
+  // The Undo and Redo commands enabled and named by what they would change.
+  void updateUndoActions();
   void refresh(const EvalReport* report);
   // Full: every node, settled, files written (F5). Live: what the viewports show, warm. Settle:
   // the same, recomputing what a warm start gave.

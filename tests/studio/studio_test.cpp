@@ -2,6 +2,7 @@
 // evaluation on its worker thread, and the --screenshot command. Runs under xvfb-run.
 #include <gtest/gtest.h>
 
+#include <QAction>
 #include <QApplication>
 #include <QComboBox>
 #include <QElapsedTimer>
@@ -263,18 +264,44 @@ TEST(StudioDocument, EditsAreCheckedAndUndoable) {
   ASSERT_EQ(document.setParam(load, "path", std::string("mesh.obj")), "");
   const std::string afterPath = serializeGraph(document.graph());
   ASSERT_EQ(document.setParam(load, "path", std::string("mesh.obj")), "");
+  // Undo and redo say what they change.
+  EXPECT_EQ(document.undoText(), "set " + load + ".path");
   EXPECT_TRUE(document.undo());
   EXPECT_NE(serializeGraph(document.graph()), afterPath);
+  EXPECT_EQ(document.redoText(), "set " + load + ".path");
+  EXPECT_EQ(document.undoText(), "connect " + load2 + ".mesh to " + save + ".mesh");
   EXPECT_TRUE(document.redo());
   EXPECT_EQ(serializeGraph(document.graph()), afterPath);
 
   ASSERT_EQ(document.removeNodes({load2}), "");
+  EXPECT_EQ(document.undoText(), "delete " + load2);
+  document.moveNode(save, 10, 20);
+  EXPECT_EQ(document.undoText(), "move " + save);
+  EXPECT_TRUE(document.undo());
   EXPECT_EQ(document.graph().source(save, "mesh"), nullptr);
   while (document.undo()) {
   }
   EXPECT_EQ(serializeGraph(document.graph()), original);
   EXPECT_FALSE(document.canUndo());
   EXPECT_TRUE(document.canRedo());
+}
+
+// The Edit menu names what Undo and Redo change, and the log says what was undone.
+TEST(StudioWindow, UndoSaysWhatItUndoes) {
+  StudioWindow window(test::registry());
+  ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("relief_cube.json").string())));
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_EQ(window.addNode("geobrush.load_mesh"), "");
+  QAction* undo = nullptr;
+  for (QAction* action : window.findChildren<QAction*>())
+    if (action->text().startsWith("&Undo")) undo = action;
+  ASSERT_NE(undo, nullptr);
+  EXPECT_EQ(undo->text(), "&Undo add load_mesh");
+  undo->trigger();
+  ASSERT_TRUE(waitUntilIdle(window));
+  EXPECT_TRUE(window.logText().contains("undo: add load_mesh"));
+  EXPECT_EQ(undo->text(), "&Undo");
+  EXPECT_FALSE(undo->isEnabled());
 }
 
 TEST(StudioDocument, AConnectionThatClosesACycleIsRefused) {
