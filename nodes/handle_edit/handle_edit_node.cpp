@@ -16,12 +16,27 @@ using geobrush::Mesh;
 using geobrush::NodeError;
 
 // What the edits need of the unedited template, all derived data: its kNN graph (under a generic
-// name, so that other nodes on the same template and k share it), D(x, L) and each edit's region.
+// name, so that other nodes on the same template and k share it), D(x, L), each edit's region and
+// the non-rigid handle's field (so that a drag of a rigid edit does not solve it again).
 struct Derived {
   std::shared_ptr<const geobrush::KnnGraph> graph;
   std::shared_ptr<const geobrush::BoundaryDistances> boundary;
   std::vector<std::shared_ptr<const geobrush::HandleRegion>> regions;
+  std::shared_ptr<const geobrush::NonrigidHandleField> nonrigid;
 };
+
+// The non-rigid field's key: k, the shape function and every move.
+geobrush::Hash nonrigidKey(const geobrush::HandleEditOptions& options) {
+  Hasher key;
+  key.u64(std::uint64_t(options.k)).u64(std::uint64_t(options.profile.profile));
+  key.u64(options.profile.samples.size());
+  for (double sample : options.profile.samples)
+    key.f64(sample);
+  for (const geobrush::HandleVertexMove& move : options.nonrigid)
+    for (int c = 0; c < 3; ++c)
+      key.f64(move.point[c]).f64(move.translation[c]);
+  return key.digest();
+}
 
 Derived derived(Context& ctx, const std::shared_ptr<const Mesh>& tmpl,
                 const geobrush::HandleEditOptions& options) {
@@ -40,6 +55,10 @@ Derived derived(Context& ctx, const std::shared_ptr<const Mesh>& tmpl,
           geobrush::handleRegion(tmpl->surface, *d.graph, *d.boundary, edit.point, edit.radius));
     }));
   }
+  d.nonrigid = ctx.derived("handle_edit_nonrigid", {"template"}, nonrigidKey(options), [&] {
+    return std::make_shared<const geobrush::NonrigidHandleField>(geobrush::nonrigidHandleField(
+        tmpl->surface, *d.graph, *d.boundary, options.nonrigid, options.profile));
+  });
   return d;
 }
 
@@ -73,18 +92,16 @@ class HandleEditNode final : public geobrush::Node {
       std::vector<const geobrush::HandleRegion*> pointers;
       for (const auto& region : d.regions)
         pointers.push_back(region.get());
-      const auto nonrigid = geobrush::nonrigidHandleField(tmpl->surface, *d.graph, *d.boundary,
-                                                          options.nonrigid, options.profile);
       const auto edited = copyOf(tmpl);
-      const auto report =
-          geobrush::applyHandleEdits(tmpl->surface, edited->surface, pointers, options, &nonrigid);
+      const auto report = geobrush::applyHandleEdits(tmpl->surface, edited->surface, pointers,
+                                                     options, d.nonrigid.get());
       ctx.out("template", edited);
       auto metrics = std::make_shared<geobrush::Metrics>();
       metrics->values = {{"handles", report.handles},
                          {"vertices_moved", report.verticesMoved},
                          {"max_displacement", report.maxDisplacement},
-                         {"nonrigid_vertices", double(nonrigid.handle.size())},
-                         {"nonrigid_condition_number", nonrigid.conditionNumber}};
+                         {"nonrigid_vertices", double(d.nonrigid->handle.size())},
+                         {"nonrigid_condition_number", d.nonrigid->conditionNumber}};
       ctx.out("report", std::move(metrics));
     } catch (const geobrush::HandleEditError& e) {
       if (e.option() == "template") throw NodeError::input(e.option(), e.what());
