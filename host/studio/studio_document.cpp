@@ -1,6 +1,7 @@
 #include "studio_document.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <set>
 
 namespace geobrush::studio {
@@ -127,23 +128,24 @@ std::string endpointText(const Endpoint& e) {
   return e.node + "." + e.port;
 }
 
+// A param's value in the graph file, or none where it keeps its default.
+std::optional<ParamValue> valueIn(const ParamMap& params, const std::string& key) {
+  const auto it = params.find(key);
+  return it == params.end() ? std::nullopt : std::optional<ParamValue>(it->second);
+}
+
 std::vector<std::string> paramsChanged(const Graph& before, const Graph& after) {
   std::vector<std::string> changed;
   for (const auto& [name, node] : after.nodes) {
     const auto was = before.nodes.find(name);
     if (was == before.nodes.end()) continue;
     std::set<std::string> keys;
-    for (const auto& [key, value] : node.params)
-      keys.insert(key);
-    for (const auto& [key, value] : was->second.params)
-      keys.insert(key);
-    for (const auto& key : keys) {
-      const auto now = node.params.find(key), then = was->second.params.find(key);
-      const bool same = now != node.params.end() && then != was->second.params.end()
-                            ? now->second == then->second
-                            : now == node.params.end() && then == was->second.params.end();
-      if (!same) changed.push_back(name + "." + key);
-    }
+    for (const auto* params : {&node.params, &was->second.params})
+      for (const auto& [key, value] : *params)
+        keys.insert(key);
+    for (const auto& key : keys)
+      if (valueIn(node.params, key) != valueIn(was->second.params, key))
+        changed.push_back(name + "." + key);
   }
   return changed;
 }
