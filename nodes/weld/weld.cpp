@@ -115,6 +115,54 @@ std::size_t splitBorderAtPatchPoints(TriMesh& holed, std::vector<int>& border,
   return splits;
 }
 
+// Whether splitting a patch boundary edge at `tip` leaves both halves of its face facing as the
+// face does: the face's third vertex sees the tip from the hole's side.
+bool splitKeepsFacing(const TriMesh& patch, TriMesh::HalfedgeHandle edge, const Vector3d& tip) {
+  if (patch.is_boundary(edge)) edge = patch.opposite_halfedge_handle(edge);
+  const Vector3d a = pointOf(patch, patch.from_vertex_handle(edge));
+  const Vector3d b = pointOf(patch, patch.to_vertex_handle(edge));
+  const Vector3d x = pointOf(patch, patch.to_vertex_handle(patch.next_halfedge_handle(edge)));
+  const Vector3d facing = (b - a).cross(x - a);
+  return (tip - a).cross(x - a).dot(facing) > 0 && (b - tip).cross(x - tip).dot(facing) > 0;
+}
+
+// Ears of the holed mesh [ours]: a border vertex c whose neighbours a and b along the border are
+// joined by an edge of the holed mesh (its face a, c, b juts into the hole). A patch boundary edge
+// on a and b passes behind c, so its face would overlap the ear: that edge is split at c, and the
+// patch runs around the ear, sharing c too, where both halves of the face still face its way (else
+// the weld refuses the overlap). Returns the edges split.
+std::size_t splitPatchAroundEars(TriMesh& patch, const TriMesh& holed,
+                                 const std::vector<int>& border, double tolerance) {
+  const std::vector<int> loop = onlyPatchLoop(patch);
+  const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
+  const std::size_t n = border.size();
+  std::vector<long> borderAt(loop.size(), -1);
+  std::vector<char> shared(n, 0);
+  for (const Share& s : sharedVertices(borderPoints, loopPoints(patch, loop), tolerance)) {
+    borderAt[s.patch] = long(s.border);
+    shared[s.border] = 1;
+  }
+  std::vector<std::pair<TriMesh::EdgeHandle, std::size_t>> splits;  // edge, ear's border position
+  for (std::size_t j = 0; j < loop.size(); ++j) {
+    const long a = borderAt[j], b = borderAt[(j + 1) % loop.size()];
+    if (a < 0 || b < 0 || n < 5) continue;  // on four vertices both arcs have two edges
+    std::size_t ear = n;
+    if ((std::size_t(b) + n - std::size_t(a)) % n == 2) ear = (std::size_t(a) + 1) % n;
+    if ((std::size_t(a) + n - std::size_t(b)) % n == 2) ear = (std::size_t(b) + 1) % n;
+    if (ear == n || shared[ear]) continue;
+    const auto chord = holed.find_halfedge(TriMesh::VertexHandle(border[std::size_t(a)]),
+                                           TriMesh::VertexHandle(border[std::size_t(b)]));
+    if (!chord.is_valid()) continue;
+    const auto edge = patch.find_halfedge(TriMesh::VertexHandle(loop[j]),
+                                          TriMesh::VertexHandle(loop[(j + 1) % loop.size()]));
+    if (splitKeepsFacing(patch, edge, borderPoints[ear]))
+      splits.push_back({patch.edge_handle(edge), ear});
+  }
+  for (const auto& [edge, ear] : splits)
+    patch.split(edge, toPoint(borderPoints[ear]));
+  return splits.size();
+}
+
 // Whether the patch's loop runs along the border's (the patch faces the other way) rather than
 // against it. Three or more shared vertices tell by their order, which must go once around both
 // loops; fewer, by the loops' vector areas.
@@ -264,14 +312,15 @@ std::size_t seamIntersections(const TriMesh& out, const Seam& seam) {
   return selfIntersections(out, faces, 1e-12 * boundingDiagonal(out));
 }
 
+// The patch's vertices past `patchVertices` are those added around ears: not the input patch's.
 PasteMap pasteMap(const WeldResult& result, std::size_t holedVertices,
-                  const std::vector<int>& patchIds) {
+                  const std::vector<int>& patchIds, std::size_t patchVertices) {
   PasteMap map;
   map.targetVertex.assign(result.mesh.n_vertices(), -1);
   map.sourceVertex.assign(result.mesh.n_vertices(), -1);
   for (std::size_t v = 0; v < holedVertices; ++v)
     map.targetVertex[v] = int(v);
-  for (std::size_t v = 0; v < patchIds.size(); ++v)
+  for (std::size_t v = 0; v < patchVertices; ++v)
     map.sourceVertex[std::size_t(patchIds[v])] = int(v);
   return map;
 }
@@ -282,12 +331,17 @@ WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, co
                 const WeldOptions& options) {
   if (const std::string problem = borderLoopProblem(holedMesh, holeBorder); !problem.empty())
     throw WeldError("border", "not a boundary loop of the holed mesh: " + problem);
-  std::vector<int> patchLoop = onlyPatchLoop(patch);
-  std::vector<Vector3d> patchPoints = loopPoints(patch, patchLoop);
+  onlyPatchLoop(patch);
   const double tolerance = options.shareTolerance * boundingDiagonal(holedMesh);
   TriMesh holed = holedMesh;
   std::vector<int> border = holeBorder;
-  const std::size_t borderSplits = splitBorderAtPatchPoints(holed, border, patchPoints, tolerance);
+  const std::size_t borderSplits =
+      splitBorderAtPatchPoints(holed, border, loopPoints(patch, onlyPatchLoop(patch)), tolerance);
+  TriMesh aroundEars = patch;
+  const std::size_t earSplits = splitPatchAroundEars(aroundEars, holed, border, tolerance);
+  const TriMesh& joined = earSplits ? aroundEars : patch;
+  std::vector<int> patchLoop = onlyPatchLoop(joined);
+  const std::vector<Vector3d> patchPoints = loopPoints(joined, patchLoop);
   const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
   Seam seam;
   seam.shares = sharedVertices(borderPoints, patchPoints, tolerance);
@@ -305,7 +359,7 @@ WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, co
 
   result.mesh = holed;
   const std::vector<int> patchIds =
-      appendPatch(result.mesh, patch, patchLoop, seam, result.patchFlipped);
+      appendPatch(result.mesh, joined, patchLoop, seam, result.patchFlipped);
   for (int v : patchLoop)
     seam.patch.push_back(patchIds[std::size_t(v)]);
   const std::vector<int> strip = addStrip(result.mesh, gapTriangles(result.mesh, seam));
@@ -313,8 +367,9 @@ WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, co
 
   result.sharedVertices = seam.shares.size();
   result.borderSplits = borderSplits;
+  result.earSplits = earSplits;
   result.stripFaces = strip.size();
-  result.map = pasteMap(result, holedMesh.n_vertices(), patchIds);
+  result.map = pasteMap(result, holedMesh.n_vertices(), patchIds, patch.n_vertices());
   result.map.seamFaces = sharedEdgeFaces(result.mesh, seam);
   result.map.seamFaces.insert(result.map.seamFaces.end(), strip.begin(), strip.end());
   result.seamSelfIntersections = seamIntersections(result.mesh, seam);

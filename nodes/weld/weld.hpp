@@ -32,6 +32,9 @@ struct WeldResult {
   // Border edges split where a patch boundary vertex lies on one (the new border vertex follows
   // the holed mesh's; the map ties it to neither input).
   std::size_t borderSplits = 0;
+  // Patch boundary edges split at an ear of the holed mesh (a border vertex whose neighbours the
+  // holed mesh joins by an edge), so that the patch runs around it.
+  std::size_t earSplits = 0;
   bool patchFlipped = false;  // the patch came oriented along the hole and was turned over
   std::size_t seamSelfIntersections = 0;  // face pairs meeting near the seam, either side
 };

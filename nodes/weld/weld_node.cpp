@@ -20,6 +20,7 @@ std::shared_ptr<geobrush::Metrics> report(const geobrush::WeldResult& result) {
   v["shared_vertices"] = double(result.sharedVertices);
   v["strip_faces"] = double(result.stripFaces);
   v["border_splits"] = double(result.borderSplits);
+  v["ear_splits"] = double(result.earSplits);
   v["seam_faces"] = double(result.map.seamFaces.size());
   v["patch_flipped"] = result.patchFlipped ? 1.0 : 0.0;
   v["seam_self_intersections"] = double(result.seamSelfIntersections);
@@ -84,8 +85,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                 "both); seam faces: the strips and the patch faces on shared seam edges.")
             .output<geobrush::Metrics>(
                 "report",
-                "shared_vertices, border_splits, strip_faces, seam_faces, patch_flipped, "
-                "seam_self_intersections (faces at the seam).")
+                "shared_vertices, border_splits, ear_splits (patch edges split at an ear of "
+                "the hole), strip_faces, seam_faces, patch_flipped, seam_self_intersections "
+                "(faces at the seam).")
             .paramDouble("share_tolerance", 1e-6,
                          "Patch boundary vertices this close to a border vertex, relative to the "
                          "holed mesh's bounding diagonal, become that vertex.")

@@ -4,9 +4,11 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "direct_context.hpp"
@@ -179,6 +181,76 @@ TEST(Weld, APatchFinerThanTheHoleSplitsTheBordersEdges) {
     EXPECT_EQ(result.mesh.point(v), c.holed.point(v));
   for (std::size_t v = c.holed.n_vertices(); v < c.holed.n_vertices() + 16; ++v)
     EXPECT_EQ(result.map.targetVertex[v], -1);  // the split points belong to neither input
+}
+
+// A 2 x 2 block of cells cut from the grid but one face: an ear of the holed mesh, with two border
+// edges and its tip at the block's centre (0.5, 0.5).
+Cut earHole(const TriMesh& grid) {
+  const Vector3d earCentroid(0.4 + 0.2 / 3, 0.4 + 0.1 / 3, 0);
+  return cut(grid, [&](const Vector3d& p) {
+    return std::abs(p.x() - 0.5) < 0.1 && std::abs(p.y() - 0.5) < 0.1 &&
+           (p - earCentroid).norm() > 1e-9;
+  });
+}
+
+// The block's rim fanned from `hub`: its edge from (0.4, 0.4) to (0.5, 0.4) joins the ear's two
+// neighbours behind the ear.
+TriMesh rimFan(const Vector3d& hub) {
+  TriMesh patch;
+  std::vector<TriMesh::VertexHandle> rim;
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{{0.4, 0.4},
+                                                                   {0.5, 0.4},
+                                                                   {0.6, 0.4},
+                                                                   {0.6, 0.5},
+                                                                   {0.6, 0.6},
+                                                                   {0.5, 0.6},
+                                                                   {0.4, 0.6},
+                                                                   {0.4, 0.5}})
+    rim.push_back(patch.add_vertex({x, y, 0}));
+  const auto centre = patch.add_vertex(toPoint(hub));
+  for (std::size_t k = 0; k < rim.size(); ++k)
+    patch.add_face(rim[k], rim[(k + 1) % rim.size()], centre);
+  return patch;
+}
+
+// The patch face behind the ear would overlap it: its edge is split at the ear's tip and the patch
+// runs around the ear.
+TEST(Weld, APatchEdgeBehindAnEarOfTheHoleIsSplitAtTheEarsTip) {
+  const TriMesh grid = test::unitSquareGrid(10);
+  const Cut c = earHole(grid);
+  ASSERT_EQ(c.patch.n_faces(), 7u);
+  const TriMesh patch = rimFan({0.54, 0.56, 0});
+  const auto result = weld(c.holed, holeLoop(c.holed), patch);
+  EXPECT_EQ(result.earSplits, 1u);
+  EXPECT_EQ(result.sharedVertices, 9u);  // the rim and the tip
+  EXPECT_EQ(result.stripFaces, 0u);
+  EXPECT_EQ(result.seamSelfIntersections, 0u);
+  EXPECT_EQ(result.mesh.n_faces(), c.holed.n_faces() + patch.n_faces() + 1);
+  expectManifoldWithLoops(result.mesh, 1, test::topology(grid).eulerCharacteristic);
+  EXPECT_NEAR(test::surfaceArea(result.mesh), 1.0, 1e-12);  // nothing overlaps
+  expectFacingUp(result.mesh, 0);
+  for (auto v : c.holed.vertices())
+    EXPECT_EQ(result.mesh.point(v), c.holed.point(v));
+  // The tip is the holed mesh's vertex; no vertex of the patch stands for it.
+  EXPECT_EQ(result.mesh.n_vertices(), c.holed.n_vertices() + 1);  // the hub
+  std::size_t fromPatch = 0;
+  for (int s : result.map.sourceVertex)
+    fromPatch += s >= 0;
+  EXPECT_EQ(fromPatch, patch.n_vertices());
+}
+
+// A hub west of the tip would turn the half of the face east of the tip over: the weld refuses
+// the overlap rather than fold the patch over the ear.
+TEST(Weld, AnEarThePatchFaceCannotRunAroundIsRefused) {
+  const Cut c = earHole(test::unitSquareGrid(10));
+  try {
+    weld(c.holed, holeLoop(c.holed), rimFan({0.45, 0.55, 0}));
+    ADD_FAILURE() << "welded a patch that overlaps the ear";
+  } catch (const WeldError& e) {
+    EXPECT_EQ(e.port(), "patch");
+    EXPECT_NE(std::string(e.what()).find("overlaps the mesh's faces"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Weld, AShrunkPatchIsJoinedByAStripOfBothLoopsLengths) {
