@@ -17,6 +17,16 @@
 namespace geobrush::studio {
 namespace {
 
+// What [ and ] divide and multiply the brush radius by.
+constexpr double kBrushStep = 1.25;
+
+// The radius box: its arrows scale the radius as [ and ] do, whatever the mesh's scale.
+class RadiusBox : public QDoubleSpinBox {
+ public:
+  using QDoubleSpinBox::QDoubleSpinBox;
+  void stepBy(int steps) override { setValue(value() * std::pow(kBrushStep, steps)); }
+};
+
 // Dabs closer than this fraction of the radius to the previous one add nothing a user sees.
 constexpr double kDabSpacing = 0.3;
 constexpr double kDegreesPerPixel = 0.5;
@@ -73,7 +83,7 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
       target_(new Viewport("Target", this)),
       toolBar_(new QToolBar("Brush", this)),
       tools_(new QActionGroup(this)),
-      radius_(new QDoubleSpinBox(this)),
+      radius_(new RadiusBox(this)),
       sourceColour_(new QComboBox(this)),
       targetColour_(new QComboBox(this)) {
   auto* splitter = new QSplitter(Qt::Horizontal, this);
@@ -107,11 +117,27 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
   }
   toolBar_->addSeparator();
   toolBar_->addWidget(new QLabel(" Brush radius ", this));
+  radius_->setObjectName("brushRadius");
   radius_->setDecimals(4);
   radius_->setRange(1e-4, 1e4);
   radius_->setValue(0.1);
-  radius_->setToolTip("In source mesh units: the shared domain keeps the source's distances");
+  radius_->setToolTip(
+      "In source mesh units: the shared domain keeps the source's distances ([ shrinks, ] "
+      "grows)");
   toolBar_->addWidget(radius_);
+  const std::pair<const char*, double> resizes[] = {{"Smaller brush", 1 / kBrushStep},
+                                                    {"Larger brush", kBrushStep}};
+  for (const auto& [name, factor] : resizes) {
+    auto* action = new QAction(name, this);
+    action->setShortcut(QKeySequence(factor < 1 ? Qt::Key_BracketLeft : Qt::Key_BracketRight));
+    connect(action, &QAction::triggered, this,
+            [this, factor = factor] { setBrushRadius(brushRadius() * factor); });
+    addAction(action);
+  }
+  connect(radius_, &QDoubleSpinBox::valueChanged, this, [this](double radius) {
+    message(QString("Brush radius %1").arg(radius, 0, 'g', 4));
+    updateOutlines();
+  });
   toolBar_->addSeparator();
   toolBar_->addAction("Frame views", this, [this] {
     source_->resetView();

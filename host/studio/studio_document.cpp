@@ -8,6 +8,7 @@ namespace geobrush::studio {
 
 void StudioDocument::newGraph() {
   graph_ = {};
+  saved_ = {};
   path_.clear();
   missing_.clear();
   undo_.clear();
@@ -29,6 +30,7 @@ std::string StudioDocument::open(const std::filesystem::path& path) {
     return e.what();
   }
   graph_ = std::move(graph);
+  saved_ = graph_;
   path_ = path;
   missing_ = std::move(missing);
   undo_.clear();
@@ -73,8 +75,19 @@ std::string StudioDocument::save(const std::filesystem::path& path) {
   }
   // The document continues from the saved file: its paths resolve from there now.
   graph_ = std::move(graph);
+  saved_ = graph_;
   path_ = path;
   return {};
+}
+
+bool StudioDocument::modified() const {
+  const auto sameNode = [](const auto& a, const auto& b) {
+    return a.first == b.first && a.second.type == b.second.type &&
+           a.second.typeVersion == b.second.typeVersion && a.second.params == b.second.params;
+  };
+  return !(std::equal(graph_.nodes.begin(), graph_.nodes.end(), saved_.nodes.begin(),
+                      saved_.nodes.end(), sameNode) &&
+           graph_.connections == saved_.connections && graph_.ui == saved_.ui);
 }
 
 namespace {

@@ -45,6 +45,9 @@ class StudioDocument {
   Graph& graph() { return graph_; }
   const std::filesystem::path& path() const { return path_; }
   const std::set<std::string>& missingNodes() const { return missing_; }
+  // Whether the graph differs from the file it was opened from or last saved to (an untitled
+  // graph: from the empty graph); undoing back to that graph clears it.
+  bool modified() const;
   bool evaluable() const { return missing_.empty(); }
 
   // Graph edits. Each returns an error for the user (naming the node and port) and leaves the
@@ -86,6 +89,7 @@ class StudioDocument {
   Graph graph_;
   std::filesystem::path path_;
   std::set<std::string> missing_;
+  Graph saved_;                          // as opened or last saved
   std::vector<Graph> undo_, redo_;       // the graph before each edit, and the edits undone
   std::unique_ptr<Graph> gestureStart_;  // the graph before the gesture under way
   bool gestureChanged_ = false;

@@ -3,9 +3,11 @@
 #include "clone_edits.hpp"
 
 #include <QAction>
+#include <QCloseEvent>
 #include <QDockWidget>
 #include <QFileDialog>
 #include <QMenuBar>
+#include <QMessageBox>
 #include <QPlainTextEdit>
 #include <QProgressBar>
 #include <QSplitter>
@@ -97,21 +99,21 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
   resizeDocks({logDock}, {110}, Qt::Vertical);
 
   QMenu* file = menuBar()->addMenu("&File");
-  file->addAction("&New", QKeySequence::New, [this] { newFile(); });
+  file->addAction("&New", QKeySequence::New, [this] {
+    if (keepOrDropChanges()) newFile();
+  });
   file->addAction("&Open...", QKeySequence::Open, [this] {
+    if (!keepOrDropChanges()) return;
     const QString path = QFileDialog::getOpenFileName(this, "Open graph", {}, "Graphs (*.json)");
     if (!path.isEmpty()) openFile(path);
   });
-  file->addAction("&Save", QKeySequence::Save, [this] {
-    QString path = QString::fromStdString(document_.path().string());
-    if (path.isEmpty())
-      path = QFileDialog::getSaveFileName(this, "Save graph", {}, "Graphs (*.json)");
-    if (!path.isEmpty()) saveFile(path);
-  });
+  file->addAction("&Save", QKeySequence::Save, [this] { save(); });
   file->addAction("Save &As...", QKeySequence::SaveAs, [this] {
     const QString path = QFileDialog::getSaveFileName(this, "Save graph", {}, "Graphs (*.json)");
     if (!path.isEmpty()) saveFile(path);
   });
+  file->addSeparator();
+  file->addAction("&Quit", QKeySequence::Quit, [this] { close(); });
   QMenu* edit = menuBar()->addMenu("&Edit");
   undoAction_ = edit->addAction("&Undo", QKeySequence::Undo, [this] { undoRedo(true); });
   redoAction_ = edit->addAction("&Redo", QKeySequence::Redo, [this] { undoRedo(false); });
@@ -140,7 +142,7 @@ bool StudioWindow::openFile(const QString& path) {
     log("warning: " + path + ": node '" + QString::fromStdString(name) +
         "': no loaded plugin provides '" +
         QString::fromStdString(document_.graph().nodes.at(name).type) + "'");
-  setWindowTitle("GeoBrush Studio - " + path);
+  setWindowTitle("GeoBrush Studio - " + path + "[*]");
   refresh(nullptr);
   statusBar()->showMessage("Opened " + path);
   evaluateLive();
@@ -164,7 +166,7 @@ void StudioWindow::newFile() {
   stopWorker();
   document_.newGraph();
   startOver();
-  setWindowTitle("GeoBrush Studio - untitled");
+  setWindowTitle("GeoBrush Studio - untitled[*]");
   refresh(nullptr);
   statusBar()->showMessage("New graph: double-click node types in the palette to add them");
 }
@@ -176,8 +178,50 @@ bool StudioWindow::saveFile(const QString& path) {
     log("error: " + QString::fromStdString(error));
     return false;
   }
+  setWindowTitle("GeoBrush Studio - " + path + "[*]");
+  updateUndoActions();
   statusBar()->showMessage("Saved " + path);
   return true;
+}
+
+bool StudioWindow::save() {
+  QString path = QString::fromStdString(document_.path().string());
+  if (path.isEmpty())
+    path = QFileDialog::getSaveFileName(this, "Save graph", {}, "Graphs (*.json)");
+  return !path.isEmpty() && saveFile(path);
+}
+
+bool StudioWindow::keepOrDropChanges() {
+  if (!document_.modified()) return true;
+  switch (askAboutChanges ? askAboutChanges() : askWithDialog()) {
+    case UnsavedChoice::Save:
+      return save();
+    case UnsavedChoice::Discard:
+      return true;
+    case UnsavedChoice::Cancel:
+      return false;
+  }
+  return false;
+}
+
+StudioWindow::UnsavedChoice StudioWindow::askWithDialog() {
+  const QString name = document_.path().empty()
+                           ? QString("the untitled graph")
+                           : QString::fromStdString(document_.path().filename().string());
+  const auto answer = QMessageBox::question(
+      this, "Unsaved changes", "Save the changes to " + name + "?",
+      QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+  if (answer == QMessageBox::Save) return UnsavedChoice::Save;
+  return answer == QMessageBox::Discard ? UnsavedChoice::Discard : UnsavedChoice::Cancel;
+}
+
+void StudioWindow::closeEvent(QCloseEvent* event) {
+  if (!keepOrDropChanges()) {
+    event->ignore();
+    return;
+  }
+  stopWorker();
+  event->accept();
 }
 
 void StudioWindow::evaluate() {
@@ -366,6 +410,7 @@ void StudioWindow::undoRedo(bool undo) {
 }
 
 void StudioWindow::updateUndoActions() {
+  setWindowModified(document_.modified());
   undoAction_->setEnabled(document_.canUndo());
   redoAction_->setEnabled(document_.canRedo());
   const std::string undo = document_.undoText(), redo = document_.redoText();

@@ -7,6 +7,7 @@
 
 #include <QMainWindow>
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <thread>
 
@@ -34,6 +35,15 @@ class StudioWindow : public QMainWindow {
   // Opens a graph file; errors go to the log and the status bar. Returns whether it opened.
   bool openFile(const QString& path);
   bool saveFile(const QString& path);
+  // Saves to the graph's file (asking where for an untitled graph); false if nothing was saved.
+  bool save();
+
+  // Where the graph has unsaved changes (the title's marker), asks whether to save them, as
+  // closing, New and Open do; false when the user cancels or the save fails.
+  bool keepOrDropChanges();
+  enum class UnsavedChoice { Save, Discard, Cancel };
+  // The question keepOrDropChanges() asks; a dialog where unset (tests answer it themselves).
+  std::function<UnsavedChoice()> askAboutChanges;
   // Adds a node of the type at the middle of the editor (what a double click in the palette
   // does); returns the error or an empty string.
   std::string addNode(const std::string& typeId);
@@ -65,13 +75,18 @@ class StudioWindow : public QMainWindow {
   // Emitted when the evaluations that edits started have all ended (see idle()).
   void becameIdle();
 
+ protected:
+  void closeEvent(QCloseEvent* event) override;
+
  private:
+  UnsavedChoice askWithDialog();
   void log(const QString& line);
   // Applies the outcome of a document edit: the error to the log and status bar, or the new
   // graph to the editor (after the current event, which may come from an item being replaced).
   void edited(const std::string& error);
   void undoRedo(bool undo);
-  // The Undo and Redo commands enabled and named by what they would change.
+  // The Undo and Redo commands enabled and named by what they would change; the title marked
+  // where the graph has unsaved changes.
   void updateUndoActions();
   void refresh(const EvalReport* report);
   // Full: every node, settled, files written (F5). Live: what the viewports show, warm. Settle:

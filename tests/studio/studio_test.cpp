@@ -5,6 +5,7 @@
 #include <QAction>
 #include <QApplication>
 #include <QComboBox>
+#include <QDoubleSpinBox>
 #include <QElapsedTimer>
 #include <QEventLoop>
 #include <QImage>
@@ -302,6 +303,105 @@ TEST(StudioWindow, UndoSaysWhatItUndoes) {
   EXPECT_TRUE(window.logText().contains("undo: add load_mesh"));
   EXPECT_EQ(undo->text(), "&Undo");
   EXPECT_FALSE(undo->isEnabled());
+}
+
+// The title marks unsaved changes (undoing back clears the mark); closing, or Quit, asks before
+// dropping them and saves where asked to.
+TEST(StudioWindow, MarksUnsavedChangesAndAsksBeforeDroppingThem) {
+  const auto dir = test::tempDir("studio-unsaved");
+  const auto file = dir / "relief_cube.json";
+  std::filesystem::copy_file(graphFile("relief_cube.json"), file);
+  const std::string original = bytes(file);
+  using Choice = StudioWindow::UnsavedChoice;
+  int asked = 0;
+  Choice answer = Choice::Cancel;
+  {
+    StudioWindow window(test::registry());
+    window.askAboutChanges = [&] {
+      ++asked;
+      return answer;
+    };
+    ASSERT_TRUE(window.openFile(QString::fromStdString(file.string())));
+    window.show();
+    ASSERT_TRUE(waitUntilIdle(window));
+    EXPECT_TRUE(window.windowTitle().endsWith("relief_cube.json[*]"));
+    EXPECT_FALSE(window.isWindowModified());
+    EXPECT_TRUE(window.close());  // nothing to ask about
+    EXPECT_EQ(asked, 0);
+    window.show();
+    window.activateWindow();
+    ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
+
+    ASSERT_EQ(window.setParam("shape", "relief", 0.08), "");
+    EXPECT_TRUE(window.isWindowModified());
+    QTest::keyClick(&window, Qt::Key_Z, Qt::ControlModifier);
+    EXPECT_FALSE(window.isWindowModified());
+    QTest::keyClick(&window, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    EXPECT_TRUE(window.isWindowModified());
+
+    EXPECT_FALSE(window.close());
+    EXPECT_EQ(asked, 1);
+    EXPECT_TRUE(window.isVisible());
+    EXPECT_EQ(bytes(file), original);
+    answer = Choice::Save;
+    EXPECT_TRUE(window.close());
+    EXPECT_EQ(asked, 2);
+    EXPECT_FALSE(window.isWindowModified());
+    ASSERT_TRUE(waitUntilIdle(window));
+  }
+  const Graph saved = readGraphFile(file);
+  EXPECT_EQ(std::get<double>(saved.nodes.at("shape").params.at("relief")), 0.08);
+
+  StudioWindow window(test::registry());
+  window.askAboutChanges = [&] {
+    ++asked;
+    return Choice::Discard;
+  };
+  ASSERT_TRUE(window.openFile(QString::fromStdString(file.string())));
+  window.show();
+  ASSERT_TRUE(waitUntilIdle(window));
+  const std::string before = bytes(file);
+  ASSERT_EQ(window.setParam("shape", "relief", 0.02), "");
+  QAction* quit = nullptr;
+  for (QAction* action : window.findChildren<QAction*>())
+    if (action->text() == "&Quit") quit = action;
+  ASSERT_NE(quit, nullptr);
+  EXPECT_EQ(quit->shortcut(), QKeySequence(QKeySequence::Quit));
+  quit->trigger();
+  EXPECT_EQ(asked, 3);
+  EXPECT_FALSE(window.isVisible());
+  EXPECT_EQ(bytes(file), before);
+  ASSERT_TRUE(waitUntilIdle(window));
+}
+
+// The radius's arrows and the [ and ] keys shrink and grow it by a quarter whatever the mesh's
+// scale, the status bar saying the new radius.
+TEST(StudioWindow, TheBrushRadiusStepsWithItsSizeAndFollowsTheBracketKeys) {
+  StudioWindow window(test::registry());
+  ASSERT_TRUE(
+      window.openFile(QString::fromStdString(graphFile("clone_ear_cube_edge.json").string())));
+  window.show();
+  window.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
+  ASSERT_TRUE(waitUntilIdle(window));
+  auto& panel = window.clonePanel();
+  auto* spin = window.findChild<QDoubleSpinBox*>("brushRadius");
+  ASSERT_NE(spin, nullptr);
+  panel.setBrushRadius(0.08);
+  spin->stepBy(1);
+  EXPECT_NEAR(panel.brushRadius(), 0.1, 1e-12);
+  panel.setBrushRadius(3.2);
+  spin->stepBy(-2);
+  EXPECT_NEAR(panel.brushRadius(), 2.048, 1e-12);
+  panel.setBrushRadius(0.08);
+  QTest::keyClick(&window, Qt::Key_BracketRight);
+  EXPECT_NEAR(panel.brushRadius(), 0.1, 1e-12);
+  EXPECT_TRUE(window.statusBar()->currentMessage().contains("Brush radius 0.1"))
+      << window.statusBar()->currentMessage().toStdString();
+  QTest::keyClick(&window, Qt::Key_BracketLeft);
+  QTest::keyClick(&window, Qt::Key_BracketLeft);
+  EXPECT_NEAR(panel.brushRadius(), 0.064, 1e-12);
+  ASSERT_TRUE(waitUntilIdle(window));
 }
 
 TEST(StudioDocument, AConnectionThatClosesACycleIsRefused) {
@@ -742,6 +842,8 @@ TEST(StudioWindow, BuildsACloneGraphWithTheMouseAndPaintsIt) {
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   QApplication app(argc, argv);
+  // The suite closes windows and goes on.
+  app.setQuitOnLastWindowClosed(false);
   return RUN_ALL_TESTS();
 }
 
