@@ -155,6 +155,7 @@ void StudioWindow::startOver() {
   selected_.clear();
   pendingLive_ = false;
   radiusChosen_ = false;
+  computedSinceEdit_ = 0;
   lastLiveError_.clear();
   clone_->clear();
   updateRoles();
@@ -334,13 +335,18 @@ void StudioWindow::finishEvaluation(int generation, EvalMode mode, EvalReport re
     }
     clone_->showView(std::move(view));
   }
-  statusBar()->showMessage(report_.ok ? QString("%1: %2 nodes computed, %3 cached")
-                                            .arg(mode == EvalMode::Full   ? "Evaluated"
-                                                 : mode == EvalMode::Live ? "Updated"
-                                                                          : "Settled")
-                                            .arg(report_.computed())
-                                            .arg(report_.cacheHits())
-                                      : QString::fromStdString(report_.error));
+  // An edit's live, queued and settling evaluations together are what it cost.
+  computedSinceEdit_ += report_.computed();
+  if (!report_.ok)
+    statusBar()->showMessage(QString::fromStdString(report_.error));
+  else if (mode == EvalMode::Full)
+    statusBar()->showMessage(QString("Evaluated: %1 nodes computed, %2 cached")
+                                 .arg(report_.computed())
+                                 .arg(report_.cacheHits()));
+  else
+    statusBar()->showMessage(QString("%1: %2 nodes computed since the last edit")
+                                 .arg(mode == EvalMode::Live ? "Updated" : "Settled")
+                                 .arg(computedSinceEdit_));
   emit evaluated(report_.ok);
   if (pendingLive_) {
     pendingLive_ = false;
@@ -395,6 +401,7 @@ void StudioWindow::edited(const std::string& error) {
   }
   updateUndoActions();
   updateRoles();
+  computedSinceEdit_ = 0;
   evaluateLive();
   QTimer::singleShot(0, this, [this] {
     refresh(nullptr);

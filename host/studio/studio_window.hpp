@@ -118,6 +118,7 @@ class StudioWindow : public QMainWindow {
   bool finished_ = true;
   bool pendingLive_ = false;
   bool radiusChosen_ = false;
+  int computedSinceEdit_ = 0;  // nodes the evaluations since the last edit computed
   std::string lastLiveError_;
   std::filesystem::path outputDir_;
   // Counts evaluations: a result that arrives after a newer one started, or after the graph was

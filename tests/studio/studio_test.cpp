@@ -634,6 +634,10 @@ TEST(StudioWindow, APaintingSessionEditsTheGraphAndRunsTheSameHeadless) {
   const std::vector<double> painted = pointsOf(
       std::dynamic_pointer_cast<const Mesh>(window.evaluator().output(roles.paste, "mesh")));
   EXPECT_NE(painted, before);
+  // The status counts what the stroke's evaluations computed, not only the last one's.
+  const QString status = window.statusBar()->currentMessage();
+  EXPECT_TRUE(status.contains("nodes computed since the last edit")) << status.toStdString();
+  EXPECT_FALSE(status.contains(": 0 nodes")) << status.toStdString();
   // The brush shows on both surfaces while hovering.
   QTest::mouseMove(&target, strokeStart + QPoint(6, 2));
   screenshot(window, "studio_painted.png");
