@@ -10,6 +10,7 @@
 #include <QSplitter>
 #include <QToolBar>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <cmath>
 
 #include "clone_edits.hpp"
@@ -55,6 +56,16 @@ Outline tangentCircle(const SurfaceHit& hit, double radius, const QColor& color)
                              1e-3 * radius * hit.normal);
   }
   return outline;
+}
+
+// The box of the shown surface's vertices that `picked` takes; empty where it takes none.
+template <typename Pick>
+Eigen::AlignedBox3d boxOf(const ShownSurface& surface, Pick picked) {
+  Eigen::AlignedBox3d box;
+  if (!surface.mesh || surface.uv.size() != surface.mesh->surface.n_vertices()) return box;
+  for (auto v : surface.mesh->surface.vertices())
+    if (picked(v.idx())) box.extend(pointOf(surface.mesh->surface, v));
+  return box;
 }
 
 }  // namespace
@@ -139,10 +150,15 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
     updateOutlines();
   });
   toolBar_->addSeparator();
-  toolBar_->addAction("Frame views", this, [this] {
-    source_->resetView();
-    target_->resetView();
+  QAction* framePasteAction = toolBar_->addAction("Frame paste", this, [this] { framePaste(); });
+  framePasteAction->setShortcut(QKeySequence(Qt::Key_F));
+  framePasteAction->setToolTip("Frame the source canvas and the paste (F)");
+  QAction* frameAllAction = toolBar_->addAction("Frame all", this, [this] {
+    source_->frameAll();
+    target_->frameAll();
   });
+  frameAllAction->setShortcut(QKeySequence(Qt::Key_Home));
+  frameAllAction->setToolTip("Frame both whole surfaces (Home)");
   toolBar_->addSeparator();
   const std::pair<QComboBox*, const char*> colours[] = {{sourceColour_, " Source colour "},
                                                         {targetColour_, " Target colour "}};
@@ -195,13 +211,34 @@ void ClonePanel::clear() {
   updateOutlines();
 }
 
+void ClonePanel::framePaste() {
+  const auto onCanvas = [](const ShownSurface& surface) {
+    return [&surface](int v) { return surface.uv[std::size_t(v)].allFinite(); };
+  };
+  source_->frameBox(boxOf(view_.source, onCanvas(view_.source)));
+  const ShownSurface& target = view_.target;
+  const PasteMapPtr& paste = view_.values.pasteMap;
+  const bool pasted = target.mesh && paste &&
+                      paste->sourceVertex.size() == target.mesh->surface.n_vertices() &&
+                      std::any_of(paste->sourceVertex.begin(), paste->sourceVertex.end(),
+                                  [](int v) { return v >= 0; });
+  if (pasted)
+    target_->frameBox(
+        boxOf(target, [&](int v) { return paste->sourceVertex[std::size_t(v)] >= 0; }));
+  else
+    target_->frameBox(boxOf(target, onCanvas(target)));
+}
+
 void ClonePanel::showView(LiveView view) {
+  const bool first = !view_.source.mesh && !view_.target.mesh;
   view_ = std::move(view);
   refillColourChoices(sourceColour_, view_.source);
   refillColourChoices(targetColour_, view_.target);
   showColours();
   source_->setLines({{&view_.sourceLines.u, kULine}, {&view_.sourceLines.v, kVLine}});
   target_->setLines({{&view_.targetLines.u, kULine}, {&view_.targetLines.v, kVLine}});
+  // A clone opens framed on what it copies and where it goes, not on the whole meshes.
+  if (first) framePaste();
   updateOutlines();
 }
 

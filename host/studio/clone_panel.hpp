@@ -54,6 +54,10 @@ class ClonePanel : public QWidget {
   // Forgets the shown surfaces and the cameras' frames (a new graph was opened).
   void clear();
 
+  // Frames the source view on its canvas and the target view on the paste (on its canvas before
+  // anything is pasted), as a clone opens (F); Frame all (Home) shows the whole surfaces.
+  void framePaste();
+
   void setTool(CloneTool tool);
   CloneTool tool() const { return tool_; }
   // In the units of the source mesh, which the shared domain keeps.

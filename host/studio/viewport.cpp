@@ -17,10 +17,13 @@ namespace {
 const RenderView kDefaultView{.azimuthDeg = 30, .elevationDeg = 20, .fovDeg = 35, .zoom = 1.2};
 const Rgb kBackground{0.16f, 0.17f, 0.19f};
 
-RenderFrame frameOf(const TriMesh& mesh) {
-  const Eigen::AlignedBox3d box = boundsOf(mesh);
+RenderFrame frameOf(const Eigen::AlignedBox3d& box) {
   const Eigen::Vector3d centre = box.center();
   return {{centre.x(), centre.y(), centre.z()}, std::max(0.5 * box.diagonal().norm(), 1e-9)};
+}
+
+RenderFrame frameOf(const TriMesh& mesh) {
+  return frameOf(boundsOf(mesh));
 }
 
 // A GPU draws the views; on a machine without one the CPU rasterizer does, since lavapipe draws a
@@ -66,6 +69,28 @@ void Viewport::resetView() {
   if (surface_.mesh && surface_.mesh->surface.n_faces() > 0)
     frame_ = frameOf(surface_.mesh->surface);
   changed();
+}
+
+// In the plane through the point looked at, across the view: the camera stands where the framed
+// sphere fits both fields of view, divided by the zoom (core's render camera).
+double Viewport::radiiPerPixel(double zoom) const {
+  const double w = std::max(width(), 1), h = std::max(height(), 1);
+  const double halfFovY = view_.fovDeg * M_PI / 360;
+  const double halfFovX = std::atan(std::tan(halfFovY) * w / h);
+  return 2 * std::tan(halfFovY) / (h * std::sin(std::min(halfFovX, halfFovY)) * zoom);
+}
+
+void Viewport::frameBox(const Eigen::AlignedBox3d& box) {
+  if (box.isEmpty()) return;
+  frame_ = frameOf(box);
+  view_.zoom = 1;
+  view_.panRight = view_.panUp = 0;
+  changed();
+}
+
+void Viewport::frameAll() {
+  if (surface_.mesh && surface_.mesh->surface.n_faces() > 0)
+    frameBox(boundsOf(surface_.mesh->surface));
 }
 
 RenderOptions Viewport::renderOptions() const {
@@ -219,8 +244,7 @@ void Viewport::mouseMoveEvent(QMouseEvent* event) {
   const bool pan = dragButton_ == Qt::MiddleButton ||
                    (dragButton_ == Qt::RightButton && (event->modifiers() & Qt::ShiftModifier));
   if (pan) {
-    // One frame radius per half of the smaller side, at zoom 1.
-    const double perPixel = 2.0 / (std::min(width(), height()) * view_.zoom);
+    const double perPixel = radiiPerPixel(view_.zoom);
     view_.panRight -= delta.x() * perPixel;
     view_.panUp += delta.y() * perPixel;
   } else {
@@ -239,9 +263,17 @@ void Viewport::mouseReleaseEvent(QMouseEvent* event) {
   if (event->button() == dragButton_) dragButton_ = Qt::NoButton;
 }
 
+// The pan moves by the pointer's offset from the centre times the change in frame radii per
+// pixel, so that the point under the pointer stays under it (exactly in the plane of the frame's
+// centre, nearly elsewhere).
 void Viewport::wheelEvent(QWheelEvent* event) {
   const double steps = event->angleDelta().y() / 120.0;
-  view_.zoom = std::clamp(view_.zoom * std::pow(1.15, steps), 0.05, 200.0);
+  const double zoom = std::clamp(view_.zoom * std::pow(1.15, steps), 0.05, 200.0);
+  const double perPixelChange = radiiPerPixel(view_.zoom) - radiiPerPixel(zoom);
+  const QPointF offset = event->position() - QPointF(width() / 2.0, height() / 2.0);
+  view_.panRight += offset.x() * perPixelChange;
+  view_.panUp -= offset.y() * perPixelChange;
+  view_.zoom = zoom;
   changed();
 }
 

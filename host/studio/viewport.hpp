@@ -1,9 +1,11 @@
 // A 3D view of one surface, drawn by the core renderer (the same as `geobrush render`), with
 // outlines drawn over it (brush circles, canvas origins). The right button orbits, the middle
 // button (or Shift + right) pans, the wheel zooms; the left button belongs to the tools, which
-// get each press, move and release with the surface point under the pointer.
+// get each press, move and release with the surface point under the pointer. The wheel zooms
+// toward the point under the pointer, which stays where it is on the screen.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <QColor>
 #include <QImage>
 #include <QWidget>
@@ -58,6 +60,12 @@ class Viewport : public QWidget {
   const std::optional<Legend>& legend() const { return legend_; }
   // Frames the shown surface again, from the default direction.
   void resetView();
+  // Frames the box (a part of the surface: the paste, the canvas), looking from where the view
+  // looks now; the pan and zoom start over.
+  void frameBox(const Eigen::AlignedBox3d& box);
+  // Frames the whole surface, looking from where the view looks now.
+  void frameAll();
+  const std::optional<RenderFrame>& frame() const { return frame_; }
   const RenderView& view() const { return view_; }
   // The camera of the current size and view; none without a surface. Kept until the surface,
   // the view or the size changes: each pointer move picks with it.
@@ -80,6 +88,8 @@ class Viewport : public QWidget {
 
  private:
   RenderOptions renderOptions() const;
+  // Frame radii per pixel at the zoom (what a pan by one pixel moves).
+  double radiiPerPixel(double zoom) const;
   void changed();  // the picture must be rendered again
   void pointer(PointerEvent::Kind kind, const QPointF& position, Qt::KeyboardModifiers modifiers);
 

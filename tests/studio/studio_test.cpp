@@ -14,6 +14,7 @@
 #include <QTest>
 #include <QTimer>
 #include <QTreeWidget>
+#include <QWheelEvent>
 #include <fstream>
 #include <numeric>
 #include <sstream>
@@ -401,6 +402,56 @@ TEST(StudioWindow, TheBrushRadiusStepsWithItsSizeAndFollowsTheBracketKeys) {
   QTest::keyClick(&window, Qt::Key_BracketLeft);
   QTest::keyClick(&window, Qt::Key_BracketLeft);
   EXPECT_NEAR(panel.brushRadius(), 0.064, 1e-12);
+  ASSERT_TRUE(waitUntilIdle(window));
+}
+
+// A clone opens framed on the paste, not on the whole target (Home frames it all, F the paste
+// again); the wheel zooms toward the pointer: the point under it stays there.
+TEST(StudioWindow, OpensFramedOnThePasteAndZoomsTowardThePointer) {
+  StudioWindow window(test::registry());
+  ASSERT_TRUE(
+      window.openFile(QString::fromStdString(graphFile("clone_ear_cube_edge.json").string())));
+  window.resize(1000, 600);
+  window.show();
+  window.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
+  ASSERT_TRUE(waitUntilIdle(window));
+  Viewport& target = window.clonePanel().targetView();
+  ASSERT_TRUE(target.surface().mesh && target.frame());
+  const double whole =
+      0.5 * geobrush::studio::boundsOf(target.surface().mesh->surface).diagonal().norm();
+  // The box of the pasted vertices (those the paste map gives a source vertex).
+  const auto& values = window.clonePanel().liveView().values;
+  ASSERT_TRUE(values.result && values.pasteMap);
+  Eigen::AlignedBox3d pasted;
+  for (auto v : values.result->surface.vertices())
+    if (values.pasteMap->sourceVertex[std::size_t(v.idx())] >= 0)
+      pasted.extend(pointOf(values.result->surface, v));
+  const double paste = target.frame()->radius;
+  EXPECT_NEAR(paste, 0.5 * pasted.diagonal().norm(), 1e-12 * whole);
+  EXPECT_LT(paste, 0.5 * whole);
+  QTest::keyClick(&window, Qt::Key_Home);
+  EXPECT_NEAR(target.frame()->radius, whole, 1e-12 * whole);
+  QTest::keyClick(&window, Qt::Key_F);
+  EXPECT_EQ(target.frame()->radius, paste);
+
+  // A point of the plane through the frame's centre, across the view, under a pixel off centre.
+  const auto camera = target.camera();
+  ASSERT_TRUE(camera);
+  const QPointF pixel(0.5 * target.width() + 70, 0.5 * target.height() - 40);
+  const auto [eye, centreRay] = camera->ray(0.5 * target.width(), 0.5 * target.height());
+  const auto [_, pixelRay] = camera->ray(pixel.x(), pixel.y());
+  const auto& c = target.frame()->center;
+  const double depth = (Eigen::Vector3d(c[0], c[1], c[2]) - eye).dot(centreRay);
+  const Eigen::Vector3d point = eye + depth / pixelRay.dot(centreRay) * pixelRay;
+  QWheelEvent wheel(pixel, target.mapToGlobal(pixel), {}, {0, 360}, Qt::NoButton, {},
+                    Qt::NoScrollPhase, false);
+  QApplication::sendEvent(&target, &wheel);
+  EXPECT_GT(target.view().zoom, 1.5);
+  const auto moved = target.camera()->project(point);
+  ASSERT_TRUE(moved);
+  EXPECT_NEAR(moved->x(), pixel.x(), 1e-6);
+  EXPECT_NEAR(moved->y(), pixel.y(), 1e-6);
   ASSERT_TRUE(waitUntilIdle(window));
 }
 
