@@ -18,6 +18,9 @@
 namespace geobrush::studio {
 namespace {
 
+// The colour choice that shows a surface without its canvas's colours.
+const QString kPlain = "Plain";
+
 // What [ and ] divide and multiply the brush radius by.
 constexpr double kBrushStep = 1.25;
 
@@ -160,6 +163,23 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
   frameAllAction->setShortcut(QKeySequence(Qt::Key_Home));
   frameAllAction->setToolTip("Frame both whole surfaces (Home)");
   toolBar_->addSeparator();
+  const auto toggle = [this](const char* name, Qt::Key key, const char* tip, auto show) {
+    QAction* action = toolBar_->addAction(name);
+    action->setCheckable(true);
+    action->setChecked(true);
+    action->setShortcut(QKeySequence(key));
+    action->setToolTip(tip);
+    connect(action, &QAction::toggled, this, show);
+    return action;
+  };
+  linesAction_ = toggle("Lines", Qt::Key_L, "Draw the canvases' (u, v) lines (L)",
+                        [this](bool shown) { showLines(shown); });
+  axesAction_ = toggle("Axes", Qt::Key_A, "Draw the canvases' origins and axes (A)",
+                       [this](bool shown) { showAxes(shown); });
+  QAction* clean = toolBar_->addAction("Clean", this, [this] { showClean(); });
+  clean->setShortcut(QKeySequence(Qt::Key_C));
+  clean->setToolTip("No lines, axes or canvas colours: the surfaces as they are (C)");
+  toolBar_->addSeparator();
   const std::pair<QComboBox*, const char*> colours[] = {{sourceColour_, " Source colour "},
                                                         {targetColour_, " Target colour "}};
   for (const auto& [box, label] : colours) {
@@ -235,11 +255,37 @@ void ClonePanel::showView(LiveView view) {
   refillColourChoices(sourceColour_, view_.source);
   refillColourChoices(targetColour_, view_.target);
   showColours();
-  source_->setLines({{&view_.sourceLines.u, kULine}, {&view_.sourceLines.v, kVLine}});
-  target_->setLines({{&view_.targetLines.u, kULine}, {&view_.targetLines.v, kVLine}});
+  updateLines();
   // A clone opens framed on what it copies and where it goes, not on the whole meshes.
   if (first) framePaste();
   updateOutlines();
+}
+
+void ClonePanel::showLines(bool shown) {
+  linesAction_->setChecked(shown);
+  updateLines();
+}
+
+void ClonePanel::showAxes(bool shown) {
+  axesAction_->setChecked(shown);
+  updateOutlines();
+}
+
+void ClonePanel::showClean() {
+  showLines(false);
+  showAxes(false);
+  colourSourceBy(kPlain.toStdString());
+  colourTargetBy(kPlain.toStdString());
+}
+
+void ClonePanel::updateLines() {
+  if (!linesAction_->isChecked()) {
+    source_->setLines({});
+    target_->setLines({});
+    return;
+  }
+  source_->setLines({{&view_.sourceLines.u, kULine}, {&view_.sourceLines.v, kVLine}});
+  target_->setLines({{&view_.targetLines.u, kULine}, {&view_.targetLines.v, kVLine}});
 }
 
 void ClonePanel::refillColourChoices(QComboBox* box, const ShownSurface& surface) {
@@ -247,6 +293,7 @@ void ClonePanel::refillColourChoices(QComboBox* box, const ShownSurface& surface
   const QString chosen = box->currentText();
   box->clear();
   box->addItem("Canvas");
+  box->addItem(kPlain);
   const std::size_t count = surface.mesh ? surface.mesh->surface.n_vertices() : 0;
   for (const FieldLayer& layer : view_.fields)
     if (layer.fields->vertexCount == count) box->addItem(QString::fromStdString(layer.label()));
@@ -254,8 +301,14 @@ void ClonePanel::refillColourChoices(QComboBox* box, const ShownSurface& surface
 }
 
 void ClonePanel::showColours() {
-  const auto show = [this](Viewport* view, const ShownSurface& surface, const QComboBox* box) {
-    const std::string label = box->currentIndex() > 0 ? box->currentText().toStdString() : "";
+  const auto show = [this](Viewport* view, const ShownSurface& surface, const QComboBox* box,
+                           const MeshPtr& plain) {
+    if (box->currentText() == kPlain && plain) {
+      view->setSurface({plain, surface.uv});
+      view->setLegend(std::nullopt);
+      return;
+    }
+    const std::string label = box->currentIndex() > 1 ? box->currentText().toStdString() : "";
     for (const FieldLayer& layer : view_.fields) {
       if (label.empty() || layer.label() != label) continue;
       FieldRange range;
@@ -268,8 +321,9 @@ void ClonePanel::showColours() {
     view->setSurface(surface);
     view->setLegend(std::nullopt);
   };
-  show(source_, view_.source, sourceColour_);
-  show(target_, view_.target, targetColour_);
+  const CloneValues& values = view_.values;
+  show(source_, view_.source, sourceColour_, values.sourceMesh);
+  show(target_, view_.target, targetColour_, values.result ? values.result : values.targetMesh);
 }
 
 bool ClonePanel::colourSourceBy(const std::string& label) {
@@ -429,11 +483,12 @@ void ClonePanel::updateOutlines() {
   std::vector<Outline> onSource, onTarget;
   const double radius = brushRadius();
   const auto& values = view_.values;
-  if (values.sourceMap) {
+  const bool axes = axesAction_->isChecked();
+  if (values.sourceMap && axes) {
     for (Outline& o : originMarker(values.sourceMap->origin, 2 * radius))
       onSource.push_back(std::move(o));
   }
-  if (values.targetMap) {
+  if (values.targetMap && axes) {
     for (Outline& o : originMarker(values.targetMap->origin, 2 * radius * values.targetMap->scale))
       onTarget.push_back(std::move(o));
   }

@@ -58,14 +58,20 @@ class ClonePanel : public QWidget {
   // anything is pasted), as a clone opens (F); Frame all (Home) shows the whole surfaces.
   void framePaste();
 
+  // What is drawn over the surfaces: the (u, v) lines (L) and the origins' axes (A); Clean (C)
+  // turns both off and shows both surfaces plain, to judge the paste.
+  void showLines(bool shown);
+  void showAxes(bool shown);
+  void showClean();
+
   void setTool(CloneTool tool);
   CloneTool tool() const { return tool_; }
   // In the units of the source mesh, which the shared domain keeps.
   void setBrushRadius(double radius);
   double brushRadius() const;
 
-  // Colours a viewport's surface by one of the live view's fields (its label), or by its canvas
-  // (an empty label); false where the field does not fit the surface shown.
+  // Colours a viewport's surface by one of the live view's fields (its label), by its canvas (an
+  // empty label), or not at all ("Plain"); false where the field does not fit the surface shown.
   bool colourSourceBy(const std::string& label);
   bool colourTargetBy(const std::string& label);
 
@@ -92,6 +98,7 @@ class ClonePanel : public QWidget {
   std::optional<Eigen::Vector3d> onTargetSurface(const SurfaceHit& hit) const;
   void hover(const std::optional<Eigen::Vector2d>& uv, const std::optional<SurfaceHit>& canvasHit);
   void updateOutlines();
+  void updateLines();
   // The surfaces shown again with the chosen colours; the choices refilled from the live view.
   void showColours();
   void refillColourChoices(QComboBox* box, const ShownSurface& surface);
@@ -106,6 +113,8 @@ class ClonePanel : public QWidget {
   QDoubleSpinBox* radius_;
   QComboBox* sourceColour_;
   QComboBox* targetColour_;
+  QAction* linesAction_;
+  QAction* axesAction_;
   CloneTool tool_ = CloneTool::PaintRegion;
 
   // The brush under the pointer: the domain point (region tool), or the source hit (canvas).

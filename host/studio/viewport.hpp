@@ -56,6 +56,8 @@ class Viewport : public QWidget {
   const ShownSurface& surface() const { return surface_; }
   void setOutlines(std::vector<Outline> outlines);
   void setLines(std::vector<SurfaceLines> lines);
+  const std::vector<Outline>& outlines() const { return outlines_; }
+  const std::vector<SurfaceLines>& lines() const { return lines_; }
   void setLegend(std::optional<Legend> legend);
   const std::optional<Legend>& legend() const { return legend_; }
   // Frames the shown surface again, from the default direction.

@@ -455,6 +455,47 @@ TEST(StudioWindow, OpensFramedOnThePasteAndZoomsTowardThePointer) {
   ASSERT_TRUE(waitUntilIdle(window));
 }
 
+// The (u, v) lines (L) and the origins' axes (A) toggle; Clean (C) shows the paste alone: no
+// lines, no axes, no canvas colours.
+TEST(StudioWindow, TheLinesAxesAndCanvasColoursToggleAndCleanShowsThePasteAlone) {
+  StudioWindow window(test::registry());
+  ASSERT_TRUE(
+      window.openFile(QString::fromStdString(graphFile("clone_ear_cube_edge.json").string())));
+  window.show();
+  window.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
+  ASSERT_TRUE(waitUntilIdle(window));
+  auto& panel = window.clonePanel();
+  Viewport& source = panel.sourceView();
+  Viewport& target = panel.targetView();
+  const auto& values = panel.liveView().values;
+  ASSERT_TRUE(values.result);
+  EXPECT_EQ(target.lines().size(), 2u);
+  EXPECT_FALSE(source.outlines().empty());          // the origin's axes
+  EXPECT_NE(target.surface().mesh, values.result);  // coloured by its canvas
+
+  QTest::keyClick(&window, Qt::Key_L);
+  EXPECT_TRUE(source.lines().empty());
+  EXPECT_TRUE(target.lines().empty());
+  QTest::keyClick(&window, Qt::Key_L);
+  EXPECT_EQ(source.lines().size(), 2u);
+  QTest::keyClick(&window, Qt::Key_A);
+  EXPECT_TRUE(source.outlines().empty());
+  EXPECT_TRUE(target.outlines().empty());
+  QTest::keyClick(&window, Qt::Key_A);
+  EXPECT_FALSE(target.outlines().empty());
+
+  QTest::keyClick(&window, Qt::Key_C);
+  EXPECT_TRUE(source.lines().empty() && target.lines().empty());
+  EXPECT_TRUE(source.outlines().empty() && target.outlines().empty());
+  EXPECT_EQ(target.surface().mesh, values.result);
+  EXPECT_EQ(source.surface().mesh, values.sourceMesh);
+  // Back to the canvas colours from the colour box.
+  EXPECT_TRUE(panel.colourTargetBy(""));
+  EXPECT_NE(target.surface().mesh, values.result);
+  ASSERT_TRUE(waitUntilIdle(window));
+}
+
 TEST(StudioDocument, AConnectionThatClosesACycleIsRefused) {
   StudioDocument document(test::registry());
   ASSERT_EQ(document.open(graphFile("relief_cube.json")), "");
@@ -641,7 +682,7 @@ TEST(StudioWindow, APaintingSessionEditsTheGraphAndRunsTheSameHeadless) {
   panel.setTool(CloneTool::PaintCanvas);
   panel.setBrushRadius(0.1);
   const std::size_t canvasDabs = dabsOf(document, roles.sourceCanvas).size();
-  drag(&source, originPixel, originPixel + QPoint(6, 4));
+  drag(&source, originPixel, originPixel + QPoint(30, 20));
   const std::vector<double> paintedCanvas = dabsOf(document, roles.sourceCanvas);
   EXPECT_GT(paintedCanvas.size(), canvasDabs + 4);
   QTest::keyClick(&window, Qt::Key_Z, Qt::ControlModifier);
