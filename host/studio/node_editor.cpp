@@ -8,6 +8,7 @@
 #include <QMouseEvent>
 #include <QPainterPath>
 #include <QPen>
+#include <QWheelEvent>
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -15,7 +16,10 @@
 namespace geobrush::studio {
 
 namespace {
+// Boxes are read at kMinScale and above; framing a whole graph may go down to kFitScale.
 constexpr double kMinScale = 0.7;
+constexpr double kFitScale = 0.2;
+constexpr double kMaxScale = 3;
 }  // namespace
 namespace {
 
@@ -101,6 +105,39 @@ NodeEditor::NodeEditor(const NodeRegistry& registry, QWidget* parent)
   setScene(&scene_);
   setRenderHint(QPainter::Antialiasing);
   setDragMode(QGraphicsView::RubberBandDrag);
+  setTransformationAnchor(QGraphicsView::AnchorUnderMouse);
+}
+
+void NodeEditor::wheelEvent(QWheelEvent* event) {
+  const double steps = event->angleDelta().y() / 120.0;
+  const double zoom = std::clamp(transform().m11() * std::pow(1.15, steps), kFitScale, kMaxScale);
+  const double by = zoom / transform().m11();
+  scale(by, by);
+}
+
+void NodeEditor::frameGraph() {
+  fitInView(scene_.sceneRect(), Qt::KeepAspectRatio);
+  const double scale = std::clamp(transform().m11(), kFitScale, 1.0);
+  setTransform(QTransform::fromScale(scale, scale));
+  centerOn(scene_.sceneRect().center());
+}
+
+std::vector<std::string> NodeEditor::selectedNodes() const {
+  std::vector<std::string> names;
+  for (const QGraphicsItem* item : scene_.selectedItems())
+    if (item->data(kNodeKey).isValid())
+      names.push_back(item->data(kNodeKey).toString().toStdString());
+  return names;
+}
+
+bool NodeEditor::focusNode(const std::string& node) {
+  const auto box = boxes_.find(node);
+  if (box == boxes_.end()) return false;
+  scene_.clearSelection();
+  box->second->setSelected(true);
+  if (transform().m11() < kMinScale) setTransform(QTransform::fromScale(kMinScale, kMinScale));
+  centerOn(box->second);
+  return true;
 }
 
 void NodeEditor::show(const StudioDocument& document,
@@ -185,17 +222,13 @@ void NodeEditor::show(const StudioDocument& document,
     curve->setZValue(-1);
   }
   scene_.setSceneRect(scene_.itemsBoundingRect().adjusted(-40, -40, 40, 40));
-  // Framed again only when other nodes show (a param edit on every brush dab keeps the view),
-  // and never so small that the boxes cannot be read: the view scrolls instead.
+  // Framed again only when other nodes show (a param edit on every brush dab keeps the view).
   std::set<std::string> names;
   for (const auto& [name, box] : boxes_)
     names.insert(name);
   if (names != framedNodes_) {
     framedNodes_ = std::move(names);
-    fitInView(scene_.sceneRect(), Qt::KeepAspectRatio);
-    const double scale = std::clamp(transform().m11(), kMinScale, 1.0);
-    setTransform(QTransform::fromScale(scale, scale));
-    centerOn(scene_.sceneRect().center());
+    frameGraph();
   }
 }
 

@@ -1,7 +1,7 @@
 // The node editor: the graph's nodes as boxes with their ports (inputs left, outputs right) and
-// its connections as curves, placed at the positions of the graph's "ui" block. A node shows its
-// state after the last evaluation: grey idle, green ok, orange warnings, red error, dashed red
-// when no plugin provides its type (its ports then come from its connections).
+// its connections as curves, placed at the positions of the graph's "ui" block. The wheel zooms. A
+// node shows its state after the last evaluation: grey idle, green ok, orange warnings, red error,
+// dashed red when no plugin provides its type (its ports then come from its connections).
 #pragma once
 
 #include <QGraphicsScene>
@@ -36,6 +36,12 @@ class NodeEditor : public QGraphicsView {
 
   // Rebuilds the scene from the document's graph and the statuses.
   void show(const StudioDocument& document, const std::map<std::string, NodeStatus>& statuses);
+  // The whole graph in view, as small as it takes (the wheel zooms in again).
+  void frameGraph();
+  // Selects a node's box and scrolls to it at a readable size (a failing node); false where the
+  // node has no box.
+  bool focusNode(const std::string& node);
+  std::vector<std::string> selectedNodes() const;
   // Writes the boxes' positions into the graph's "ui" block: those it held, and those of boxes
   // that were moved (an untouched graph saves back as it was read).
   void storePositions(Graph& graph) const;
@@ -45,6 +51,8 @@ class NodeEditor : public QGraphicsView {
   void mouseMoveEvent(QMouseEvent* event) override;
   void mouseReleaseEvent(QMouseEvent* event) override;
   void keyPressEvent(QKeyEvent* event) override;
+  // Zooms toward the pointer.
+  void wheelEvent(QWheelEvent* event) override;
 
  private:
   const NodeRegistry& registry_;

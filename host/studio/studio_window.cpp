@@ -121,6 +121,8 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
   redoAction_->setEnabled(false);
   QMenu* graph = menuBar()->addMenu("&Graph");
   graph->addAction("&Evaluate", QKeySequence(Qt::Key_F5), [this] { evaluate(); });
+  graph->addAction("&Frame graph", QKeySequence(Qt::SHIFT | Qt::Key_Home),
+                   [this] { editor_->frameGraph(); });
   statusBar()->showMessage("Open a graph (File > Open)");
 }
 
@@ -328,6 +330,8 @@ void StudioWindow::finishEvaluation(int generation, EvalMode mode, EvalReport re
     for (const auto& path : report_.filesWritten)
       log("wrote " + QString::fromStdString(path.string()));
   refresh(&report_);
+  // A failure shows where it happened.
+  if (!report_.ok && !report_.errorNode.empty()) editor_->focusNode(report_.errorNode);
   if (clone_->roles().found()) {
     if (!radiusChosen_ && view.values.sourceMesh) {
       clone_->setBrushRadius(defaultBrushRadius(document_, clone_->roles(), view.values));

@@ -15,6 +15,7 @@
 #include <QTimer>
 #include <QTreeWidget>
 #include <QWheelEvent>
+#include <cmath>
 #include <fstream>
 #include <numeric>
 #include <sstream>
@@ -194,12 +195,20 @@ TEST(StudioWindow, AFailingNodeIsReportedAndTheWindowStaysUsable) {
   writeGraphFile(graph, dir / "failing.json");
   StudioWindow window(test::registry());
   window.setOutputDir(dir);
+  window.resize(1200, 800);
+  window.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
   ASSERT_TRUE(window.openFile(QString::fromStdString((dir / "failing.json").string())));
   EXPECT_FALSE(evaluateAndWait(window));
   const auto statuses = window.document().statuses(&window.lastReport());
   EXPECT_EQ(statuses.at("load").state, NodeState::Error);
   EXPECT_NE(window.lastReport().error.find("nothing.obj"), std::string::npos);
   EXPECT_TRUE(window.logText().contains("nothing.obj"));
+  // The failing node is selected and in view.
+  EXPECT_EQ(window.editor().selectedNodes(), std::vector<std::string>{"load"});
+  const auto port = window.editor().portInView({"load", "mesh"}, false);
+  ASSERT_TRUE(port);
+  EXPECT_TRUE(window.editor().viewport()->rect().contains(*port));
   // Another graph opens with its own log; F5 says which files it wrote.
   ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("relief_cube.json").string())));
   ASSERT_TRUE(waitUntilIdle(window));
@@ -496,6 +505,34 @@ TEST(StudioWindow, TheLinesAxesAndCanvasColoursToggleAndCleanShowsThePasteAlone)
   ASSERT_TRUE(waitUntilIdle(window));
 }
 
+// The node editor frames the whole graph on opening (every box in view, the fill graph's too),
+// and the wheel zooms it.
+TEST(StudioWindow, TheNodeEditorFramesTheGraphAndZooms) {
+  for (const char* name : {"fill_bunny_small_back.json", "clone_ear_cube_edge.json"}) {
+    StudioWindow window(test::registry());
+    window.resize(1200, 800);
+    window.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
+    ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile(name).string())));
+    QTest::qWait(20);
+    NodeEditor& editor = window.editor();
+    for (const auto& [node, _] : window.document().graph().nodes) {
+      const auto& decl = *test::registry().find(window.document().graph().nodes.at(node).type);
+      if (decl.outputs.empty()) continue;
+      const auto port = editor.portInView({node, decl.outputs.front().name}, false);
+      ASSERT_TRUE(port) << name << ": " << node;
+      EXPECT_TRUE(editor.viewport()->rect().contains(*port)) << name << ": " << node;
+    }
+    const double before = editor.transform().m11();
+    const QPointF centre = editor.viewport()->rect().center();
+    QWheelEvent wheel(centre, editor.viewport()->mapToGlobal(centre), {}, {0, 240}, Qt::NoButton,
+                      {}, Qt::NoScrollPhase, false);
+    QApplication::sendEvent(editor.viewport(), &wheel);
+    EXPECT_NEAR(editor.transform().m11(), before * 1.15 * 1.15, 1e-9) << name;
+    ASSERT_TRUE(waitUntilIdle(window));
+  }
+}
+
 TEST(StudioDocument, AConnectionThatClosesACycleIsRefused) {
   StudioDocument document(test::registry());
   ASSERT_EQ(document.open(graphFile("relief_cube.json")), "");
@@ -541,7 +578,12 @@ TEST(StudioWindow, MouseAndKeysEditTheGraph) {
   // Clicking a node shows its params; choosing another value edits the graph.
   const auto shapeOut = editor.portInView({shape, "mesh"}, false);
   ASSERT_TRUE(shapeOut);
-  QTest::mouseClick(viewport, Qt::LeftButton, {}, *shapeOut + QPoint(-60, -20));
+  // Offsets in the scene's units, as the editor shows them.
+  const auto inView = [&](double x, double y) {
+    const double scale = editor.transform().m11();
+    return QPoint(int(std::lround(x * scale)), int(std::lround(y * scale)));
+  };
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, *shapeOut + inView(-60, -20));
   QTest::qWait(50);
   // The parameter panel's choice (the clone panel's colour choices aside).
   QComboBox* choice = nullptr;
@@ -558,7 +600,7 @@ TEST(StudioWindow, MouseAndKeysEditTheGraph) {
   // Select the new node by clicking its title, then delete it.
   const auto title = editor.portInView({"transform", "mesh"}, true);
   ASSERT_TRUE(title);
-  QTest::mouseClick(viewport, Qt::LeftButton, {}, *title + QPoint(40, -12));
+  QTest::mouseClick(viewport, Qt::LeftButton, {}, *title + inView(40, -12));
   QTest::keyClick(viewport, Qt::Key_Delete);
   QTest::qWait(50);
   EXPECT_FALSE(window.document().graph().nodes.count("transform"));
