@@ -72,6 +72,14 @@ bool waitUntilIdle(StudioWindow& window, int timeoutMs = 120000) {
   return window.idle();
 }
 
+// Opens a shipped graph in the window, shown and active, and lets its evaluations end.
+bool openShown(StudioWindow& window, const std::string& name) {
+  if (!window.openFile(QString::fromStdString(graphFile(name).string()))) return false;
+  window.show();
+  window.activateWindow();
+  return QTest::qWaitForWindowActive(&window) && waitUntilIdle(window);
+}
+
 // Where a point shows in a viewport.
 QPoint onScreen(const Viewport& view, const Eigen::Vector3d& point) {
   const auto camera = view.camera();
@@ -388,12 +396,7 @@ TEST(StudioWindow, MarksUnsavedChangesAndAsksBeforeDroppingThem) {
 // scale, the status bar saying the new radius.
 TEST(StudioWindow, TheBrushRadiusStepsWithItsSizeAndFollowsTheBracketKeys) {
   StudioWindow window(test::registry());
-  ASSERT_TRUE(
-      window.openFile(QString::fromStdString(graphFile("clone_ear_cube_edge.json").string())));
-  window.show();
-  window.activateWindow();
-  ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
-  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(openShown(window, "clone_ear_cube_edge.json"));
   auto& panel = window.clonePanel();
   auto* spin = window.findChild<QDoubleSpinBox*>("brushRadius");
   ASSERT_NE(spin, nullptr);
@@ -418,13 +421,8 @@ TEST(StudioWindow, TheBrushRadiusStepsWithItsSizeAndFollowsTheBracketKeys) {
 // again); the wheel zooms toward the pointer: the point under it stays there.
 TEST(StudioWindow, OpensFramedOnThePasteAndZoomsTowardThePointer) {
   StudioWindow window(test::registry());
-  ASSERT_TRUE(
-      window.openFile(QString::fromStdString(graphFile("clone_ear_cube_edge.json").string())));
   window.resize(1000, 600);
-  window.show();
-  window.activateWindow();
-  ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
-  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(openShown(window, "clone_ear_cube_edge.json"));
   Viewport& target = window.clonePanel().targetView();
   ASSERT_TRUE(target.surface().mesh && target.frame());
   const double whole =
@@ -468,12 +466,7 @@ TEST(StudioWindow, OpensFramedOnThePasteAndZoomsTowardThePointer) {
 // lines, no axes, no canvas colours.
 TEST(StudioWindow, TheLinesAxesAndCanvasColoursToggleAndCleanShowsThePasteAlone) {
   StudioWindow window(test::registry());
-  ASSERT_TRUE(
-      window.openFile(QString::fromStdString(graphFile("clone_ear_cube_edge.json").string())));
-  window.show();
-  window.activateWindow();
-  ASSERT_TRUE(QTest::qWaitForWindowActive(&window));
-  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(openShown(window, "clone_ear_cube_edge.json"));
   auto& panel = window.clonePanel();
   Viewport& source = panel.sourceView();
   Viewport& target = panel.targetView();
