@@ -17,6 +17,7 @@
 #include <QTreeWidget>
 #include <cmath>
 #include <map>
+#include <set>
 
 namespace geobrush::studio {
 
@@ -159,6 +160,7 @@ void StudioWindow::startOver() {
   radiusChosen_ = false;
   computedSinceEdit_ = 0;
   lastLiveError_.clear();
+  lastLiveWarnings_.clear();
   clone_->clear();
   updateRoles();
   params_->showNode(document_, selected_);
@@ -315,15 +317,20 @@ void StudioWindow::finishEvaluation(int generation, EvalMode mode, EvalReport re
   if (worker_.joinable()) worker_.join();
   progress_->hide();
   report_ = std::move(report);
-  // A live evaluation runs on every dab: the log gets each warning and error once.
-  const bool quiet = mode != EvalMode::Full && report_.error == lastLiveError_;
-  if (mode != EvalMode::Full) lastLiveError_ = report_.error;
-  if (!quiet) {
-    for (const auto& run : report_.runs)
-      for (const auto& warning : run.warnings)
-        log("warning: node '" + QString::fromStdString(run.node) +
-            "': " + QString::fromStdString(warning));
-    if (!report_.ok) log("error: " + QString::fromStdString(report_.error));
+  // A live evaluation runs on every dab: the log gets a warning or an error when it appears, not
+  // again while it stays.
+  std::set<std::string> warnings;
+  for (const auto& run : report_.runs)
+    for (const auto& warning : run.warnings)
+      warnings.insert("warning: node '" + run.node + "': " + warning);
+  const bool live = mode != EvalMode::Full;
+  for (const std::string& warning : warnings)
+    if (!live || !lastLiveWarnings_.count(warning)) log(QString::fromStdString(warning));
+  if (!report_.ok && (!live || report_.error != lastLiveError_))
+    log("error: " + QString::fromStdString(report_.error));
+  if (live) {
+    lastLiveError_ = report_.error;
+    lastLiveWarnings_ = std::move(warnings);
   }
   // Only a full evaluation writes the graph's files: say which.
   if (mode == EvalMode::Full)

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <set>
 #include <thread>
 
 #include "clone_panel.hpp"
@@ -120,6 +121,7 @@ class StudioWindow : public QMainWindow {
   bool radiusChosen_ = false;
   int computedSinceEdit_ = 0;  // nodes the evaluations since the last edit computed
   std::string lastLiveError_;
+  std::set<std::string> lastLiveWarnings_;  // as the log lines say them
   std::filesystem::path outputDir_;
   // Counts evaluations: a result that arrives after a newer one started, or after the graph was
   // replaced, is dropped.

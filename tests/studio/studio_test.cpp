@@ -526,6 +526,30 @@ TEST(StudioWindow, TheNodeEditorFramesTheGraphAndZooms) {
   }
 }
 
+// Warnings of live evaluations reach the log when they appear (not only on F5), once while they
+// stay.
+TEST(StudioWindow, LiveEditsLogTheirWarningsOnce) {
+  StudioWindow window(test::registry());
+  ASSERT_TRUE(openShown(window, "compare_mountain_sphere_dpm.json"));
+  const std::string strokes = window.clonePanel().roles().strokes;
+  ASSERT_FALSE(strokes.empty());
+  ASSERT_EQ(window.setParam(strokes, "dabs", std::vector<double>{}), "");
+  ASSERT_TRUE(waitUntilIdle(window));
+  const QString log = window.logText();
+  EXPECT_EQ(log.count("the region is empty"), 1) << log.toStdString();
+  // Another edit that leaves the region empty: the warning stays, and is not logged again.
+  const std::string canvas = window.clonePanel().roles().sourceCanvas;
+  const Eigen::Vector3d origin = vec3Of(window.document(), canvas, "origin");
+  ASSERT_EQ(window.setParam(canvas, "origin", Vec3{origin.x(), origin.y() + 0.01, origin.z()}), "");
+  ASSERT_TRUE(waitUntilIdle(window));
+  bool stillWarns = false;
+  for (const auto& run : window.lastReport().runs)
+    for (const auto& warning : run.warnings)
+      stillWarns |= warning.find("the region is empty") != std::string::npos;
+  EXPECT_TRUE(stillWarns);
+  EXPECT_EQ(window.logText().count("the region is empty"), 1) << window.logText().toStdString();
+}
+
 TEST(StudioDocument, AConnectionThatClosesACycleIsRefused) {
   StudioDocument document(test::registry());
   ASSERT_EQ(document.open(graphFile("relief_cube.json")), "");
