@@ -272,6 +272,11 @@ Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& op
   Scene scene;
   scene.width = options.width;
   scene.height = options.height;
+  // Reserved whole: grown by doubling, a large mesh's corners would be copied several times.
+  std::size_t corners = 0;
+  for (const RenderItem& item : items)
+    corners += 3 * item.mesh->surface.n_faces();
+  scene.vertices.reserve(corners);
   for (const RenderItem& item : items)
     appendTriangles(item, framing.center, camera, scene.width, scene.height, scene.vertices);
   scene.constants = shadingConstants(camera);
