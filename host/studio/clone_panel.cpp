@@ -176,6 +176,12 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
                         [this](bool shown) { showLines(shown); });
   axesAction_ = toggle("Axes", Qt::Key_A, "Draw the canvases' origins and axes (A)",
                        [this](bool shown) { showAxes(shown); });
+  toggle("Wireframe", Qt::Key_W, "Draw the triangles' edges over the shading (W)",
+         [this](bool shown) {
+           source_->setWireframe(shown);
+           target_->setWireframe(shown);
+         })
+      ->setChecked(false);
   QAction* clean = toolBar_->addAction("Clean", this, [this] { showClean(); });
   clean->setShortcut(QKeySequence(Qt::Key_C));
   clean->setToolTip("No lines, axes or canvas colours: the surfaces as they are (C)");

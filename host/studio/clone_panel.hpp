@@ -58,8 +58,9 @@ class ClonePanel : public QWidget {
   // anything is pasted), as a clone opens (F); Frame all (Home) shows the whole surfaces.
   void framePaste();
 
-  // What is drawn over the surfaces: the (u, v) lines (L) and the origins' axes (A); Clean (C)
-  // turns both off and shows both surfaces plain, to judge the paste.
+  // What is drawn over the surfaces: the (u, v) lines (L), the origins' axes (A) and the
+  // triangles' edges (Wireframe, W); Clean (C) turns the lines and axes off and shows both
+  // surfaces plain, to judge the paste.
   void showLines(bool shown);
   void showAxes(bool shown);
   void showClean();

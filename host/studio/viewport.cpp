@@ -88,6 +88,12 @@ void Viewport::frameBox(const Eigen::AlignedBox3d& box) {
   changed();
 }
 
+void Viewport::setWireframe(bool wireframe) {
+  if (wireframe == wireframe_) return;
+  wireframe_ = wireframe;
+  changed();
+}
+
 void Viewport::frameAll() {
   if (surface_.mesh && surface_.mesh->surface.n_faces() > 0)
     frameBox(boundsOf(surface_.mesh->surface));
@@ -141,7 +147,9 @@ void Viewport::paintEvent(QPaintEvent*) {
   QPainter painter(this);
   if (stale_ && surface_.mesh && surface_.mesh->surface.n_faces() > 0) {
     try {
-      Image rendered = renderMeshes({{surface_.mesh}}, renderOptions()).image;
+      RenderItem item{surface_.mesh};
+      item.wireframe = wireframe_;
+      Image rendered = renderMeshes({item}, renderOptions()).image;
       if (legend_) drawFieldLegend(rendered, legend_->name, legend_->range);
       image_ =
           QImage(rendered.rgba.data(), rendered.width, rendered.height, QImage::Format_RGBA8888)

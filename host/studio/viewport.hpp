@@ -68,6 +68,9 @@ class Viewport : public QWidget {
   // Frames the whole surface, looking from where the view looks now.
   void frameAll();
   const std::optional<RenderFrame>& frame() const { return frame_; }
+  // The triangles' edges drawn over the shading.
+  void setWireframe(bool wireframe);
+  bool wireframe() const { return wireframe_; }
   const RenderView& view() const { return view_; }
   // The camera of the current size and view; none without a surface. Kept until the surface,
   // the view or the size changes: each pointer move picks with it.
@@ -111,6 +114,7 @@ class Viewport : public QWidget {
   Qt::MouseButton dragButton_ = Qt::NoButton;
   QPointF lastPosition_;
   bool toolDrag_ = false;
+  bool wireframe_ = false;
 };
 
 }  // namespace geobrush::studio

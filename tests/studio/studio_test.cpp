@@ -462,8 +462,8 @@ TEST(StudioWindow, OpensFramedOnThePasteAndZoomsTowardThePointer) {
   ASSERT_TRUE(waitUntilIdle(window));
 }
 
-// The (u, v) lines (L) and the origins' axes (A) toggle; Clean (C) shows the paste alone: no
-// lines, no axes, no canvas colours.
+// The (u, v) lines (L), the origins' axes (A) and the wireframe (W) toggle; Clean (C) shows the
+// paste alone: no lines, no axes, no canvas colours.
 TEST(StudioWindow, TheLinesAxesAndCanvasColoursToggleAndCleanShowsThePasteAlone) {
   StudioWindow window(test::registry());
   ASSERT_TRUE(openShown(window, "clone_ear_cube_edge.json"));
@@ -486,6 +486,17 @@ TEST(StudioWindow, TheLinesAxesAndCanvasColoursToggleAndCleanShowsThePasteAlone)
   EXPECT_TRUE(target.outlines().empty());
   QTest::keyClick(&window, Qt::Key_A);
   EXPECT_FALSE(target.outlines().empty());
+
+  // Wireframe (W) draws the edges: the picture changes, the surface shown does not.
+  EXPECT_FALSE(target.wireframe());
+  target.repaint();
+  const QImage shaded = target.image();
+  QTest::keyClick(&window, Qt::Key_W);
+  EXPECT_TRUE(source.wireframe() && target.wireframe());
+  target.repaint();
+  EXPECT_NE(target.image(), shaded);
+  QTest::keyClick(&window, Qt::Key_W);
+  EXPECT_FALSE(target.wireframe());
 
   QTest::keyClick(&window, Qt::Key_C);
   EXPECT_TRUE(source.lines().empty() && target.lines().empty());
