@@ -230,7 +230,9 @@ void appendTriangles(const RenderItem& item, const Eigen::Vector3d& centre, cons
     const Eigen::Vector3d faceNormal = (points[1] - points[0]).cross(points[2] - points[0]);
     // Two-sided lighting: a triangle seen from behind is lit as its other side.
     const double side = faceNormal.dot(camera.eye - points[0]) < 0 ? -1 : 1;
-    const auto lines = edgeLines(points, camera, width, height);
+    // Only a wireframe reads the edge lines (weighted by 0 elsewhere).
+    const auto lines = item.wireframe ? edgeLines(points, camera, width, height)
+                                      : std::array<std::array<float, 3>, 3>{};
     for (k = 0; k < 3; ++k) {
       // Where degenerate faces leave no normal: the face's own, else the view direction.
       Eigen::Vector3d normal = normals[corners[k].idx()];
