@@ -126,14 +126,20 @@ bool splitKeepsFacing(const TriMesh& patch, TriMesh::HalfedgeHandle edge, const 
   return (tip - a).cross(x - a).dot(facing) > 0 && (b - tip).cross(x - tip).dot(facing) > 0;
 }
 
+// A patch boundary edge to split, and where.
+struct EarSplit {
+  TriMesh::EdgeHandle edge;
+  Vector3d tip;
+};
+
 // Ears of the holed mesh [ours]: a border vertex c whose neighbours a and b along the border are
 // joined by an edge of the holed mesh (its face a, c, b juts into the hole). A patch boundary edge
 // on a and b passes behind c, so its face would overlap the ear: that edge is split at c, and the
 // patch runs around the ear, sharing c too, where both halves of the face still face its way (else
-// the weld refuses the overlap). Returns the edges split.
-std::size_t splitPatchAroundEars(TriMesh& patch, const TriMesh& holed,
-                                 const std::vector<int>& border, double tolerance) {
-  const std::vector<int> loop = onlyPatchLoop(patch);
+// the weld refuses the overlap). `loop` is the patch's boundary loop.
+std::vector<EarSplit> splitsAroundEars(const TriMesh& patch, const std::vector<int>& loop,
+                                       const TriMesh& holed, const std::vector<int>& border,
+                                       double tolerance) {
   const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
   const std::size_t n = border.size();
   std::vector<long> borderAt(loop.size(), -1);
@@ -142,7 +148,7 @@ std::size_t splitPatchAroundEars(TriMesh& patch, const TriMesh& holed,
     borderAt[s.patch] = long(s.border);
     shared[s.border] = 1;
   }
-  std::vector<std::pair<TriMesh::EdgeHandle, std::size_t>> splits;  // edge, ear's border position
+  std::vector<EarSplit> splits;
   for (std::size_t j = 0; j < loop.size(); ++j) {
     const long a = borderAt[j], b = borderAt[(j + 1) % loop.size()];
     if (a < 0 || b < 0 || n < 5) continue;  // on four vertices both arcs have two edges
@@ -156,11 +162,9 @@ std::size_t splitPatchAroundEars(TriMesh& patch, const TriMesh& holed,
     const auto edge = patch.find_halfedge(TriMesh::VertexHandle(loop[j]),
                                           TriMesh::VertexHandle(loop[(j + 1) % loop.size()]));
     if (splitKeepsFacing(patch, edge, borderPoints[ear]))
-      splits.push_back({patch.edge_handle(edge), ear});
+      splits.push_back({patch.edge_handle(edge), borderPoints[ear]});
   }
-  for (const auto& [edge, ear] : splits)
-    patch.split(edge, toPoint(borderPoints[ear]));
-  return splits.size();
+  return splits;
 }
 
 // Whether the patch's loop runs along the border's (the patch faces the other way) rather than
@@ -331,16 +335,21 @@ WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, co
                 const WeldOptions& options) {
   if (const std::string problem = borderLoopProblem(holedMesh, holeBorder); !problem.empty())
     throw WeldError("border", "not a boundary loop of the holed mesh: " + problem);
-  onlyPatchLoop(patch);
+  const std::vector<int> inputLoop = onlyPatchLoop(patch);
   const double tolerance = options.shareTolerance * boundingDiagonal(holedMesh);
   TriMesh holed = holedMesh;
   std::vector<int> border = holeBorder;
   const std::size_t borderSplits =
-      splitBorderAtPatchPoints(holed, border, loopPoints(patch, onlyPatchLoop(patch)), tolerance);
-  TriMesh aroundEars = patch;
-  const std::size_t earSplits = splitPatchAroundEars(aroundEars, holed, border, tolerance);
-  const TriMesh& joined = earSplits ? aroundEars : patch;
-  std::vector<int> patchLoop = onlyPatchLoop(joined);
+      splitBorderAtPatchPoints(holed, border, loopPoints(patch, inputLoop), tolerance);
+  const std::vector<EarSplit> ears = splitsAroundEars(patch, inputLoop, holed, border, tolerance);
+  TriMesh aroundEars;
+  if (!ears.empty()) {
+    aroundEars = patch;
+    for (const EarSplit& ear : ears)
+      aroundEars.split(ear.edge, toPoint(ear.tip));
+  }
+  const TriMesh& joined = ears.empty() ? patch : aroundEars;
+  std::vector<int> patchLoop = ears.empty() ? inputLoop : onlyPatchLoop(joined);
   const std::vector<Vector3d> patchPoints = loopPoints(joined, patchLoop);
   const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
   Seam seam;
@@ -367,7 +376,7 @@ WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, co
 
   result.sharedVertices = seam.shares.size();
   result.borderSplits = borderSplits;
-  result.earSplits = earSplits;
+  result.earSplits = ears.size();
   result.stripFaces = strip.size();
   result.map = pasteMap(result, holedMesh.n_vertices(), patchIds, patch.n_vertices());
   result.map.seamFaces = sharedEdgeFaces(result.mesh, seam);
