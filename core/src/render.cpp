@@ -98,10 +98,15 @@ struct Camera {
 // the zoom; the azimuth turns from +z towards +x, the elevation lifts off xz.
 // The near and far planes hold a sphere of `clipRadius` (>= radius) around the
 // same centre, so that what lies outside a fixed frame is still drawn.
-Camera fitCamera(double radius, double clipRadius, const RenderView& view, int width, int height) {
+double fittedDistance(double radius, const RenderView& view, int width, int height) {
   const double halfFovY = view.fovDeg * M_PI / 360;
   const double halfFovX = std::atan(std::tan(halfFovY) * width / height);
-  const double distance = radius / std::sin(std::min(halfFovX, halfFovY)) / view.zoom;
+  return radius / std::sin(std::min(halfFovX, halfFovY)) / view.zoom;
+}
+
+Camera fitCamera(double radius, double clipRadius, const RenderView& view, int width, int height) {
+  const double halfFovY = view.fovDeg * M_PI / 360;
+  const double distance = fittedDistance(radius, view, width, height);
   const double azimuth = view.azimuthDeg * M_PI / 180;
   const double elevation = view.elevationDeg * M_PI / 180;
 
@@ -289,6 +294,12 @@ Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& op
 }
 
 }  // namespace detail
+
+double framedRadiiPerPixel(const RenderView& view, int width, int height) {
+  // The view's height at the fitted distance of a unit sphere, over its pixels.
+  const double distance = detail::fittedDistance(1, view, width, height);
+  return 2 * distance * std::tan(view.fovDeg * M_PI / 360) / height;
+}
 
 RenderCamera renderCamera(const std::vector<RenderItem>& items, const RenderOptions& options) {
   const auto [framing, camera] = detail::prepareCamera(items, options);

@@ -163,25 +163,24 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
   frameAllAction->setShortcut(QKeySequence(Qt::Key_Home));
   frameAllAction->setToolTip("Frame both whole surfaces (Home)");
   toolBar_->addSeparator();
-  const auto toggle = [this](const char* name, Qt::Key key, const char* tip, auto show) {
+  const auto toggle = [this](const char* name, Qt::Key key, bool on, const char* tip, auto show) {
     QAction* action = toolBar_->addAction(name);
     action->setCheckable(true);
-    action->setChecked(true);
+    action->setChecked(on);
     action->setShortcut(QKeySequence(key));
     action->setToolTip(tip);
     connect(action, &QAction::toggled, this, show);
     return action;
   };
-  linesAction_ = toggle("Lines", Qt::Key_L, "Draw the canvases' (u, v) lines (L)",
+  linesAction_ = toggle("Lines", Qt::Key_L, true, "Draw the canvases' (u, v) lines (L)",
                         [this](bool shown) { showLines(shown); });
-  axesAction_ = toggle("Axes", Qt::Key_A, "Draw the canvases' origins and axes (A)",
+  axesAction_ = toggle("Axes", Qt::Key_A, true, "Draw the canvases' origins and axes (A)",
                        [this](bool shown) { showAxes(shown); });
-  toggle("Wireframe", Qt::Key_W, "Draw the triangles' edges over the shading (W)",
+  toggle("Wireframe", Qt::Key_W, false, "Draw the triangles' edges over the shading (W)",
          [this](bool shown) {
            source_->setWireframe(shown);
            target_->setWireframe(shown);
-         })
-      ->setChecked(false);
+         });
   QAction* clean = toolBar_->addAction("Clean", this, [this] { showClean(); });
   clean->setShortcut(QKeySequence(Qt::Key_C));
   clean->setToolTip("No lines, axes or canvas colours: the surfaces as they are (C)");

@@ -145,7 +145,7 @@ bool StudioWindow::openFile(const QString& path) {
     log("warning: " + path + ": node '" + QString::fromStdString(name) +
         "': no loaded plugin provides '" +
         QString::fromStdString(document_.graph().nodes.at(name).type) + "'");
-  setWindowTitle("GeoBrush Studio - " + path + "[*]");
+  showTitle(path);
   refresh(nullptr);
   statusBar()->showMessage("Opened " + path);
   evaluateLive();
@@ -171,7 +171,7 @@ void StudioWindow::newFile() {
   stopWorker();
   document_.newGraph();
   startOver();
-  setWindowTitle("GeoBrush Studio - untitled[*]");
+  showTitle("untitled");
   refresh(nullptr);
   statusBar()->showMessage("New graph: double-click node types in the palette to add them");
 }
@@ -183,10 +183,15 @@ bool StudioWindow::saveFile(const QString& path) {
     log("error: " + QString::fromStdString(error));
     return false;
   }
-  setWindowTitle("GeoBrush Studio - " + path + "[*]");
+  showTitle(path);
   updateUndoActions();
   statusBar()->showMessage("Saved " + path);
   return true;
+}
+
+void StudioWindow::showTitle(const QString& name) {
+  // [*]: where Qt shows the modified mark (updateUndoActions).
+  setWindowTitle("GeoBrush Studio - " + name + "[*]");
 }
 
 bool StudioWindow::save() {

@@ -81,6 +81,8 @@ class StudioWindow : public QMainWindow {
 
  private:
   UnsavedChoice askWithDialog();
+  // The graph's file (or "untitled") in the title, with the place of the modified mark.
+  void showTitle(const QString& name);
   void log(const QString& line);
   // Applies the outcome of a document edit: the error to the log and status bar, or the new
   // graph to the editor (after the current event, which may come from an item being replaced).

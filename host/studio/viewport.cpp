@@ -71,13 +71,10 @@ void Viewport::resetView() {
   changed();
 }
 
-// In the plane through the point looked at, across the view: the camera stands where the framed
-// sphere fits both fields of view, divided by the zoom (core's render camera).
 double Viewport::radiiPerPixel(double zoom) const {
-  const double w = std::max(width(), 1), h = std::max(height(), 1);
-  const double halfFovY = view_.fovDeg * M_PI / 360;
-  const double halfFovX = std::atan(std::tan(halfFovY) * w / h);
-  return 2 * std::tan(halfFovY) / (h * std::sin(std::min(halfFovX, halfFovY)) * zoom);
+  RenderView view = view_;
+  view.zoom = zoom;
+  return framedRadiiPerPixel(view, std::max(width(), 1), std::max(height(), 1));
 }
 
 void Viewport::frameBox(const Eigen::AlignedBox3d& box) {

@@ -85,6 +85,10 @@ struct RenderCamera {
   std::pair<Eigen::Vector3d, Eigen::Vector3d> ray(double x, double y) const;
 };
 
+// Radii of the framed sphere per pixel, in the plane through the point looked at, across the
+// view: how far RenderView's pan moves for one pixel (an interactive view's pan and zoom).
+double framedRadiiPerPixel(const RenderView& view, int width, int height);
+
 // Throws std::runtime_error for the same options renderMeshes refuses.
 RenderCamera renderCamera(const std::vector<RenderItem>& items, const RenderOptions& options);
 
