@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <unsupported/Eigen/BVH>
@@ -98,6 +99,27 @@ bool adjacentTrianglesMeet(const Triangle3& a, const Triangle3& b, const std::ar
   return (pa - along * along.dot(pa)).dot(pb - along * along.dot(pb)) > 0.0;
 }
 
+double twiceArea(const std::vector<Eigen::Vector2d>& polygon) {
+  double sum = 0;
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+    sum += cross2(polygon[i], polygon[(i + 1) % polygon.size()]);
+  return sum;
+}
+
+// The part of a convex polygon on the left of the line from a to b (Sutherland-Hodgman).
+std::vector<Eigen::Vector2d> keepLeftOf(const std::vector<Eigen::Vector2d>& polygon,
+                                        const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  std::vector<Eigen::Vector2d> kept;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Eigen::Vector2d& p = polygon[i];
+    const Eigen::Vector2d& q = polygon[(i + 1) % polygon.size()];
+    const double sp = cross2(b - a, p - a), sq = cross2(b - a, q - a);
+    if (sp >= 0) kept.push_back(p);
+    if ((sp > 0 && sq < 0) || (sp < 0 && sq > 0)) kept.push_back(p + (q - p) * (sp / (sp - sq)));
+  }
+  return kept;
+}
+
 }  // namespace
 
 bool trianglesIntersect(const Triangle3& a, const Triangle3& b, double tolerance) {
@@ -115,6 +137,26 @@ bool trianglesIntersect(const Triangle3& a, const Triangle3& b, double tolerance
   for (const auto& v : eb)
     if (separates(nb.cross(v), a, b, tolerance)) return false;
   return true;
+}
+
+bool trianglesOverlapAlong(const Eigen::Vector3d& direction, const Triangle3& a, const Triangle3& b,
+                           double share) {
+  if (direction.norm() == 0) return false;
+  const Eigen::Vector3d u = direction.unitOrthogonal(), v = direction.normalized().cross(u);
+  const auto project = [&](const Triangle3& t) {
+    std::vector<Eigen::Vector2d> p;
+    for (const Eigen::Vector3d& x : t)
+      p.emplace_back(u.dot(x), v.dot(x));
+    if (twiceArea(p) < 0) std::swap(p[1], p[2]);
+    return p;
+  };
+  const std::vector<Eigen::Vector2d> pa = project(a), pb = project(b);
+  const double smaller = std::min(twiceArea(pa), twiceArea(pb));
+  if (smaller <= 0) return false;
+  std::vector<Eigen::Vector2d> common = pa;
+  for (std::size_t i = 0; i < 3 && common.size() >= 3; ++i)
+    common = keepLeftOf(common, pb[i], pb[(i + 1) % 3]);
+  return common.size() >= 3 && twiceArea(common) > share * smaller;
 }
 
 Triangle3 faceTriangle(const TriMesh& mesh, int f) {

@@ -6,11 +6,13 @@
 #include <string>
 
 #include <Eigen/Geometry>
+#include <unsupported/Eigen/BVH>
 
 #include "geobrush/border_loop.hpp"
 #include "geobrush/cut_paste.hpp"
 #include "geobrush/intersection.hpp"
 #include "geobrush/loop_zip.hpp"
+#include "geobrush/submesh.hpp"
 
 namespace geobrush {
 namespace {
@@ -167,6 +169,211 @@ std::vector<EarSplit> splitsAroundEars(const TriMesh& patch, const std::vector<i
   return splits;
 }
 
+// The holed mesh's faces with a corner on the border.
+std::vector<int> facesAroundBorder(const TriMesh& holed, const std::vector<int>& border) {
+  std::vector<int> faces;
+  for (int v : border)
+    for (auto f : holed.vf_range(TriMesh::VertexHandle(v)))
+      faces.push_back(f.idx());
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+// A patch face in the holed mesh's numbering where it shares the border: its corners (the border
+// vertex where shared, else -1) and its points (the border vertex's where shared).
+struct SeamFace {
+  std::array<int, 3> holedCorner;
+  Triangle3 points;
+};
+
+// Whether the patch face lies on an edge inside the holed mesh, which already has both of its
+// faces.
+bool onInnerEdge(const TriMesh& holed, const SeamFace& face) {
+  for (std::size_t k = 0; k < 3; ++k) {
+    const int a = face.holedCorner[k], b = face.holedCorner[(k + 1) % 3];
+    if (a < 0 || b < 0) continue;
+    const auto h = holed.find_halfedge(TriMesh::VertexHandle(a), TriMesh::VertexHandle(b));
+    if (h.is_valid() && !holed.is_boundary(holed.edge_handle(h))) return true;
+  }
+  return false;
+}
+
+// Patch faces that overlap the holed mesh at the hole's border [ours]: a face on an edge inside
+// the holed mesh, or one that covers part of a holed face around the border, seen along that
+// face's normal, from within the face's longest edge of it. A template that reaches past a notch
+// of the border leaves them; the weld removes them and zips the gap.
+std::vector<int> overlappingPatchFaces(const TriMesh& patch, const std::vector<int>& loop,
+                                       const TriMesh& holed, const std::vector<int>& border,
+                                       double tolerance) {
+  std::vector<int> holedVertex(patch.n_vertices(), -1);
+  for (const Share& s :
+       sharedVertices(loopPoints(holed, border), loopPoints(patch, loop), tolerance))
+    holedVertex[std::size_t(loop[s.patch])] = border[s.border];
+  using Box = Eigen::AlignedBox3d;
+  const std::vector<int> ring = facesAroundBorder(holed, border);
+  std::vector<Box> reach;
+  std::vector<int> ids;
+  for (std::size_t i = 0; i < ring.size(); ++i) {
+    const Triangle3 t = faceTriangle(holed, ring[i]);
+    Box box;
+    for (const Vector3d& p : t)
+      box.extend(p);
+    const double edge =
+        std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
+    reach.emplace_back(box.min().array() - edge, box.max().array() + edge);
+    ids.push_back(int(i));
+  }
+  const Eigen::KdBVH<double, 3, int> tree(ids.begin(), ids.end(), reach.begin(), reach.end());
+
+  // Eigen's BVH visitor: tests the patch face against the ring faces whose reach holds it.
+  struct Cover {
+    const TriMesh& holed;
+    const std::vector<int>& ring;
+    const std::vector<Box>& reach;
+    SeamFace face{};
+    Box box;
+    bool covers = false;
+    bool intersectVolume(const Box& volume) const { return volume.intersects(box); }
+    bool intersectObject(int i) {
+      if (!reach[std::size_t(i)].intersects(box)) return false;
+      const Triangle3 t = faceTriangle(holed, ring[std::size_t(i)]);
+      covers = trianglesOverlapAlong((t[1] - t[0]).cross(t[2] - t[0]), t, face.points);
+      return covers;
+    }
+  };
+  std::vector<int> overlapping;
+  for (auto f : patch.faces()) {
+    Cover cover{holed, ring, reach, {}, {}, false};
+    int k = 0;
+    for (auto v : patch.fv_range(f)) {
+      const int h = holedVertex[std::size_t(v.idx())];
+      cover.face.holedCorner[std::size_t(k)] = h;
+      cover.face.points[std::size_t(k++)] = h >= 0 ? pointOf(holed, h) : pointOf(patch, v);
+    }
+    for (const Vector3d& p : cover.face.points)
+      cover.box.extend(p);
+    if (!onInnerEdge(holed, cover.face)) {
+      Eigen::BVIntersect(tree, cover);
+      if (!cover.covers) continue;
+    }
+    overlapping.push_back(f.idx());
+  }
+  return overlapping;
+}
+
+// Whether moving patch vertex v to `to` keeps every face around it facing as it did.
+bool moveKeepsFacing(const TriMesh& patch, TriMesh::VertexHandle v, const Vector3d& to) {
+  for (auto f : patch.vf_range(v)) {
+    Triangle3 before = faceTriangle(patch, f.idx()), after = before;
+    std::size_t k = 0;
+    for (auto u : patch.fv_range(f)) {
+      if (u == v) after[k] = to;
+      ++k;
+    }
+    const Vector3d n0 = (before[1] - before[0]).cross(before[2] - before[0]);
+    const Vector3d n1 = (after[1] - after[0]).cross(after[2] - after[0]);
+    if (n0.dot(n1) <= 0) return false;
+  }
+  return true;
+}
+
+// The patch as joined: the input patch with edges split around ears and overlaps removed, each of
+// its vertices' input patch vertex (-1 for an ear's tip), and its boundary loop.
+struct JoinedPatch {
+  TriMesh mesh;
+  std::vector<int> inputVertex;
+  std::vector<int> loop;
+  std::size_t earSplits = 0, trimmedFaces = 0, snappedVertices = 0;
+};
+
+// Border vertices left unshared by a trim take the nearest patch vertex the trim put on the
+// patch's boundary, within half the vertex's shorter border edge, where moving it there turns no
+// face over: the gap then closes by short edges instead of slivers past the vertex.
+std::size_t snapExposedVertices(JoinedPatch& joined, const std::vector<char>& wasOnLoop,
+                                const TriMesh& holed, const std::vector<int>& border,
+                                double tolerance) {
+  const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
+  std::vector<char> shared(border.size(), 0);
+  for (const Share& s :
+       sharedVertices(borderPoints, loopPoints(joined.mesh, joined.loop), tolerance))
+    shared[s.border] = 1;
+  std::vector<char> taken(joined.mesh.n_vertices(), 0);
+  std::size_t snapped = 0;
+  const std::size_t n = border.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (shared[i]) continue;
+    const double reach = 0.5 * std::min((borderPoints[(i + 1) % n] - borderPoints[i]).norm(),
+                                        (borderPoints[(i + n - 1) % n] - borderPoints[i]).norm());
+    int nearest = -1;
+    double best = reach;
+    for (int v : joined.loop)
+      if (const double d = (pointOf(joined.mesh, v) - borderPoints[i]).norm();
+          !wasOnLoop[std::size_t(v)] && !taken[std::size_t(v)] && d < best) {
+        best = d;
+        nearest = v;
+      }
+    if (nearest < 0 ||
+        !moveKeepsFacing(joined.mesh, TriMesh::VertexHandle(nearest), borderPoints[i]))
+      continue;
+    joined.mesh.set_point(TriMesh::VertexHandle(nearest), toPoint(borderPoints[i]));
+    taken[std::size_t(nearest)] = 1;
+    ++snapped;
+  }
+  return snapped;
+}
+
+// The patch's faces that overlap the holed mesh removed, and the border vertices this leaves
+// unshared given the patch vertices it exposes nearby.
+void trimOverlaps(JoinedPatch& joined, const TriMesh& holed, const std::vector<int>& border,
+                  double tolerance) {
+  const std::vector<int> overlapping =
+      overlappingPatchFaces(joined.mesh, joined.loop, holed, border, tolerance);
+  if (overlapping.empty()) return;
+  std::vector<char> drop(joined.mesh.n_faces(), 0);
+  for (int f : overlapping)
+    drop[std::size_t(f)] = 1;
+  std::vector<int> kept;
+  for (std::size_t f = 0; f < drop.size(); ++f)
+    if (!drop[f]) kept.push_back(int(f));
+  Submesh rest = extractSubmesh(joined.mesh, kept);
+  if (rest.unattachedFace >= 0 || kept.empty())
+    throw WeldError("patch", "removing the " + text(overlapping.size()) +
+                                 " patch faces that overlap the holed mesh at its border leaves "
+                                 "no patch that joins it as a manifold");
+  std::vector<char> onLoop(joined.mesh.n_vertices(), 0), wasOnLoop;
+  for (int v : joined.loop)
+    onLoop[std::size_t(v)] = 1;
+  for (int v : rest.sourceVertex)
+    wasOnLoop.push_back(onLoop[std::size_t(v)]);
+  std::vector<int> inputVertex;
+  for (int v : rest.sourceVertex)
+    inputVertex.push_back(joined.inputVertex[std::size_t(v)]);
+  joined.mesh = std::move(rest.surface);
+  joined.inputVertex = std::move(inputVertex);
+  joined.loop = onlyPatchLoop(joined.mesh);
+  joined.trimmedFaces = overlapping.size();
+  joined.snappedVertices = snapExposedVertices(joined, wasOnLoop, holed, border, tolerance);
+}
+
+// The input patch made ready to join the hole: split around the hole's ears, then trimmed where
+// it still overlaps the holed mesh.
+JoinedPatch joinablePatch(const TriMesh& patch, const std::vector<int>& inputLoop,
+                          const TriMesh& holed, const std::vector<int>& border, double tolerance) {
+  JoinedPatch joined{patch, {}, inputLoop, 0, 0, 0};
+  for (auto v : patch.vertices())
+    joined.inputVertex.push_back(v.idx());
+  const std::vector<EarSplit> ears = splitsAroundEars(patch, inputLoop, holed, border, tolerance);
+  for (const EarSplit& ear : ears) {
+    joined.mesh.split(ear.edge, toPoint(ear.tip));
+    joined.inputVertex.push_back(-1);
+  }
+  joined.earSplits = ears.size();
+  if (!ears.empty()) joined.loop = onlyPatchLoop(joined.mesh);
+  trimOverlaps(joined, holed, border, tolerance);
+  return joined;
+}
+
 // Whether the patch's loop runs along the border's (the patch faces the other way) rather than
 // against it. Three or more shared vertices tell by their order, which must go once around both
 // loops; fewer, by the loops' vector areas.
@@ -303,29 +510,30 @@ std::vector<int> sharedEdgeFaces(const TriMesh& out, const Seam& seam) {
   return faces;
 }
 
-// Face pairs meeting near the seam: faces with a corner on either loop.
-std::size_t seamIntersections(const TriMesh& out, const Seam& seam) {
+// Pairs of a new face at the seam (a patch or strip face with a corner on either loop) and any
+// face that it meets beyond their shared corners.
+std::size_t newSeamIntersections(const TriMesh& out, const Seam& seam, std::size_t holedFaces) {
   std::vector<char> near(out.n_faces(), 0);
   for (const auto* loop : {&seam.border, &seam.patch})
     for (int v : *loop)
       for (auto f : out.vf_range(TriMesh::VertexHandle(v)))
-        near[std::size_t(f.idx())] = 1;
+        near[std::size_t(f.idx())] = std::size_t(f.idx()) >= holedFaces;
   std::vector<int> faces;
   for (std::size_t f = 0; f < near.size(); ++f)
     if (near[f]) faces.push_back(int(f));
   return selfIntersections(out, faces, 1e-12 * boundingDiagonal(out));
 }
 
-// The patch's vertices past `patchVertices` are those added around ears: not the input patch's.
+// targetVertex: the holed mesh's vertices; sourceVertex: the input patch's.
 PasteMap pasteMap(const WeldResult& result, std::size_t holedVertices,
-                  const std::vector<int>& patchIds, std::size_t patchVertices) {
+                  const std::vector<int>& patchIds, const std::vector<int>& inputVertex) {
   PasteMap map;
   map.targetVertex.assign(result.mesh.n_vertices(), -1);
   map.sourceVertex.assign(result.mesh.n_vertices(), -1);
   for (std::size_t v = 0; v < holedVertices; ++v)
     map.targetVertex[v] = int(v);
-  for (std::size_t v = 0; v < patchVertices; ++v)
-    map.sourceVertex[std::size_t(patchIds[v])] = int(v);
+  for (std::size_t v = 0; v < patchIds.size(); ++v)
+    if (inputVertex[v] >= 0) map.sourceVertex[std::size_t(patchIds[v])] = inputVertex[v];
   return map;
 }
 
@@ -341,16 +549,9 @@ WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, co
   std::vector<int> border = holeBorder;
   const std::size_t borderSplits =
       splitBorderAtPatchPoints(holed, border, loopPoints(patch, inputLoop), tolerance);
-  const std::vector<EarSplit> ears = splitsAroundEars(patch, inputLoop, holed, border, tolerance);
-  TriMesh aroundEars;
-  if (!ears.empty()) {
-    aroundEars = patch;
-    for (const EarSplit& ear : ears)
-      aroundEars.split(ear.edge, toPoint(ear.tip));
-  }
-  const TriMesh& joined = ears.empty() ? patch : aroundEars;
-  std::vector<int> patchLoop = ears.empty() ? inputLoop : onlyPatchLoop(joined);
-  const std::vector<Vector3d> patchPoints = loopPoints(joined, patchLoop);
+  JoinedPatch joined = joinablePatch(patch, inputLoop, holed, border, tolerance);
+  std::vector<int>& patchLoop = joined.loop;
+  const std::vector<Vector3d> patchPoints = loopPoints(joined.mesh, patchLoop);
   const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
   Seam seam;
   seam.shares = sharedVertices(borderPoints, patchPoints, tolerance);
@@ -368,20 +569,25 @@ WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, co
 
   result.mesh = holed;
   const std::vector<int> patchIds =
-      appendPatch(result.mesh, joined, patchLoop, seam, result.patchFlipped);
+      appendPatch(result.mesh, joined.mesh, patchLoop, seam, result.patchFlipped);
   for (int v : patchLoop)
     seam.patch.push_back(patchIds[std::size_t(v)]);
   const std::vector<int> strip = addStrip(result.mesh, gapTriangles(result.mesh, seam));
   requireClosedSeam(result.mesh, seam);
 
+  if (const std::size_t meeting = newSeamIntersections(result.mesh, seam, holed.n_faces()))
+    throw WeldError("patch", "the welded seam would make " + text(meeting) +
+                                 " pairs of faces intersect: the patch does not fit the hole's "
+                                 "border there");
   result.sharedVertices = seam.shares.size();
   result.borderSplits = borderSplits;
-  result.earSplits = ears.size();
+  result.earSplits = joined.earSplits;
+  result.trimmedFaces = joined.trimmedFaces;
+  result.snappedVertices = joined.snappedVertices;
   result.stripFaces = strip.size();
-  result.map = pasteMap(result, holedMesh.n_vertices(), patchIds, patch.n_vertices());
+  result.map = pasteMap(result, holedMesh.n_vertices(), patchIds, joined.inputVertex);
   result.map.seamFaces = sharedEdgeFaces(result.mesh, seam);
   result.map.seamFaces.insert(result.map.seamFaces.end(), strip.begin(), strip.end());
-  result.seamSelfIntersections = seamIntersections(result.mesh, seam);
   return result;
 }
 

@@ -35,8 +35,11 @@ struct WeldResult {
   // Patch boundary edges split at an ear of the holed mesh (a border vertex whose neighbours the
   // holed mesh joins by an edge), so that the patch runs around it.
   std::size_t earSplits = 0;
+  // Patch faces removed where they still overlapped the holed mesh at the border (seen along the
+  // holed faces' normals), and patch vertices the removal put on the patch's boundary that were
+  // moved onto a border vertex it left unshared.
+  std::size_t trimmedFaces = 0, snappedVertices = 0;
   bool patchFlipped = false;  // the patch came oriented along the hole and was turned over
-  std::size_t seamSelfIntersections = 0;  // face pairs meeting near the seam, either side
 };
 
 // A refusal, naming the input at fault ("border" or "patch").
@@ -52,8 +55,9 @@ class WeldError : public std::invalid_argument {
 
 // Welds `patch` (a mesh with exactly one boundary loop) into the hole of `holed` bounded by
 // `border` (a boundary loop of `holed`, in the direction of its boundary halfedges). Shared
-// vertices must keep both loops' cyclic order. Throws WeldError when an input does not fit or the
-// result would not be a manifold, consistently oriented mesh.
+// vertices must keep both loops' cyclic order. Throws WeldError when an input does not fit, or the
+// result would not be a manifold, consistently oriented mesh or would have faces at the seam that
+// meet others beyond their shared corners.
 WeldResult weld(const TriMesh& holed, const std::vector<int>& border, const TriMesh& patch,
                 const WeldOptions& options = {});
 

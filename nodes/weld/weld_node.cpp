@@ -23,7 +23,8 @@ std::shared_ptr<geobrush::Metrics> report(const geobrush::WeldResult& result) {
   v["ear_splits"] = double(result.earSplits);
   v["seam_faces"] = double(result.map.seamFaces.size());
   v["patch_flipped"] = result.patchFlipped ? 1.0 : 0.0;
-  v["seam_self_intersections"] = double(result.seamSelfIntersections);
+  v["trimmed_faces"] = double(result.trimmedFaces);
+  v["snapped_vertices"] = double(result.snappedVertices);
   return metrics;
 }
 
@@ -73,7 +74,9 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                  "inpainting's last stage). Patch boundary vertices on border vertices become "
                  "them, in both loops' cyclic order; the gaps between consecutive shared vertices "
                  "are zipped by the shortest new edges, or the whole loops where none is shared. "
-                 "A patch facing the other way is turned over, with a warning.")
+                 "Patch faces that overlap the holed mesh at the border are removed first. A "
+                 "patch facing the other way is turned over, with a warning; a seam whose faces "
+                 "would intersect is refused.")
             .input<BorderLoop>("border", "The hole's border loop on the holed mesh.")
             .input<Mesh>("patch", "The repair patch: one boundary loop, on or near the border.")
             .output<Mesh>("mesh",
@@ -86,8 +89,8 @@ void registerNodes(geobrush::PluginRegistrar& r) {
             .output<geobrush::Metrics>(
                 "report",
                 "shared_vertices, border_splits, ear_splits (patch edges split at an ear of "
-                "the hole), strip_faces, seam_faces, patch_flipped, seam_self_intersections "
-                "(faces at the seam).")
+                "the hole), trimmed_faces (patch faces that overlapped the holed mesh), "
+                "snapped_vertices, strip_faces, seam_faces, patch_flipped.")
             .paramDouble("share_tolerance", 1e-6,
                          "Patch boundary vertices this close to a border vertex, relative to the "
                          "holed mesh's bounding diagonal, become that vertex.")

@@ -20,6 +20,7 @@
 #include "geobrush/submesh.hpp"
 #include "geobrush/surface_point.hpp"
 #include "geobrush/values.hpp"
+#include "mesh_checks.hpp"
 #include "test_support.hpp"
 
 using namespace geobrush;
@@ -518,29 +519,16 @@ TEST(InpaintGraphs, TheOtherEarRestoresACutEarThatTheFillLeavesOut) {
 
 namespace {
 
-// Two mirror-image bumps on the unit square, n x n squares (n even) whose diagonals mirror about
-// x = 0.5 too: Gaussian, height h, at x = 0.3 and x = 0.7 on the middle line.
+// Two mirror-image bumps on the unit square's n x n grid (one diagonal throughout, so a mirrored
+// copy has the other): Gaussian, height h, at x = 0.3 and x = 0.7 on the middle line.
 TriMesh twoBumps(int n, double h) {
-  TriMesh mesh;
-  std::vector<TriMesh::VertexHandle> v;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const double x = double(i) / n, y = double(j) / n;
-      double z = 0;
-      for (const double bump : {0.3, 0.7})
-        z += h * std::exp(-((x - bump) * (x - bump) + (y - 0.5) * (y - 0.5)) / 0.004);
-      v.push_back(mesh.add_vertex(TriMesh::Point(x, y, z)));
-    }
-  const auto at = [&](int i, int j) { return v[std::size_t(j * (n + 1) + i)]; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)
-      if (2 * i < n) {
-        mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-        mesh.add_face(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-      } else {
-        mesh.add_face(at(i, j), at(i + 1, j), at(i, j + 1));
-        mesh.add_face(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-      }
+  TriMesh mesh = test::unitSquareGrid(n);
+  for (auto v : mesh.vertices()) {
+    auto p = mesh.point(v);
+    for (const double bump : {0.3, 0.7})
+      p[2] += h * std::exp(-((p[0] - bump) * (p[0] - bump) + (p[1] - 0.5) * (p[1] - 0.5)) / 0.004);
+    mesh.set_point(v, p);
+  }
   return mesh;
 }
 

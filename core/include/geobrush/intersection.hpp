@@ -20,6 +20,12 @@ using Triangle3 = std::array<Eigen::Vector3d, 3>;
 // rounding) along every axis; touching counts. Degenerate triangles never intersect.
 bool trianglesIntersect(const Triangle3& a, const Triangle3& b, double tolerance);
 
+// True when the triangles, seen along `direction` (projected on the plane across it), cover a
+// common area of more than `share` of the smaller one's: triangles that only touch, at a shared
+// corner or along a shared edge, do not overlap. Degenerate projections never overlap.
+bool trianglesOverlapAlong(const Eigen::Vector3d& direction, const Triangle3& a, const Triangle3& b,
+                           double share = 1e-6);
+
 // The corners of face f.
 Triangle3 faceTriangle(const TriMesh& mesh, int f);
 
