@@ -324,12 +324,12 @@ std::size_t snapExposedVertices(JoinedPatch& joined, const std::vector<char>& wa
 }
 
 // The patch's faces that overlap the holed mesh removed, and the border vertices this leaves
-// unshared given the patch vertices it exposes nearby.
-void trimOverlaps(JoinedPatch& joined, const TriMesh& holed, const std::vector<int>& border,
+// unshared given the patch vertices it exposes nearby; false where none overlaps.
+bool trimOverlaps(JoinedPatch& joined, const TriMesh& holed, const std::vector<int>& border,
                   double tolerance) {
   const std::vector<int> overlapping =
       overlappingPatchFaces(joined.mesh, joined.loop, holed, border, tolerance);
-  if (overlapping.empty()) return;
+  if (overlapping.empty()) return false;
   std::vector<char> drop(joined.mesh.n_faces(), 0);
   for (int f : overlapping)
     drop[std::size_t(f)] = 1;
@@ -351,15 +351,22 @@ void trimOverlaps(JoinedPatch& joined, const TriMesh& holed, const std::vector<i
     inputVertex.push_back(joined.inputVertex[std::size_t(v)]);
   joined.mesh = std::move(rest.surface);
   joined.inputVertex = std::move(inputVertex);
-  joined.loop = onlyPatchLoop(joined.mesh);
+  try {
+    joined.loop = onlyPatchLoop(joined.mesh);
+  } catch (const WeldError& e) {
+    throw WeldError(
+        "patch", "with the " + text(overlapping.size()) +
+                     " patch faces that overlap the holed mesh at its border removed, " + e.what());
+  }
   joined.trimmedFaces = overlapping.size();
   joined.snappedVertices = snapExposedVertices(joined, wasOnLoop, holed, border, tolerance);
+  return true;
 }
 
-// The input patch made ready to join the hole: split around the hole's ears, then trimmed where
-// it still overlaps the holed mesh.
-JoinedPatch joinablePatch(const TriMesh& patch, const std::vector<int>& inputLoop,
-                          const TriMesh& holed, const std::vector<int>& border, double tolerance) {
+// The input patch split around the hole's ears.
+JoinedPatch splitAroundEars(const TriMesh& patch, const std::vector<int>& inputLoop,
+                            const TriMesh& holed, const std::vector<int>& border,
+                            double tolerance) {
   JoinedPatch joined{patch, {}, inputLoop, 0, 0, 0};
   for (auto v : patch.vertices())
     joined.inputVertex.push_back(v.idx());
@@ -370,7 +377,6 @@ JoinedPatch joinablePatch(const TriMesh& patch, const std::vector<int>& inputLoo
   }
   joined.earSplits = ears.size();
   if (!ears.empty()) joined.loop = onlyPatchLoop(joined.mesh);
-  trimOverlaps(joined, holed, border, tolerance);
   return joined;
 }
 
@@ -537,20 +543,12 @@ PasteMap pasteMap(const WeldResult& result, std::size_t holedVertices,
   return map;
 }
 
-}  // namespace
-
-WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, const TriMesh& patch,
-                const WeldOptions& options) {
-  if (const std::string problem = borderLoopProblem(holedMesh, holeBorder); !problem.empty())
-    throw WeldError("border", "not a boundary loop of the holed mesh: " + problem);
-  const std::vector<int> inputLoop = onlyPatchLoop(patch);
-  const double tolerance = options.shareTolerance * boundingDiagonal(holedMesh);
-  TriMesh holed = holedMesh;
-  std::vector<int> border = holeBorder;
-  const std::size_t borderSplits =
-      splitBorderAtPatchPoints(holed, border, loopPoints(patch, inputLoop), tolerance);
-  JoinedPatch joined = joinablePatch(patch, inputLoop, holed, border, tolerance);
-  std::vector<int>& patchLoop = joined.loop;
+// The patch joined to the holed mesh (whose first holedVertices vertices are the input's, the
+// rest split border edges): shared vertices, the patch turned to face the mesh's way, its faces
+// appended and the gaps zipped; refuses a seam that is not manifold or whose new faces meet others.
+WeldResult joinSeam(const TriMesh& holed, const std::vector<int>& border, const JoinedPatch& joined,
+                    double tolerance, std::size_t holedVertices) {
+  std::vector<int> patchLoop = joined.loop;
   const std::vector<Vector3d> patchPoints = loopPoints(joined.mesh, patchLoop);
   const std::vector<Vector3d> borderPoints = loopPoints(holed, border);
   Seam seam;
@@ -580,14 +578,39 @@ WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, co
                                  " pairs of faces intersect: the patch does not fit the hole's "
                                  "border there");
   result.sharedVertices = seam.shares.size();
-  result.borderSplits = borderSplits;
   result.earSplits = joined.earSplits;
   result.trimmedFaces = joined.trimmedFaces;
   result.snappedVertices = joined.snappedVertices;
   result.stripFaces = strip.size();
-  result.map = pasteMap(result, holedMesh.n_vertices(), patchIds, joined.inputVertex);
+  result.map = pasteMap(result, holedVertices, patchIds, joined.inputVertex);
   result.map.seamFaces = sharedEdgeFaces(result.mesh, seam);
   result.map.seamFaces.insert(result.map.seamFaces.end(), strip.begin(), strip.end());
+  return result;
+}
+
+}  // namespace
+
+WeldResult weld(const TriMesh& holedMesh, const std::vector<int>& holeBorder, const TriMesh& patch,
+                const WeldOptions& options) {
+  if (const std::string problem = borderLoopProblem(holedMesh, holeBorder); !problem.empty())
+    throw WeldError("border", "not a boundary loop of the holed mesh: " + problem);
+  const std::vector<int> inputLoop = onlyPatchLoop(patch);
+  const double tolerance = options.shareTolerance * boundingDiagonal(holedMesh);
+  TriMesh holed = holedMesh;
+  std::vector<int> border = holeBorder;
+  const std::size_t borderSplits =
+      splitBorderAtPatchPoints(holed, border, loopPoints(patch, inputLoop), tolerance);
+  JoinedPatch joined = splitAroundEars(patch, inputLoop, holed, border, tolerance);
+  WeldResult result;
+  try {
+    result = joinSeam(holed, border, joined, tolerance, holedMesh.n_vertices());
+  } catch (const WeldError&) {
+    // A patch that reaches over the holed mesh at the border (a template past a notch of it):
+    // its overlapping faces are removed and the gap they leave zipped.
+    if (!trimOverlaps(joined, holed, border, tolerance)) throw;
+    result = joinSeam(holed, border, joined, tolerance, holedMesh.n_vertices());
+  }
+  result.borderSplits = borderSplits;
   return result;
 }
 

@@ -10,12 +10,16 @@ removed truth (geobrush.metrics' reference_* values):
   C  on the cases, B with one handle edit (a bulge at the hole's centre); on the ear, the other
      ear cut the same way and mirrored as the template, no edit
   D  the fill completed from examples (fragment_complete)
+  E  on the ear only, a GeoBrush clone (graphs/methods/geobrush.json) of the other ear, mirrored,
+     onto the fill of the cut
 
 With --sweep instead: B on each case over template spacings of 0.5, 0.4 and 0.3 of the border's
 and plane sizes of 2.8, 3.2 and 3.6 times the hole's radius, require_valid off, printing the new
-self-intersections and the mean distance of each setting.
+self-intersections and the mean distance of each setting (--coarse: spacings of 1.0, 0.8 and 0.6,
+templates as coarse as the border or coarser).
 
-Usage: tests/bench/inpaint_table.py BUILD_DIR [OUT_DIR] [--sweep]   (OUT_DIR: a new temp folder)
+Usage: tests/bench/inpaint_table.py BUILD_DIR [OUT_DIR] [--sweep [--coarse]]
+       (OUT_DIR: a new temp folder)
 """
 import json
 import math
@@ -28,9 +32,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 MESHES = os.path.normpath(os.path.join(HERE, '..', '..', '..', 'shared', 'data', 'meshes'))
 
 # The ear to repair and the other ear (points at their middles), the x of the plane halfway
-# between their tips, and the geodesic radius painted to cut each.
+# between their tips, the geodesic radius painted to cut each, and the radius a clone copies (the
+# ear and a rim of the head around it).
 EAR = {'right': [0.090, 0.365, 0.175], 'left': [-0.120, 0.360, 0.150], 'mirror_x': -0.0157,
-       'cut_radius': 0.075}
+       'cut_radius': 0.075, 'clone_radius': 0.09}
+METHODS = os.path.normpath(os.path.join(HERE, '..', '..', 'graphs', 'methods'))
 
 
 def node(kind, **params):
@@ -199,8 +205,12 @@ def ear_graphs(build, out):
     nodes, conns = ear_start()
     nodes["save_holed"] = node("geobrush.save_mesh", path="holed.obj")
     conns.append(("hole.mesh", "save_holed.mesh"))
+    fill_chain(nodes, conns, "hole.mesh", False, 1)
+    nodes["save_fill"] = node("geobrush.save_mesh", path="filled.obj")
+    conns.append(("fill.mesh", "save_fill.mesh"))
     run(build, graph(nodes, conns), os.path.join(out, "ear_cut"))
     size, resolution, _ = plane_template(os.path.join(out, "ear_cut", "holed.obj"))
+    clone_target = fill_centre(os.path.join(out, "ear_cut"))
 
     def filled(complete):
         nodes, conns = ear_start()
@@ -220,7 +230,41 @@ def ear_graphs(build, out):
     template_chain(nodes, conns, "mirror.mesh")
     other = measured(nodes, conns, "hole.mesh", "hole.removed", "weld.mesh", "weld.paste_map")
     return {"A fill": filled(False), "B plane": plane, "C the other ear": other,
-            "D fill + completion": filled(True)}
+            "D fill + completion": filled(True), "E GeoBrush clone of the other ear": cloned(clone_target)}
+
+
+def fill_centre(folder):
+    """The fill's vertex nearest the centroid of the cut's border: where the ear stood."""
+    border, points, _ = border_of(os.path.join(folder, "holed.obj"))
+    hole = [v for v in border if math.dist(points[v], EAR["right"]) < 3 * EAR["cut_radius"]]
+    centroid = [sum(points[v][k] for v in hole) / len(hole) for k in range(3)]
+    filled, _ = read_obj(os.path.join(folder, "filled.obj"))
+    return min(filled, key=lambda p: math.dist(p, centroid))
+
+
+def cloned(target):
+    """GeoBrush's clone method from the mirrored armadillo's left ear onto the fill of the cut at
+    `target`, set as `geobrush clone` sets its template (radius, points; scale 1, no turn)."""
+    with open(os.path.join(METHODS, "geobrush.json")) as f:
+        method = json.load(f)
+    nodes, conns = ear_start()
+    fill_chain(nodes, conns, "hole.mesh", False, 1)
+    nodes["mirror"] = node("geobrush.transform", scale=[-1.0, 1.0, 1.0],
+                           pivot=[EAR["mirror_x"], 0.0, 0.0])
+    conns.append(("mesh.mesh", "mirror.mesh"))
+    rename = {"source_mesh.mesh": "mirror.mesh", "target_mesh.mesh": "fill.mesh"}
+    for name, n in method["nodes"].items():
+        if name not in ("source_mesh", "target_mesh", "save_result", "render_result", "metrics"):
+            nodes[name] = n
+    conns += [(rename.get(c["from"], c["from"]), c["to"]) for c in method["connections"]
+              if not c["to"].split(".")[0] in ("save_result", "render_result", "metrics")]
+    left = EAR["left"]
+    source = [2 * EAR["mirror_x"] - left[0], left[1], left[2]]
+    r = EAR["clone_radius"]
+    nodes["source_canvas"]["params"] = {"origin": source, "dabs": source + [2 * r]}
+    nodes["strokes"]["params"] = {"dabs": [0, 0, r, 1]}
+    nodes["target_map"]["params"] = {"origin": target}
+    return measured(nodes, conns, "fill.mesh", "hole.removed", "stitch.mesh", "stitch.map")
 
 
 def run(build, g, folder):
@@ -244,10 +288,10 @@ def row(label, metrics, error):
             f" / {m('reference_to_result_max_distance'):.1e} |")
 
 
-def sweep(build, out, cases):
+def sweep(build, out, cases, spacings):
     valid = 0
     for case in cases:
-        for spacing_factor in (0.5, 0.4, 0.3):
+        for spacing_factor in spacings:
             for width in (2.8, 3.2, 3.6):
                 g = case_graphs(case, width, spacing_factor)["B plane"]
                 g["nodes"]["metrics"]["params"]["require_valid"] = False
@@ -265,7 +309,7 @@ def sweep(build, out, cases):
 
 
 def main():
-    arguments = [a for a in sys.argv[1:] if a != "--sweep"]
+    arguments = [a for a in sys.argv[1:] if a not in ("--sweep", "--coarse")]
     if not arguments:
         sys.exit(__doc__)
     build = os.path.abspath(arguments[0])
@@ -273,7 +317,7 @@ def main():
     cases = sorted(f[:-len("_hole.obj")] for f in os.listdir(f"{MESHES}/cases")
                    if f.endswith("_hole.obj"))
     if "--sweep" in sys.argv:
-        sweep(build, out, cases)
+        sweep(build, out, cases, (1.0, 0.8, 0.6) if "--coarse" in sys.argv else (0.5, 0.4, 0.3))
         return
     print("| case, variant | new vertices to the truth: mean / max / normals | "
           "the truth to the result: mean / max |")
