@@ -30,14 +30,16 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
       log_(new QPlainTextEdit(this)),
       params_(new ParamPanel(registry, this)),
       clone_(new ClonePanel(document_, this)),
+      output_(new OutputView(this)),
       progress_(new QProgressBar(this)),
       evaluator_(std::make_unique<Evaluator>(registry)) {
   setWindowTitle("GeoBrush Studio");
   resize(1400, 900);
   auto* central = new QSplitter(Qt::Vertical, this);
   central->addWidget(clone_);
+  central->addWidget(output_);
   central->addWidget(editor_);
-  central->setSizes({520, 300});
+  central->setSizes({520, 520, 300});
   setCentralWidget(central);
   addToolBar(clone_->toolBar());
   clone_->onEdited = [this](const std::string& error) { edited(error); };
@@ -80,16 +82,7 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
     document_.moveNode(node, x, y);
     updateUndoActions();
   };
-  editor_->onSelected = [this](const std::string& node) {
-    selected_ = node;
-    params_->showNode(document_, node);
-    // Selecting another clone's ROI (or strokes) node shows that clone.
-    const auto it = document_.graph().nodes.find(node);
-    if (it != document_.graph().nodes.end() && isRoiType(it->second.type)) {
-      updateRoles();
-      evaluateLive();
-    }
-  };
+  editor_->onSelected = [this](const std::string& node) { selectNode(node); };
   auto* paletteDock = new QDockWidget("Palette", this);
   paletteDock->setWidget(palette_);
   addDockWidget(Qt::LeftDockWidgetArea, paletteDock);
@@ -162,6 +155,7 @@ void StudioWindow::startOver() {
   lastLiveError_.clear();
   lastLiveWarnings_.clear();
   clone_->clear();
+  output_->showNothing();
   updateRoles();
   params_->showNode(document_, selected_);
   updateUndoActions();
@@ -240,7 +234,8 @@ void StudioWindow::evaluate() {
 }
 
 void StudioWindow::evaluateLive() {
-  if (!clone_->roles().found() || !document_.evaluable()) return;
+  // A clone's views, or the mesh the output view shows, follow each edit.
+  if ((!clone_->roles().found() && !output_->shown()) || !document_.evaluable()) return;
   if (evaluating()) {
     pendingLive_ = true;
     return;
@@ -248,13 +243,38 @@ void StudioWindow::evaluateLive() {
   startEvaluation(EvalMode::Live);
 }
 
+void StudioWindow::selectNode(const std::string& node) {
+  if (!node.empty() && editor_->selectedNodes() != std::vector<std::string>{node})
+    editor_->focusNode(node);
+  selected_ = node;
+  params_->showNode(document_, node);
+  // Selecting another clone's ROI (or strokes) node shows that clone.
+  const auto it = document_.graph().nodes.find(node);
+  if (it != document_.graph().nodes.end() && isRoiType(it->second.type)) {
+    updateRoles();
+    evaluateLive();
+  }
+  if (!clone_->roles().found() && idle()) showOutput();
+}
+
+void StudioWindow::showOutput() {
+  const auto output = meshOutputToShow(document_.graph(), registry_, *evaluator_, selected_);
+  if (!output) {
+    output_->showNothing();
+    return;
+  }
+  output_->showMesh(*output, std::dynamic_pointer_cast<const Mesh>(
+                                 evaluator_->output(output->node, output->port)));
+}
+
 void StudioWindow::updateRoles() {
   const auto it = document_.graph().nodes.find(selected_);
   const bool roi = it != document_.graph().nodes.end() && isRoiType(it->second.type);
   const std::string preferred = roi ? selected_ : clone_->roles().roi;
   clone_->setRoles(findClone(document_.graph(), preferred));
-  // A graph without a clone gets the whole window for its nodes.
+  // A graph without a clone shows a node's mesh instead.
   clone_->setVisible(clone_->roles().found());
+  output_->setVisible(!clone_->roles().found());
   clone_->toolBar()->setEnabled(clone_->roles().found());
 }
 
@@ -285,7 +305,10 @@ void StudioWindow::startEvaluation(EvalMode mode) {
   options.cancel = &cancel_;
   options.outputDir = outputDir_;
   options.settle = mode != EvalMode::Live;
-  if (mode != EvalMode::Full) options.targets = clone_->roles().liveTargets();
+  if (mode != EvalMode::Full && clone_->roles().found())
+    options.targets = clone_->roles().liveTargets();
+  else if (mode != EvalMode::Full && output_->shown())
+    options.targets = {output_->shown()->node};
   options.progress = [this, generation](const std::string& node, double fraction) {
     QMetaObject::invokeMethod(
         this,
@@ -350,6 +373,8 @@ void StudioWindow::finishEvaluation(int generation, EvalMode mode, EvalReport re
       radiusChosen_ = true;
     }
     clone_->showView(std::move(view));
+  } else {
+    showOutput();
   }
   // An edit's live, queued and settling evaluations together are what it cost.
   computedSinceEdit_ += report_.computed();

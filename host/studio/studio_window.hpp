@@ -14,6 +14,7 @@
 
 #include "clone_panel.hpp"
 #include "node_editor.hpp"
+#include "output_view.hpp"
 #include "param_panel.hpp"
 #include "studio_document.hpp"
 
@@ -53,6 +54,10 @@ class StudioWindow : public QMainWindow {
   StudioDocument& document() { return document_; }
   NodeEditor& editor() { return *editor_; }
   ClonePanel& clonePanel() { return *clone_; }
+  // What a graph without a clone shows: a node's mesh output.
+  OutputView& outputView() { return *output_; }
+  // Selects the node as a click in the node editor does: its params, its clone or its mesh.
+  void selectNode(const std::string& node);
   // Starts an evaluation of the whole graph on the worker thread (cancelling one under way),
   // writing the graph's files; `evaluated` is emitted when it ends.
   void evaluate();
@@ -100,6 +105,8 @@ class StudioWindow : public QMainWindow {
   void showProgress(const std::string& node, double fraction);
   void stopWorker();
   void updateRoles();
+  // The selected node's mesh, or the graph's result, in the output view (graphs without a clone).
+  void showOutput();
   // Forgets everything of the graph shown before (a new or opened document).
   void startOver();
 
@@ -110,6 +117,7 @@ class StudioWindow : public QMainWindow {
   QPlainTextEdit* log_;
   ParamPanel* params_;
   ClonePanel* clone_;
+  OutputView* output_;
   QProgressBar* progress_;
   QAction* undoAction_;
   QAction* redoAction_;

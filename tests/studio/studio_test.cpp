@@ -31,6 +31,7 @@ using namespace geobrush;
 using geobrush::studio::CloneTool;
 using geobrush::studio::NodeEditor;
 using geobrush::studio::NodeState;
+using geobrush::studio::OutputView;
 using geobrush::studio::StudioDocument;
 using geobrush::studio::StudioWindow;
 using geobrush::studio::Viewport;
@@ -535,6 +536,56 @@ TEST(StudioWindow, TheNodeEditorFramesTheGraphAndZooms) {
     EXPECT_NEAR(editor.transform().m11(), before * 1.15 * 1.15, 1e-9) << name;
     ASSERT_TRUE(waitUntilIdle(window));
   }
+}
+
+// A graph without a clone shows a node's mesh: after F5 the graph's result (the mesh that is
+// saved and rendered), the selected node's mesh on a click, and a param edit of the node shown
+// re-evaluates it live.
+TEST(StudioWindow, AGraphWithoutACloneShowsTheResultOrTheSelectedNodesMesh) {
+  StudioWindow window(test::registry());
+  window.resize(1200, 800);
+  window.setOutputDir(test::tempDir("studio-output-view"));
+  ASSERT_TRUE(openShown(window, "relief_cube.json"));
+  OutputView& output = window.outputView();
+  EXPECT_TRUE(output.isVisible());
+  EXPECT_FALSE(window.clonePanel().isVisible());
+  EXPECT_FALSE(output.shown());
+  ASSERT_TRUE(evaluateAndWait(window));
+  ASSERT_TRUE(output.shown());
+  EXPECT_EQ(*output.shown(), (Endpoint{"pose", "mesh"}));
+  EXPECT_EQ(output.caption(), "pose.mesh");
+  const MeshPtr posed =
+      std::dynamic_pointer_cast<const Mesh>(window.evaluator().output("pose", "mesh"));
+  EXPECT_EQ(output.viewport().surface().mesh, posed);
+  // Drawn: the framed mesh covers a good part of the view.
+  QTest::qWait(50);
+  const QImage drawn = output.viewport().grab().toImage();
+  const QRgb background = drawn.pixel(2, 2);
+  int covered = 0;
+  for (int y = 0; y < drawn.height(); y += 4)
+    for (int x = 0; x < drawn.width(); x += 4)
+      covered += drawn.pixel(x, y) != background;
+  EXPECT_GT(covered, drawn.width() * drawn.height() / 16 / 10);
+  screenshot(window, "output_view.png");
+
+  window.selectNode("shape");
+  ASSERT_TRUE(output.shown());
+  EXPECT_EQ(*output.shown(), (Endpoint{"shape", "mesh"}));
+  EXPECT_EQ(output.viewport().surface().mesh,
+            std::dynamic_pointer_cast<const Mesh>(window.evaluator().output("shape", "mesh")));
+  // A node without a mesh output shows the result again.
+  window.selectNode("render");
+  EXPECT_EQ(*output.shown(), (Endpoint{"pose", "mesh"}));
+
+  // Shown again and edited: the change reaches the view without F5.
+  window.selectNode("shape");
+  const auto before = output.viewport().surface().mesh;
+  EXPECT_EQ(window.setParam("shape", "relief", 0.1), "");
+  ASSERT_TRUE(waitUntilIdle(window));
+  const auto after = output.viewport().surface().mesh;
+  ASSERT_TRUE(after);
+  EXPECT_NE(after, before);
+  EXPECT_NE(pointsOf(after), pointsOf(before));
 }
 
 // Warnings of live evaluations reach the log when they appear (not only on F5), once while they
