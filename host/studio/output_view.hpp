@@ -1,16 +1,22 @@
 // The view of a graph without a clone: one node's mesh output in a viewport (orbit, pan and zoom
 // as in the clone's views), named above it. It shows the selected node's mesh, or where that
 // node has none the graph's result: the last node, in the graph's order, whose mesh output no
-// node that makes meshes reads (what is saved, rendered or measured).
+// node that makes meshes reads (what is saved, rendered or measured). Where the mesh shown is a
+// geobrush.handle_edit's template, a left drag on it is a handle edit (Freeform surface
+// inpainting, section 5): the press adds an edit row whose handle is the point under the pointer,
+// and the drag moves the handle in the plane facing the view through it; the drag is one undoable
+// edit.
 #pragma once
 
 #include <QWidget>
+#include <functional>
 #include <optional>
 #include <string>
 
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/registry.hpp"
+#include "studio_document.hpp"
 #include "viewport.hpp"
 
 class QLabel;
@@ -22,9 +28,13 @@ namespace geobrush::studio {
 std::optional<Endpoint> meshOutputToShow(const Graph& graph, const NodeRegistry& registry,
                                          const Evaluator& evaluator, const std::string& selected);
 
+// A new handle's radius (the graph distance of the vertices it takes along) over the template's
+// bounding diagonal.
+inline constexpr double kHandleRadiusShare = 0.1;
+
 class OutputView : public QWidget {
  public:
-  explicit OutputView(QWidget* parent = nullptr);
+  explicit OutputView(StudioDocument& document, QWidget* parent = nullptr);
 
   // Shows the mesh of `output`; framed anew when the output shown changes, kept framed while the
   // same output is shown again (a re-evaluated result does not move the view).
@@ -35,10 +45,20 @@ class OutputView : public QWidget {
   QString caption() const;
   Viewport& viewport() { return *viewport_; }
 
+  // After each edit of the graph, or with the error of an edit that was refused.
+  std::function<void(const std::string& error)> onEdited;
+
  private:
+  void pointer(const PointerEvent& event);
+  // The handle edit's translation for the pointer at `position`: in the plane through the handle
+  // facing the eye.
+  std::optional<Eigen::Vector3d> dragTranslation(const QPointF& position) const;
+
+  StudioDocument& document_;
   QLabel* caption_;
   Viewport* viewport_;
   std::optional<Endpoint> shown_;
+  std::optional<Eigen::Vector3d> handle_;  // where the handle being dragged was picked
 };
 
 }  // namespace geobrush::studio

@@ -30,7 +30,7 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
       log_(new QPlainTextEdit(this)),
       params_(new ParamPanel(registry, this)),
       clone_(new ClonePanel(document_, this)),
-      output_(new OutputView(this)),
+      output_(new OutputView(document_, this)),
       progress_(new QProgressBar(this)),
       evaluator_(std::make_unique<Evaluator>(registry)) {
   setWindowTitle("GeoBrush Studio");
@@ -43,6 +43,7 @@ StudioWindow::StudioWindow(const NodeRegistry& registry, QWidget* parent)
   setCentralWidget(central);
   addToolBar(clone_->toolBar());
   clone_->onEdited = [this](const std::string& error) { edited(error); };
+  output_->onEdited = [this](const std::string& error) { edited(error); };
   clone_->onMessage = [this](const QString& text) { statusBar()->showMessage(text, 4000); };
   progress_->setMaximumWidth(240);
   progress_->setRange(0, 100);

@@ -29,6 +29,7 @@
 
 using namespace geobrush;
 using geobrush::studio::CloneTool;
+using geobrush::studio::kHandleRadiusShare;
 using geobrush::studio::NodeEditor;
 using geobrush::studio::NodeState;
 using geobrush::studio::OutputView;
@@ -586,6 +587,68 @@ TEST(StudioWindow, AGraphWithoutACloneShowsTheResultOrTheSelectedNodesMesh) {
   ASSERT_TRUE(after);
   EXPECT_NE(after, before);
   EXPECT_NE(pointsOf(after), pointsOf(before));
+}
+
+// With a handle edit's template shown, a left drag is a handle edit: the press adds a row whose
+// handle is the point picked, the drag moves it in the plane facing the view, the template follows
+// live while the boundary stays, and one Undo takes the whole drag back.
+TEST(StudioWindow, DraggingOnAHandleEditsTemplateMovesAHandleLive) {
+  const auto dir = test::tempDir("studio-handle-drag");
+  {
+    Graph graph;
+    graph.nodes["plane"] = GraphNode{
+        "geobrush.primitive",
+        1,
+        {{"shape", std::string("plane")}, {"size", 2.0}, {"resolution", std::int64_t(24)}}};
+    graph.nodes["edit"] = GraphNode{"geobrush.handle_edit", 1, {}};
+    graph.connections = {{{"plane", "mesh"}, {"edit", "template"}}};
+    std::ofstream(dir / "handle.json") << serializeGraph(graph, &test::registry());
+  }
+  StudioWindow window(test::registry());
+  window.resize(1200, 800);
+  ASSERT_TRUE(window.openFile(QString::fromStdString((dir / "handle.json").string())));
+  window.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&window));
+  ASSERT_TRUE(evaluateAndWait(window));
+  window.selectNode("edit");
+  OutputView& output = window.outputView();
+  ASSERT_TRUE(output.shown());
+  ASSERT_EQ(*output.shown(), (Endpoint{"edit", "template"}));
+  const MeshPtr before = output.viewport().surface().mesh;
+  QTest::qWait(50);
+  const QPoint centre = onScreen(output.viewport(), {0, 0, 0});
+  ASSERT_TRUE(output.viewport().rect().contains(centre));
+  drag(&output.viewport(), centre, centre + QPoint(0, -60));
+  ASSERT_TRUE(waitUntilIdle(window));
+
+  const auto rows = std::get<std::vector<double>>(*window.document().param("edit", "edits"));
+  ASSERT_EQ(rows.size(), 11u);
+  const Eigen::Vector3d handle(rows[0], rows[1], rows[2]), moved(rows[4], rows[5], rows[6]);
+  EXPECT_LT(handle.norm(), 0.05);  // picked where the pointer pressed
+  EXPECT_NEAR(rows[3], kHandleRadiusShare * boundingDiagonal(before->surface), 1e-12);
+  // The drag moved the handle.
+  EXPECT_GT(moved.norm(), 0.05);
+  const MeshPtr after = output.viewport().surface().mesh;
+  ASSERT_TRUE(after);
+  ASSERT_EQ(after->surface.n_vertices(), before->surface.n_vertices());
+  double largest = 0;
+  for (auto v : after->surface.vertices()) {
+    const Eigen::Vector3d d = toEigen(after->surface.point(v)) - toEigen(before->surface.point(v));
+    largest = std::max(largest, d.norm());
+    if (after->surface.is_boundary(v)) {
+      EXPECT_EQ(d.norm(), 0.0);
+    }
+  }
+  EXPECT_NEAR(largest, moved.norm(), 1e-9);  // the handle's vertex moves by the translation
+  // The drag is one edit.
+  QAction* undo = nullptr;
+  for (QAction* action : window.findChildren<QAction*>())
+    if (action->text().startsWith("&Undo")) undo = action;
+  ASSERT_NE(undo, nullptr);
+  EXPECT_EQ(undo->text(), "&Undo set edit.edits");
+  undo->trigger();
+  EXPECT_TRUE(std::get<std::vector<double>>(*window.document().param("edit", "edits")).empty());
+  ASSERT_TRUE(waitUntilIdle(window));
 }
 
 // Warnings of live evaluations reach the log when they appear (not only on F5), once while they
