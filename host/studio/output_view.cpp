@@ -1,6 +1,8 @@
 #include "output_view.hpp"
 
+#include <QImage>
 #include <QLabel>
+#include <QPixmap>
 #include <QVBoxLayout>
 #include <set>
 
@@ -9,28 +11,27 @@
 namespace geobrush::studio {
 namespace {
 
-MeshPtr meshAt(const Evaluator& evaluator, const Endpoint& output) {
-  return std::dynamic_pointer_cast<const Mesh>(evaluator.output(output.node, output.port));
-}
-
-// The node's first mesh output that holds a value.
-std::optional<Endpoint> firstMeshOutput(const Graph& graph, const NodeRegistry& registry,
-                                        const Evaluator& evaluator, const std::string& node) {
+// The node's first output of the type that holds a value.
+std::optional<Endpoint> firstOutput(const Graph& graph, const NodeRegistry& registry,
+                                    const Evaluator& evaluator, const std::string& node,
+                                    std::string_view typeId) {
   const auto it = graph.nodes.find(node);
   if (it == graph.nodes.end()) return std::nullopt;
   const NodeType* type = registry.find(it->second.type);
   if (!type) return std::nullopt;
   for (const PortDecl& port : type->outputs)
-    if (port.typeId == Mesh::kTypeId && meshAt(evaluator, {node, port.name}))
+    if (port.typeId == typeId && evaluator.output(node, port.name))
       return Endpoint{node, port.name};
   return std::nullopt;
 }
 
 }  // namespace
 
-std::optional<Endpoint> meshOutputToShow(const Graph& graph, const NodeRegistry& registry,
-                                         const Evaluator& evaluator, const std::string& selected) {
-  if (auto output = firstMeshOutput(graph, registry, evaluator, selected)) return output;
+std::optional<Endpoint> outputToShow(const Graph& graph, const NodeRegistry& registry,
+                                     const Evaluator& evaluator, const std::string& selected) {
+  if (auto output = firstOutput(graph, registry, evaluator, selected, Mesh::kTypeId)) return output;
+  if (auto output = firstOutput(graph, registry, evaluator, selected, Image::kTypeId))
+    return output;
   const auto makesMeshes = [&](const std::string& node) {
     const auto it = graph.nodes.find(node);
     const NodeType* type = it == graph.nodes.end() ? nullptr : registry.find(it->second.type);
@@ -45,7 +46,7 @@ std::optional<Endpoint> meshOutputToShow(const Graph& graph, const NodeRegistry&
     if (makesMeshes(c.to.node)) intermediate.insert({c.from.node, c.from.port});
   std::optional<Endpoint> result;
   for (const auto& [name, node] : graph.nodes) {
-    const auto output = firstMeshOutput(graph, registry, evaluator, name);
+    const auto output = firstOutput(graph, registry, evaluator, name, Mesh::kTypeId);
     if (output && !intermediate.count({output->node, output->port})) result = output;
   }
   return result;
@@ -55,11 +56,16 @@ OutputView::OutputView(StudioDocument& document, QWidget* parent)
     : QWidget(parent),
       document_(document),
       caption_(new QLabel(this)),
-      viewport_(new Viewport("Output", this)) {
+      viewport_(new Viewport("Output", this)),
+      image_(new QLabel(this)) {
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addWidget(caption_);
   layout->addWidget(viewport_, 1);
+  layout->addWidget(image_, 1);
+  image_->setAlignment(Qt::AlignCenter);
+  image_->setMinimumSize(240, 200);
+  image_->hide();
   showNothing();
   viewport_->onPointer = [this](const PointerEvent& event) { pointer(event); };
 }
@@ -108,12 +114,32 @@ void OutputView::showMesh(const Endpoint& output, MeshPtr mesh) {
   const bool another = shown_ != output;
   shown_ = output;
   caption_->setText(QString::fromStdString(output.node + "." + output.port));
+  image_->hide();
+  viewport_->show();
   viewport_->setSurface({std::move(mesh), {}});
   if (another) viewport_->frameAll();
 }
 
+void OutputView::showImage(const Endpoint& output, std::shared_ptr<const Image> image) {
+  shown_ = output;
+  caption_->setText(QString::fromStdString(output.node + "." + output.port));
+  const QImage picture(image->rgba.data(), image->width, image->height, 4 * image->width,
+                       QImage::Format_RGBA8888);
+  const QSize room = viewport_->isVisible() ? viewport_->size() : image_->size();
+  image_->setPixmap(
+      QPixmap::fromImage(picture.scaled(room, Qt::KeepAspectRatio, Qt::SmoothTransformation)));
+  viewport_->hide();
+  image_->show();
+}
+
+bool OutputView::showsImage() const {
+  return !image_->isHidden();
+}
+
 void OutputView::showNothing() {
   shown_.reset();
+  image_->hide();
+  viewport_->show();
   caption_->setText("Evaluate the graph (F5) to see its meshes here.");
   viewport_->setSurface({});
 }

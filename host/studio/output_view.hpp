@@ -1,11 +1,11 @@
 // The view of a graph without a clone: one node's mesh output in a viewport (orbit, pan and zoom
-// as in the clone's views), named above it. It shows the selected node's mesh, or where that
-// node has none the graph's result: the last node, in the graph's order, whose mesh output no
-// node that makes meshes reads (what is saved, rendered or measured). Where the mesh shown is a
-// geobrush.handle_edit's template, a left drag on it is a handle edit (Freeform surface
-// inpainting, section 5): the press adds an edit row whose handle is the point under the pointer,
-// and the drag moves the handle in the plane facing the view through it; the drag is one undoable
-// edit.
+// as in the clone's views), or its image, named above it. It shows the selected node's mesh (or
+// image, as the render node's), or where that node has neither the graph's result: the last node,
+// in the graph's order, whose mesh output no node that makes meshes reads (what is saved, rendered
+// or measured). Where the mesh shown is a geobrush.handle_edit's template, a left drag on it is a
+// handle edit (Freeform surface inpainting, section 5): the press adds an edit row whose handle is
+// the point under the pointer, and the drag moves the handle in the plane facing the view through
+// it; the drag is one undoable edit.
 #pragma once
 
 #include <QWidget>
@@ -15,6 +15,7 @@
 
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
+#include "geobrush/image.hpp"
 #include "geobrush/registry.hpp"
 #include "studio_document.hpp"
 #include "viewport.hpp"
@@ -23,10 +24,10 @@ class QLabel;
 
 namespace geobrush::studio {
 
-// The mesh output to show: the selected node's first mesh output with a value, else the graph's
-// result as above; none where the evaluator holds no such mesh.
-std::optional<Endpoint> meshOutputToShow(const Graph& graph, const NodeRegistry& registry,
-                                         const Evaluator& evaluator, const std::string& selected);
+// The output to show: the selected node's first mesh output with a value, else its first image
+// output with one, else the graph's result as above; none where the evaluator holds none of them.
+std::optional<Endpoint> outputToShow(const Graph& graph, const NodeRegistry& registry,
+                                     const Evaluator& evaluator, const std::string& selected);
 
 // A new handle's radius (the graph distance of the vertices it takes along) over the template's
 // bounding diagonal.
@@ -39,6 +40,9 @@ class OutputView : public QWidget {
   // Shows the mesh of `output`; framed anew when the output shown changes, kept framed while the
   // same output is shown again (a re-evaluated result does not move the view).
   void showMesh(const Endpoint& output, MeshPtr mesh);
+  // Shows the image of `output`, fitted to the view.
+  void showImage(const Endpoint& output, std::shared_ptr<const Image> image);
+  bool showsImage() const;
   // Shows nothing, saying how to get a mesh to show.
   void showNothing();
   const std::optional<Endpoint>& shown() const { return shown_; }
@@ -57,6 +61,7 @@ class OutputView : public QWidget {
   StudioDocument& document_;
   QLabel* caption_;
   Viewport* viewport_;
+  QLabel* image_;
   std::optional<Endpoint> shown_;
   std::optional<Eigen::Vector3d> handle_;  // where the handle being dragged was picked
 };

@@ -259,13 +259,14 @@ void StudioWindow::selectNode(const std::string& node) {
 }
 
 void StudioWindow::showOutput() {
-  const auto output = meshOutputToShow(document_.graph(), registry_, *evaluator_, selected_);
-  if (!output) {
+  const auto output = outputToShow(document_.graph(), registry_, *evaluator_, selected_);
+  const ValuePtr value = output ? evaluator_->output(output->node, output->port) : nullptr;
+  if (auto image = std::dynamic_pointer_cast<const Image>(value))
+    output_->showImage(*output, std::move(image));
+  else if (auto mesh = std::dynamic_pointer_cast<const Mesh>(value))
+    output_->showMesh(*output, std::move(mesh));
+  else
     output_->showNothing();
-    return;
-  }
-  output_->showMesh(*output, std::dynamic_pointer_cast<const Mesh>(
-                                 evaluator_->output(output->node, output->port)));
 }
 
 void StudioWindow::updateRoles() {

@@ -540,8 +540,8 @@ TEST(StudioWindow, TheNodeEditorFramesTheGraphAndZooms) {
 }
 
 // A graph without a clone shows a node's mesh: after F5 the graph's result (the mesh that is
-// saved and rendered), the selected node's mesh on a click, and a param edit of the node shown
-// re-evaluates it live.
+// saved and rendered), the selected node's mesh (or picture) on a click, and a param edit of the
+// node shown re-evaluates it live.
 TEST(StudioWindow, AGraphWithoutACloneShowsTheResultOrTheSelectedNodesMesh) {
   StudioWindow window(test::registry());
   window.resize(1200, 800);
@@ -574,9 +574,14 @@ TEST(StudioWindow, AGraphWithoutACloneShowsTheResultOrTheSelectedNodesMesh) {
   EXPECT_EQ(*output.shown(), (Endpoint{"shape", "mesh"}));
   EXPECT_EQ(output.viewport().surface().mesh,
             std::dynamic_pointer_cast<const Mesh>(window.evaluator().output("shape", "mesh")));
-  // A node without a mesh output shows the result again.
+  // The render node shows its picture; a node with neither a mesh nor an image, the result.
   window.selectNode("render");
+  EXPECT_EQ(*output.shown(), (Endpoint{"render", "image"}));
+  EXPECT_TRUE(output.showsImage());
+  EXPECT_EQ(output.caption(), "render.image");
+  window.selectNode("save");
   EXPECT_EQ(*output.shown(), (Endpoint{"pose", "mesh"}));
+  EXPECT_FALSE(output.showsImage());
 
   // Shown again and edited: the change reaches the view without F5.
   window.selectNode("shape");
