@@ -8,6 +8,7 @@
 #include <QMouseEvent>
 #include <QPainterPath>
 #include <QPen>
+#include <QResizeEvent>
 #include <QWheelEvent>
 #include <algorithm>
 #include <cmath>
@@ -109,6 +110,7 @@ NodeEditor::NodeEditor(const NodeRegistry& registry, QWidget* parent)
 }
 
 void NodeEditor::wheelEvent(QWheelEvent* event) {
+  framed_ = false;
   const double steps = event->angleDelta().y() / 120.0;
   const double zoom = std::clamp(transform().m11() * std::pow(1.15, steps), kFitScale, kMaxScale);
   const double by = zoom / transform().m11();
@@ -120,6 +122,12 @@ void NodeEditor::frameGraph() {
   const double scale = std::clamp(transform().m11(), kFitScale, 1.0);
   setTransform(QTransform::fromScale(scale, scale));
   centerOn(scene_.sceneRect().center());
+  framed_ = true;
+}
+
+void NodeEditor::resizeEvent(QResizeEvent* event) {
+  QGraphicsView::resizeEvent(event);
+  if (framed_) frameGraph();
 }
 
 std::vector<std::string> NodeEditor::selectedNodes() const {
@@ -135,6 +143,7 @@ bool NodeEditor::focusNode(const std::string& node) {
   if (box == boxes_.end()) return false;
   scene_.clearSelection();
   box->second->setSelected(true);
+  framed_ = false;
   if (transform().m11() < kMinScale) setTransform(QTransform::fromScale(kMinScale, kMinScale));
   centerOn(box->second);
   return true;

@@ -36,7 +36,8 @@ class NodeEditor : public QGraphicsView {
 
   // Rebuilds the scene from the document's graph and the statuses.
   void show(const StudioDocument& document, const std::map<std::string, NodeStatus>& statuses);
-  // The whole graph in view, as small as it takes (the wheel zooms in again).
+  // The whole graph in view, as small as it takes (the wheel zooms in again); kept framed as the
+  // view is resized, until the wheel zooms or a node is focused.
   void frameGraph();
   // Selects a node's box and scrolls to it at a readable size (a failing node); false where the
   // node has no box.
@@ -53,6 +54,7 @@ class NodeEditor : public QGraphicsView {
   void keyPressEvent(QKeyEvent* event) override;
   // Zooms toward the pointer.
   void wheelEvent(QWheelEvent* event) override;
+  void resizeEvent(QResizeEvent* event) override;
 
  private:
   const NodeRegistry& registry_;
@@ -64,6 +66,7 @@ class NodeEditor : public QGraphicsView {
   std::set<std::string> framedNodes_;     // the nodes shown when the view was last framed
   QGraphicsLineItem* pulling_ = nullptr;  // the line drawn while dragging from an output
   Endpoint pulledFrom_;
+  bool framed_ = false;  // the view shows the framed graph, not a zoom or a focused node
 };
 
 }  // namespace geobrush::studio

@@ -568,6 +568,15 @@ TEST(StudioWindow, AGraphWithoutACloneShowsTheResultOrTheSelectedNodesMesh) {
       covered += drawn.pixel(x, y) != background;
   EXPECT_GT(covered, drawn.width() * drawn.height() / 16 / 10);
   screenshot(window, "output_view.png");
+  // The node editor, framed as the graph opened, stays framed as the output view takes its share
+  // of the window: the graph fills its width or its height, or shows at full size.
+  NodeEditor& editor = window.editor();
+  const QRect graph = editor.mapFromScene(editor.sceneRect()).boundingRect();
+  const QSize room = editor.viewport()->size();
+  EXPECT_TRUE(graph.width() > 0.9 * room.width() || graph.height() > 0.9 * room.height() ||
+              editor.transform().m11() == 1.0)
+      << graph.width() << " x " << graph.height() << " in " << room.width() << " x "
+      << room.height();
 
   window.selectNode("shape");
   ASSERT_TRUE(output.shown());
