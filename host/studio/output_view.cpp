@@ -4,6 +4,7 @@
 #include <QLabel>
 #include <QPixmap>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <set>
 
 #include "geobrush/mesh.hpp"
@@ -11,19 +12,30 @@
 namespace geobrush::studio {
 namespace {
 
+const NodeType* typeOf(const Graph& graph, const NodeRegistry& registry, const std::string& node) {
+  const auto it = graph.nodes.find(node);
+  return it == graph.nodes.end() ? nullptr : registry.find(it->second.type);
+}
+
 // The node's first output of the type that holds a value.
 std::optional<Endpoint> firstOutput(const Graph& graph, const NodeRegistry& registry,
                                     const Evaluator& evaluator, const std::string& node,
                                     std::string_view typeId) {
-  const auto it = graph.nodes.find(node);
-  if (it == graph.nodes.end()) return std::nullopt;
-  const NodeType* type = registry.find(it->second.type);
+  const NodeType* type = typeOf(graph, registry, node);
   if (!type) return std::nullopt;
   for (const PortDecl& port : type->outputs)
     if (port.typeId == typeId && evaluator.output(node, port.name))
       return Endpoint{node, port.name};
   return std::nullopt;
 }
+
+bool makesMeshes(const NodeType* type) {
+  return type && std::any_of(type->outputs.begin(), type->outputs.end(),
+                             [](const PortDecl& port) { return port.typeId == Mesh::kTypeId; });
+}
+
+// A handle edit's row (handle_edit's `edits`): px, py, pz, radius, tx, ty, tz, ax, ay, az, angle.
+constexpr std::size_t kEditRowSize = 11, kEditTranslation = 4;
 
 }  // namespace
 
@@ -32,18 +44,11 @@ std::optional<Endpoint> outputToShow(const Graph& graph, const NodeRegistry& reg
   if (auto output = firstOutput(graph, registry, evaluator, selected, Mesh::kTypeId)) return output;
   if (auto output = firstOutput(graph, registry, evaluator, selected, Image::kTypeId))
     return output;
-  const auto makesMeshes = [&](const std::string& node) {
-    const auto it = graph.nodes.find(node);
-    const NodeType* type = it == graph.nodes.end() ? nullptr : registry.find(it->second.type);
-    if (!type) return false;
-    for (const PortDecl& port : type->outputs)
-      if (port.typeId == Mesh::kTypeId) return true;
-    return false;
-  };
   // Outputs that another mesh-making node reads: steps on the way, not the result.
   std::set<std::pair<std::string, std::string>> intermediate;
   for (const Connection& c : graph.connections)
-    if (makesMeshes(c.to.node)) intermediate.insert({c.from.node, c.from.port});
+    if (makesMeshes(typeOf(graph, registry, c.to.node)))
+      intermediate.insert({c.from.node, c.from.port});
   std::optional<Endpoint> result;
   for (const auto& [name, node] : graph.nodes) {
     const auto output = firstOutput(graph, registry, evaluator, name, Mesh::kTypeId);
@@ -86,10 +91,10 @@ void OutputView::pointer(const PointerEvent& event) {
     document_.beginGesture();
     rows.insert(rows.end(), {p.x(), p.y(), p.z(), radius, 0, 0, 0, 0, 0, 1, 0});
     error = document_.setParam(shown_->node, "edits", rows);
-  } else if (event.kind == PointerEvent::Move && handle_ && rows.size() >= 11) {
+  } else if (event.kind == PointerEvent::Move && handle_ && rows.size() >= kEditRowSize) {
     const auto t = dragTranslation(event.position);
     if (!t) return;
-    std::copy(t->data(), t->data() + 3, rows.end() - 7);
+    std::copy(t->data(), t->data() + 3, rows.end() - kEditRowSize + kEditTranslation);
     error = document_.setParam(shown_->node, "edits", rows);
   } else if (event.kind == PointerEvent::Release && handle_) {
     handle_.reset();

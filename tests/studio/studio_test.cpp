@@ -123,6 +123,13 @@ Eigen::Vector3d vec3Of(const StudioDocument& document, const std::string& node,
   return {value[0], value[1], value[2]};
 }
 
+// The Edit menu's Undo command.
+QAction* undoAction(StudioWindow& window) {
+  for (QAction* action : window.findChildren<QAction*>())
+    if (action->text().startsWith("&Undo")) return action;
+  return nullptr;
+}
+
 // Screenshots a person can look at, kept in the build tree.
 void screenshot(QWidget& widget, const std::string& name) {
   const std::filesystem::path dir = GEOBRUSH_SCREENSHOT_DIR;
@@ -313,9 +320,7 @@ TEST(StudioWindow, UndoSaysWhatItUndoes) {
   ASSERT_TRUE(window.openFile(QString::fromStdString(graphFile("relief_cube.json").string())));
   ASSERT_TRUE(waitUntilIdle(window));
   ASSERT_EQ(window.addNode("geobrush.load_mesh"), "");
-  QAction* undo = nullptr;
-  for (QAction* action : window.findChildren<QAction*>())
-    if (action->text().startsWith("&Undo")) undo = action;
+  QAction* undo = undoAction(window);
   ASSERT_NE(undo, nullptr);
   EXPECT_EQ(undo->text(), "&Undo add load_mesh");
   undo->trigger();
@@ -655,9 +660,7 @@ TEST(StudioWindow, DraggingOnAHandleEditsTemplateMovesAHandleLive) {
   }
   EXPECT_NEAR(largest, moved.norm(), 1e-9);  // the handle's vertex moves by the translation
   // The drag is one edit.
-  QAction* undo = nullptr;
-  for (QAction* action : window.findChildren<QAction*>())
-    if (action->text().startsWith("&Undo")) undo = action;
+  QAction* undo = undoAction(window);
   ASSERT_NE(undo, nullptr);
   EXPECT_EQ(undo->text(), "&Undo set edit.edits");
   undo->trigger();
