@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <type_traits>
 #include <utility>
 
@@ -302,6 +303,46 @@ struct Coefficients<float> {
   static const float* regular(const Level& level) { return level.single.regular.data(); }
 };
 
+// Whole 32-byte vectors of T (GCC's vector extension, which Clang honours too), for loops whose
+// shifted loads the compilers would otherwise carry from one iteration to the next as scalars and
+// then not vectorize. Lane by lane the arithmetic is the scalar code's, so results are the same.
+// Every function passing a vector is inlined into its kernel, so no vector crosses a call and the
+// baseline copy's calling convention (-Wpsabi, off for this file) never applies.
+template <typename T>
+struct Packed {
+  using Vector [[gnu::vector_size(32)]] = T;
+  static constexpr int width = int(sizeof(Vector) / sizeof(T));
+  [[gnu::always_inline]] static Vector load(const T* p) {
+    Vector v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  }
+  [[gnu::always_inline]] static void store(T* p, Vector v) { std::memcpy(p, &v, sizeof v); }
+  [[gnu::always_inline]] static Vector splat(T value) {
+    Vector v;
+    for (int k = 0; k < width; ++k)
+      v[k] = value;
+    return v;
+  }
+};
+
+// One T at a time, for the elements after the last whole vector.
+template <typename T>
+struct Single {
+  [[gnu::always_inline]] static T load(const T* p) { return *p; }
+  [[gnu::always_inline]] static void store(T* p, T v) { *p = v; }
+  [[gnu::always_inline]] static T splat(T value) { return value; }
+};
+
+// step(lanes, i) for i in [0, length): whole vectors from i = 0, then single elements.
+template <typename T, typename Step>
+[[gnu::always_inline]] inline void forEachLane(int length, Step&& step) {
+  int i = 0;
+  for (; i + Packed<T>::width <= length; i += Packed<T>::width)
+    step(Packed<T>{}, i);
+  for (; i < length; ++i)
+    step(Single<T>{}, i);
+}
 // The stencils: (S x) at node i of a padded array x with row stride s, one type per form of S,
 // each summing in its own fixed order. Always inlined: a call in the kernels' loops would stop
 // their vectorization.
@@ -360,62 +401,85 @@ struct WeightTaps {
 struct PaddedTaps {
   const float* weights;
   [[gnu::always_inline]] float at(const float* x, int i, int s) const {
-    std::array<float, kPaddedSide> lanes{};
+    using Lanes = Packed<float>;
+    static_assert(Lanes::width == kPaddedSide);
+    Lanes::Vector lanes = Lanes::splat(0.0f);
     for (int dy = -kReach; dy <= kReach; ++dy) {
       const float* row = x + i + dy * s - kReach;
-      const float* w = weights + (dy + kReach) * kPaddedSide;
-      for (int k = 0; k < kPaddedSide; ++k)
-        lanes[std::size_t(k)] += w[k] * row[k];
+      lanes += Lanes::load(weights + (dy + kReach) * kPaddedSide) * Lanes::load(row);
     }
     return ((lanes[0] + lanes[4]) + (lanes[2] + lanes[6])) +
            ((lanes[1] + lanes[5]) + (lanes[3] + lanes[7]));
   }
 };
 
+// A loop whose iterations write disjoint elements that no other iteration reads: the compiler
+// cannot prove it through the kernels' pointers. Clang's form also demands vectorization, which
+// an instrumented (AddressSanitizer) or unoptimized build cannot give.
+#if defined(__clang__)
+#if defined(__OPTIMIZE__) && !__has_feature(address_sanitizer)
+#define GEOBRUSH_INDEPENDENT_ITERATIONS _Pragma("clang loop vectorize(assume_safety)")
+#else
+#define GEOBRUSH_INDEPENDENT_ITERATIONS
+#endif
+#elif defined(__GNUC__)
+#define GEOBRUSH_INDEPENDENT_ITERATIONS _Pragma("GCC ivdep")
+#else
+#define GEOBRUSH_INDEPENDENT_ITERATIONS
+#endif
+
 // sum[i] = (S x)[center + i] for i < length, a grid row at a time: node by node for the
 // written-out stencils...
 template <typename Taps, typename T>
 [[gnu::always_inline]] inline void rowSums(const Taps& taps, const T* center, int length, int s,
                                            T* sum) {
+  GEOBRUSH_INDEPENDENT_ITERATIONS
   for (int i = 0; i < length; ++i)
     sum[i] = taps.at(center, i, s);
 }
 
-// ...and for 49 weights one stencil row at a time: seven weights in registers and seven streams,
-// which vectorizes well (several times faster than 49 taps per node), in the order of
-// WeightTaps::at.
+// ...and for 49 weights one stencil row at a time: seven weights and seven streams, in the order
+// of WeightTaps::at (several times faster than 49 taps per node).
 template <typename T>
 [[gnu::always_inline]] inline void rowSums(const WeightTaps<T>& taps, const T* center, int length,
                                            int s, T* sum) {
   if (taps.mirrored) {
     // The rows dy and -dy are added before they are weighted, and so are the columns dx and
     // -dx, which saves a third of the arithmetic.
-    const T* w = taps.weights + stencilSlot(0, 0);
-    const T a0 = w[0], a1 = w[1], a2 = w[2], a3 = w[3];
-    for (int i = 0; i < length; ++i)
-      sum[i] = a0 * center[i] + a1 * (center[i - 1] + center[i + 1]) +
-               a2 * (center[i - 2] + center[i + 2]) + a3 * (center[i - 3] + center[i + 3]);
+    const T* a = taps.weights + stencilSlot(0, 0);
+    forEachLane<T>(length, [&](auto lanes, int i) __attribute__((always_inline)) {
+      auto x = [&](int dx) __attribute__((always_inline)) { return lanes.load(center + i + dx); };
+      auto w = [&](int dx) __attribute__((always_inline)) { return lanes.splat(a[dx]); };
+      lanes.store(sum + i, w(0) * x(0) + w(1) * (x(-1) + x(1)) + w(2) * (x(-2) + x(2)) +
+                               w(3) * (x(-3) + x(3)));
+    });
     for (int dy = 1; dy <= kReach; ++dy) {
       const T* up = center - dy * s;
       const T* down = center + dy * s;
-      const T* v = taps.weights + stencilSlot(0, dy);
-      const T b0 = v[0], b1 = v[1], b2 = v[2], b3 = v[3];
-      for (int i = 0; i < length; ++i)
-        sum[i] += b0 * (up[i] + down[i]) +
-                  b1 * ((up[i - 1] + down[i - 1]) + (up[i + 1] + down[i + 1])) +
-                  b2 * ((up[i - 2] + down[i - 2]) + (up[i + 2] + down[i + 2])) +
-                  b3 * ((up[i - 3] + down[i - 3]) + (up[i + 3] + down[i + 3]));
+      const T* b = taps.weights + stencilSlot(0, dy);
+      forEachLane<T>(length, [&](auto lanes, int i) __attribute__((always_inline)) {
+        auto x = [&](int dx) __attribute__((always_inline)) {
+          return lanes.load(up + i + dx) + lanes.load(down + i + dx);
+        };
+        auto w = [&](int dx) __attribute__((always_inline)) { return lanes.splat(b[dx]); };
+        lanes.store(sum + i, lanes.load(sum + i) +
+                                 (w(0) * x(0) + w(1) * (x(-1) + x(1)) + w(2) * (x(-2) + x(2)) +
+                                  w(3) * (x(-3) + x(3))));
+      });
     }
     return;
   }
   std::fill(sum, sum + length, T(0));
   for (int dy = -kReach; dy <= kReach; ++dy) {
     const T* row = center + dy * s;
-    const T* w = taps.weights + stencilSlot(0, dy);
-    const T w0 = w[-3], w1 = w[-2], w2 = w[-1], w3 = w[0], w4 = w[1], w5 = w[2], w6 = w[3];
-    for (int i = 0; i < length; ++i)
-      sum[i] += w0 * row[i - 3] + w1 * row[i - 2] + w2 * row[i - 1] + w3 * row[i] +
-                w4 * row[i + 1] + w5 * row[i + 2] + w6 * row[i + 3];
+    const T* weights = taps.weights + stencilSlot(0, dy);
+    forEachLane<T>(length, [&](auto lanes, int i) __attribute__((always_inline)) {
+      auto x = [&](int dx) __attribute__((always_inline)) { return lanes.load(row + i + dx); };
+      auto w = [&](int dx) __attribute__((always_inline)) { return lanes.splat(weights[dx]); };
+      lanes.store(sum + i, lanes.load(sum + i) + (w(-3) * x(-3) + w(-2) * x(-2) + w(-1) * x(-1) +
+                                                  w(0) * x(0) + w(1) * x(1) + w(2) * x(2) +
+                                                  w(3) * x(3)));
+    });
   }
 }
 
@@ -456,15 +520,6 @@ template <typename Taps, typename T>
   return regular.at(x, node, level.grid.stride());
 }
 
-// use(i, sum) writes at node i alone and x is never written during a pass: the iterations of a
-// pass are independent, which the compiler cannot prove through use's pointers. (Clang's
-// equivalent, vectorize(assume_safety), also demands vectorization and fails the sanitizer
-// build's -O1, where the loops are not vectorized.)
-#if defined(__GNUC__) && !defined(__clang__)
-#define GEOBRUSH_INDEPENDENT_ITERATIONS _Pragma("GCC ivdep")
-#else
-#define GEOBRUSH_INDEPENDENT_ITERATIONS
-#endif
 
 // The one stencil kernel: (A x)_i over the level's row spans in order, each node's sum handed to
 // use(i, sum), and use.rowEnd(begin, end) after each span. A level whose every row is its
