@@ -447,25 +447,33 @@ template <typename T>
     // The rows dy and -dy are added before they are weighted, and so are the columns dx and
     // -dx, which saves a third of the arithmetic.
     const T* a = taps.weights + stencilSlot(0, 0);
-    forEachLane<T>(length, [&](auto lanes, int i) __attribute__((always_inline)) {
-      auto x = [&](int dx) __attribute__((always_inline)) { return lanes.load(center + i + dx); };
-      auto w = [&](int dx) __attribute__((always_inline)) { return lanes.splat(a[dx]); };
-      lanes.store(sum + i, w(0) * x(0) + w(1) * (x(-1) + x(1)) + w(2) * (x(-2) + x(2)) +
-                               w(3) * (x(-3) + x(3)));
-    });
+    forEachLane<T>(
+        length, [&](auto lanes, int i) __attribute__((always_inline)) {
+          auto x = [&](int dx) __attribute__((always_inline)) {
+            return lanes.load(center + i + dx);
+          };
+          auto w = [&](int dx) __attribute__((always_inline)) {
+            return lanes.splat(a[dx]);
+          };
+          lanes.store(sum + i, w(0) * x(0) + w(1) * (x(-1) + x(1)) + w(2) * (x(-2) + x(2)) +
+                                   w(3) * (x(-3) + x(3)));
+        });
     for (int dy = 1; dy <= kReach; ++dy) {
       const T* up = center - dy * s;
       const T* down = center + dy * s;
       const T* b = taps.weights + stencilSlot(0, dy);
-      forEachLane<T>(length, [&](auto lanes, int i) __attribute__((always_inline)) {
-        auto x = [&](int dx) __attribute__((always_inline)) {
-          return lanes.load(up + i + dx) + lanes.load(down + i + dx);
-        };
-        auto w = [&](int dx) __attribute__((always_inline)) { return lanes.splat(b[dx]); };
-        lanes.store(sum + i, lanes.load(sum + i) +
-                                 (w(0) * x(0) + w(1) * (x(-1) + x(1)) + w(2) * (x(-2) + x(2)) +
-                                  w(3) * (x(-3) + x(3))));
-      });
+      forEachLane<T>(
+          length, [&](auto lanes, int i) __attribute__((always_inline)) {
+            auto x = [&](int dx) __attribute__((always_inline)) {
+              return lanes.load(up + i + dx) + lanes.load(down + i + dx);
+            };
+            auto w = [&](int dx) __attribute__((always_inline)) {
+              return lanes.splat(b[dx]);
+            };
+            lanes.store(sum + i,
+                        lanes.load(sum + i) + (w(0) * x(0) + w(1) * (x(-1) + x(1)) +
+                                               w(2) * (x(-2) + x(2)) + w(3) * (x(-3) + x(3))));
+          });
     }
     return;
   }
@@ -473,13 +481,18 @@ template <typename T>
   for (int dy = -kReach; dy <= kReach; ++dy) {
     const T* row = center + dy * s;
     const T* weights = taps.weights + stencilSlot(0, dy);
-    forEachLane<T>(length, [&](auto lanes, int i) __attribute__((always_inline)) {
-      auto x = [&](int dx) __attribute__((always_inline)) { return lanes.load(row + i + dx); };
-      auto w = [&](int dx) __attribute__((always_inline)) { return lanes.splat(weights[dx]); };
-      lanes.store(sum + i, lanes.load(sum + i) + (w(-3) * x(-3) + w(-2) * x(-2) + w(-1) * x(-1) +
-                                                  w(0) * x(0) + w(1) * x(1) + w(2) * x(2) +
-                                                  w(3) * x(3)));
-    });
+    forEachLane<T>(
+        length, [&](auto lanes, int i) __attribute__((always_inline)) {
+          auto x = [&](int dx) __attribute__((always_inline)) {
+            return lanes.load(row + i + dx);
+          };
+          auto w = [&](int dx) __attribute__((always_inline)) {
+            return lanes.splat(weights[dx]);
+          };
+          lanes.store(sum + i, lanes.load(sum + i) +
+                                   (w(-3) * x(-3) + w(-2) * x(-2) + w(-1) * x(-1) + w(0) * x(0) +
+                                    w(1) * x(1) + w(2) * x(2) + w(3) * x(3)));
+        });
   }
 }
 
@@ -519,7 +532,6 @@ template <typename Taps, typename T>
   if (custom >= 0) return customTaps(level, custom, x).at(x, node, level.grid.stride());
   return regular.at(x, node, level.grid.stride());
 }
-
 
 // The one stencil kernel: (A x)_i over the level's row spans in order, each node's sum handed to
 // use(i, sum), and use.rowEnd(begin, end) after each span. A level whose every row is its
