@@ -13,7 +13,8 @@
 namespace geobrush {
 namespace {
 
-using nlohmann::json;
+// Objects keep the order of their keys: a file read keeps its order when written back.
+using json = nlohmann::ordered_json;
 
 // Graph files are kilobytes; a larger file is a wrong path (a device, a mesh, a log), and reading
 // it whole would cost its size in memory.
@@ -301,7 +302,7 @@ void rejectUnknownKeys(const Graph& graph, const std::string& node, const json& 
   }
 }
 
-GraphNode readNode(const Graph& graph, const std::string& name, const json& entry) {
+GraphNode readNode(Graph& graph, const std::string& name, const json& entry) {
   if (!entry.is_object()) throw GraphError(graph.file, name, "", "must be an object");
   rejectUnknownKeys(graph, name, entry, {"type", "typeVersion", "params"});
   GraphNode node;
@@ -310,7 +311,9 @@ GraphNode readNode(const Graph& graph, const std::string& name, const json& entr
   const auto params = entry.find("params");
   if (params == entry.end()) return node;
   if (!params->is_object()) throw GraphError(graph.file, name, "", "\"params\" must be an object");
+  std::vector<std::string>& order = graph.keyOrder.params[name];
   for (const auto& [param, value] : params->items()) {
+    order.push_back(param);
     try {
       node.params[param] = paramFromJson(value);
     } catch (const std::exception& e) {
@@ -334,6 +337,7 @@ void readNodes(Graph& graph, const json& root) {
     if (!validNodeName(name))
       throw GraphError(graph.file, name, "",
                        "node names may use only letters, digits, '_' and '-'");
+    graph.keyOrder.nodes.push_back(name);
     try {
       graph.nodes.emplace(name, readNode(graph, name, entry));
     } catch (const json::exception& e) {
@@ -363,6 +367,7 @@ void readUi(Graph& graph, const json& root) {
     throw GraphError(graph.file, "", "", "\"ui\" must be an object keyed by node name");
   for (const auto& [name, entry] : ui->items()) {
     if (!entry.is_object()) throw GraphError(graph.file, name, "", "ui entry must be an object");
+    graph.keyOrder.ui.push_back(name);
     try {
       graph.ui[name] = {uiCoordinate(graph, name, entry, "x"),
                         uiCoordinate(graph, name, entry, "y")};
@@ -370,6 +375,56 @@ void readUi(Graph& graph, const json& root) {
       throw unexpectedJson(graph, name, e);
     }
   }
+}
+
+// The keys of `map` in the order `order` names them (those it names that are still there), then
+// the others sorted: a graph read from a file is written back in the file's order.
+template <typename Map>
+std::vector<std::string> inFileOrder(const Map& map, const std::vector<std::string>& order) {
+  std::vector<std::string> keys;
+  std::set<std::string> placed;
+  for (const std::string& key : order)
+    if (map.count(key) && placed.insert(key).second) keys.push_back(key);
+  for (const auto& entry : map)
+    if (!placed.count(entry.first)) keys.push_back(entry.first);
+  return keys;
+}
+
+// A value without objects or arrays inside, as a node's params are not: written on one line.
+bool writtenOnOneLine(const json& value, const std::string& key) {
+  if (value.empty() || key == "params") return value.empty();
+  return std::all_of(value.begin(), value.end(),
+                     [](const json& item) { return item.is_primitive(); });
+}
+
+// Two-space indented JSON, as nlohmann's dump(2), except that a row of numbers (a vector, a dab),
+// a connection and a ui position take one line each: editing one changes one line of the file.
+void writeJson(const json& value, int indent, std::string& out, const std::string& key = {}) {
+  if (value.is_primitive()) {
+    out += value.dump();
+    return;
+  }
+  const bool object = value.is_object();
+  out += object ? '{' : '[';
+  if (writtenOnOneLine(value, key)) {
+    for (auto item = value.begin(); item != value.end(); ++item) {
+      if (item != value.begin()) out += ", ";
+      if (object) out += json(item.key()).dump() + ": ";
+      out += item->dump();
+    }
+    out += object ? '}' : ']';
+    return;
+  }
+  for (auto item = value.begin(); item != value.end(); ++item) {
+    out += item == value.begin() ? "\n" : ",\n";
+    out.append(std::size_t(indent + 2), ' ');
+    const std::string itemKey = object ? item.key() : std::string();
+    if (object) out += json(itemKey).dump() + ": ";
+    writeJson(*item, indent + 2, out, itemKey);
+  }
+  out += '\n';
+  out.append(std::size_t(indent), ' ');
+  out += object ? '}' : ']';
 }
 
 }  // namespace
@@ -419,17 +474,23 @@ Graph readGraphFile(const std::filesystem::path& path) {
   return parseGraph(text, path);
 }
 
-std::string serializeGraph(const Graph& graph, const NodeRegistry* registry) {
+std::string serializeGraph(const Graph& graph, const NodeRegistry* registry,
+                           DefaultParams defaults) {
   json root = json::object();
   root["format"] = kGraphFormat;
   root["formatVersion"] = kGraphFormatVersion;
   json nodes = json::object();
-  for (const auto& [name, node] : graph.nodes) {
+  for (const std::string& name : inFileOrder(graph.nodes, graph.keyOrder.nodes)) {
+    const GraphNode& node = graph.nodes.at(name);
     const NodeType* type = registry ? registry->find(node.type) : nullptr;
+    const auto paramOrder = graph.keyOrder.params.find(name);
     json params = json::object();
-    for (const auto& [param, value] : node.params) {
+    for (const std::string& param : inFileOrder(
+             node.params, paramOrder == graph.keyOrder.params.end() ? std::vector<std::string>{}
+                                                                    : paramOrder->second)) {
+      const ParamValue& value = node.params.at(param);
       const ParamDecl* decl = type ? type->findParam(param) : nullptr;
-      if (decl && decl->defaultValue == value) continue;
+      if (decl && defaults == DefaultParams::Omit && decl->defaultValue == value) continue;
       params[param] = paramToJson(value, decl ? decl->rowSize : 1);
     }
     json entry = {{"type", node.type}, {"typeVersion", node.typeVersion}};
@@ -444,16 +505,20 @@ std::string serializeGraph(const Graph& graph, const NodeRegistry* registry) {
   root["connections"] = connections;
   if (!graph.ui.empty()) {
     json ui = json::object();
-    for (const auto& [name, pos] : graph.ui)
+    for (const std::string& name : inFileOrder(graph.ui, graph.keyOrder.ui)) {
+      const UiPosition& pos = graph.ui.at(name);
       ui[name] = {{"x", pos.x}, {"y", pos.y}};
+    }
     root["ui"] = ui;
   }
-  return root.dump(2) + "\n";
+  std::string text;
+  writeJson(root, 0, text);
+  return text + "\n";
 }
 
 void writeGraphFile(const Graph& graph, const std::filesystem::path& path,
-                    const NodeRegistry* registry) {
-  const std::string text = serializeGraph(graph, registry);
+                    const NodeRegistry* registry, DefaultParams defaults) {
+  const std::string text = serializeGraph(graph, registry, defaults);
   try {
     writeFileAtomically(path, [&](const std::filesystem::path& tmp) {
       std::ofstream out(tmp, std::ios::binary);

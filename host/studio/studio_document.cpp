@@ -68,8 +68,8 @@ Graph StudioDocument::rebased(const std::filesystem::path& path) const {
 std::string StudioDocument::save(const std::filesystem::path& path) {
   Graph graph = rebased(path);
   try {
-    // Without the registry nothing is dropped: params are written as they are held.
-    writeGraphFile(graph, path);
+    // Params are written as they are held, defaults too; lists in the rows their params declare.
+    writeGraphFile(graph, path, &registry_, DefaultParams::Keep);
   } catch (const std::exception& e) {
     return path.string() + ": " + e.what();
   }

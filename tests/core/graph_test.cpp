@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "geobrush/graph.hpp"
@@ -70,6 +72,77 @@ TEST(GraphFile, RoundTripIsByteStableAndDropsDefaults) {
   EXPECT_EQ(serializeGraph(again, &test::testNodeRegistry()), once);
   EXPECT_EQ(again.connections, graph.connections);
   EXPECT_EQ(again.ui, graph.ui);
+}
+
+// A file in the writer's own layout, its nodes, params and ui entries out of name order.
+const char* kUnsortedGraph = R"({
+  "format": "geobrush-graph",
+  "formatVersion": 1,
+  "nodes": {
+    "zeta": {
+      "type": "test.number",
+      "typeVersion": 1,
+      "params": {
+        "value": 2.5,
+        "label": "z",
+        "list": [1.0, 2.0, 3.0],
+        "dabs": [
+          [0.5, 1.0, 1.5, 2.0],
+          [3.0, 4.0, 5.0, 6.0]
+        ]
+      }
+    },
+    "alpha": {"type": "test.number", "typeVersion": 1},
+    "mid": {"type": "test.add", "typeVersion": 2}
+  },
+  "connections": [
+    {"from": "zeta.value", "to": "mid.a"},
+    {"from": "alpha.value", "to": "mid.b"}
+  ],
+  "ui": {
+    "mid": {"x": 1.5, "y": 2.0},
+    "alpha": {"x": -3.0, "y": 4.0}
+  }
+}
+)";
+
+TEST(GraphFile, SavingKeepsTheFilesOrderAndLayout) {
+  Graph graph = parseGraph(kUnsortedGraph, "unsorted.json");
+  const std::string written = serializeGraph(graph);
+  EXPECT_NE(written.find("\"list\": [1.0, 2.0, 3.0]"), std::string::npos) << written;
+  // Without a declared row size the dabs are one list; the rest is the file, byte for byte.
+  EXPECT_EQ(
+      replaceOnce(written, "[0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0]",
+                  "[\n          [0.5, 1.0, 1.5, 2.0],\n          [3.0, 4.0, 5.0, 6.0]\n        ]"),
+      kUnsortedGraph);
+}
+
+TEST(GraphFile, AnEditChangesOnlyItsOwnLinesAndNewKeysFollowTheFilesOnes) {
+  Graph graph = parseGraph(kSumGraph, "sum.json");
+  const std::string before = serializeGraph(graph);
+  graph.nodes.at("b").params["value"] = 4.0;
+  graph.nodes.at("a").params["extra"] = std::int64_t(1);
+  graph.nodes["aa"] = GraphNode{"test.number", 1, {}};
+  const std::string after = serializeGraph(graph);
+  // In file order a, b, sum; the new node last although "aa" sorts before "b".
+  EXPECT_LT(after.find("\"a\":"), after.find("\"b\":"));
+  EXPECT_LT(after.find("\"sum\":"), after.find("\"aa\":"));
+  EXPECT_LT(after.find("\"value\": 2"), after.find("\"extra\": 1"));
+  // The lines that differ: b's value, a's new param (and the comma it adds), the new node.
+  auto lines = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+      out.push_back(line);
+    return out;
+  };
+  const auto old = lines(before), now = lines(after);
+  std::size_t unchanged = 0;
+  for (const std::string& line : old)
+    unchanged += std::count(now.begin(), now.end(), line) > 0;
+  // a's value and the sum node gain a comma; b's value changes.
+  EXPECT_EQ(old.size() - unchanged, 3u) << before << after;
+  EXPECT_EQ(now.size() - old.size(), 2u) << after;  // "extra"; the "aa" node
 }
 
 TEST(GraphFile, WritesAtomically) {

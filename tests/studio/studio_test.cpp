@@ -152,6 +152,37 @@ TEST(StudioDocument, SavingWhatWasOpenedIsByteStable) {
   EXPECT_EQ(again.graph().connections, document.graph().connections);
 }
 
+// A stroke adds one dab row to the file, one line, in the order and layout the file had.
+TEST(StudioDocument, SavingAStrokeAddsItsDabRowsAndChangesNothingElse) {
+  const auto dir = test::tempDir("studio-stroke-save");
+  const std::filesystem::path original = graphFile("clone_mountain_sphere.json");
+  const auto copy = dir / "clone.json";
+  std::filesystem::copy_file(original, copy);
+  StudioDocument document(test::registry());
+  ASSERT_EQ(document.open(copy), "");
+  const std::string strokes = "strokes";
+  ASSERT_EQ(document.graph().nodes.at(strokes).type, "geobrush.strokes");
+  auto dabs = std::get<std::vector<double>>(document.graph().nodes.at(strokes).params.at("dabs"));
+  dabs.insert(dabs.end(), {0.25, -0.5, 0.125, 1.0});
+  ASSERT_EQ(document.setParam(strokes, "dabs", dabs), "");
+  ASSERT_EQ(document.save(copy), "");
+  std::vector<std::string> before, after;
+  for (auto [file, lines] : {std::pair{original, &before}, {copy, &after}}) {
+    std::istringstream in(bytes(file));
+    for (std::string line; std::getline(in, line);)
+      lines->push_back(line);
+  }
+  ASSERT_EQ(after.size(), before.size() + 1);
+  std::size_t added = 0;
+  while (added < before.size() && before[added] == after[added])
+    ++added;
+  // The last row gains a comma; the new row follows it; the rest is unchanged.
+  EXPECT_EQ(after[added], before[added] + ",");
+  EXPECT_EQ(after[added + 1].substr(after[added + 1].find('[')), "[0.25, -0.5, 0.125, 1.0]");
+  EXPECT_TRUE(std::equal(before.begin() + std::ptrdiff_t(added) + 1, before.end(),
+                         after.begin() + std::ptrdiff_t(added) + 2));
+}
+
 TEST(StudioDocument, ANodeWithoutItsPluginStaysMarkedAndSavesBackUnchanged) {
   const auto dir = test::tempDir("studio-missing");
   Graph graph = readGraphFile(graphFile("relief_cube.json"));

@@ -45,6 +45,14 @@ struct Graph {
   std::map<std::string, GraphNode> nodes;  // keyed by stable name
   std::vector<Connection> connections;
   std::map<std::string, UiPosition> ui;
+  // The order of the nodes, of each node's params and of the ui entries in the file read: saving
+  // keeps it, and writes what it does not name after, sorted by name.
+  struct KeyOrder {
+    std::vector<std::string> nodes;
+    std::map<std::string, std::vector<std::string>> params;  // by node name
+    std::vector<std::string> ui;
+  };
+  KeyOrder keyOrder;
   // The file it was read from; relative paths in params resolve against its folder.
   std::filesystem::path file;
 
@@ -74,12 +82,18 @@ class GraphError : public std::runtime_error {
 // Reads and parses a graph file (no registry needed). Throws GraphError.
 Graph readGraphFile(const std::filesystem::path& path);
 Graph parseGraph(const std::string& json, const std::filesystem::path& file);
-// Writes the graph as stable, sorted JSON. With a registry, params equal to
-// their defaults are left out.
-std::string serializeGraph(const Graph& graph, const NodeRegistry* registry = nullptr);
+// Whether serializeGraph leaves out params equal to their declared defaults.
+enum class DefaultParams { Omit, Keep };
+// Writes the graph as JSON in the order of the file it was read from (see Graph::keyOrder; what
+// the file did not name, sorted), two-space indented, with a row of numbers, a connection and a
+// ui position on one line each. With a registry, list params are written in the rows they declare
+// (dabs of 4 numbers), and params equal to their defaults are left out unless `defaults` is Keep.
+std::string serializeGraph(const Graph& graph, const NodeRegistry* registry = nullptr,
+                           DefaultParams defaults = DefaultParams::Omit);
 // Atomic write of serializeGraph (temporary file, then rename).
 void writeGraphFile(const Graph& graph, const std::filesystem::path& path,
-                    const NodeRegistry* registry = nullptr);
+                    const NodeRegistry* registry = nullptr,
+                    DefaultParams defaults = DefaultParams::Omit);
 
 // Makes a parsed graph ready to evaluate against the loaded node types:
 // upgrades older typeVersions with the types' upgrade functions, converts
