@@ -6,6 +6,7 @@
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QLabel>
+#include <QLineF>
 #include <QSignalBlocker>
 #include <QSplitter>
 #include <QToolBar>
@@ -137,7 +138,7 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
   radius_->setValue(0.1);
   radius_->setToolTip(
       "In source mesh units: the shared domain keeps the source's distances ([ shrinks, ] "
-      "grows)");
+      "grows, R resizes it with the pointer)");
   toolBar_->addWidget(radius_);
   const std::pair<const char*, double> resizes[] = {{"Smaller brush", 1 / kBrushStep},
                                                     {"Larger brush", kBrushStep}};
@@ -148,6 +149,19 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
             [this, factor = factor] { setBrushRadius(brushRadius() * factor); });
     addAction(action);
   }
+  auto* resize = new QAction("Resize brush", this);
+  resize->setShortcut(QKeySequence(Qt::Key_R));
+  connect(resize, &QAction::triggered, this, [this] {
+    if (resize_)
+      endBrushResize(true);
+    else if (!beginBrushResize())
+      message("Point at a surface with the brush to resize it (R)");
+  });
+  addAction(resize);
+  auto* cancelResize = new QAction("Cancel brush resize", this);
+  cancelResize->setShortcut(QKeySequence(Qt::Key_Escape));
+  connect(cancelResize, &QAction::triggered, this, [this] { endBrushResize(false); });
+  addAction(cancelResize);
   connect(radius_, &QDoubleSpinBox::valueChanged, this, [this](double radius) {
     message(QString("Brush radius %1").arg(radius, 0, 'g', 4));
     updateOutlines();
@@ -355,7 +369,65 @@ void ClonePanel::apply(const std::string& error) {
   if (onEdited) onEdited(error);
 }
 
+void ClonePanel::trackPointer(Viewport* view, const PointerEvent& event) {
+  pointerView_ = event.kind == PointerEvent::Leave ? nullptr : view;
+  pointerPosition_ = event.position;
+}
+
+bool ClonePanel::brushResizeEvent(Viewport& view, const PointerEvent& event) {
+  if (resizeClick_) {
+    resizeClick_ = event.kind != PointerEvent::Release;
+    return true;
+  }
+  if (!resize_) return false;
+  if (event.kind == PointerEvent::Press) {
+    endBrushResize(true);
+    resizeClick_ = true;
+  } else if (&view == resize_->view && event.kind != PointerEvent::Leave) {
+    const double pixels = std::max(QLineF(resize_->centre, event.position).length(), 1.0);
+    setBrushRadius(resize_->startRadius * pixels / resize_->startPixels);
+    view.setNote(
+        Viewport::Note{event.position, QString("Radius %1").arg(brushRadius(), 0, 'g', 4)});
+  }
+  return true;
+}
+
+bool ClonePanel::beginBrushResize() {
+  if (resize_ || !pointerView_) return false;
+  const auto outline = brushOutline(*pointerView_);
+  const auto camera = pointerView_->camera();
+  if (!outline || !camera) return false;
+  // The disc's radius on the screen: its outline's mean distance from the pointer, its centre.
+  double sum = 0;
+  int count = 0;
+  for (const Eigen::Vector3d& point : outline->points) {
+    const auto at = point.allFinite() ? camera->project(point) : std::nullopt;
+    if (!at) continue;
+    sum += QLineF(pointerPosition_, QPointF(at->x(), at->y())).length();
+    ++count;
+  }
+  if (count == 0 || !(sum / count >= 1)) return false;
+  const double pixels = sum / count;
+  // Measured from a point one radius to the left: the pointer starts on the disc's edge.
+  resize_ = BrushResize{pointerView_, pointerPosition_ - QPointF(pixels, 0), brushRadius(), pixels};
+  pointerView_->setNote(
+      Viewport::Note{pointerPosition_, QString("Radius %1").arg(brushRadius(), 0, 'g', 4)});
+  message("Resizing the brush: move the pointer, click or R keeps the radius, Esc restores it");
+  return true;
+}
+
+void ClonePanel::endBrushResize(bool keep) {
+  if (!resize_) return;
+  const BrushResize ended = *resize_;
+  resize_.reset();
+  ended.view->setNote(std::nullopt);
+  if (!keep) setBrushRadius(ended.startRadius);
+  message(QString("Brush radius %1").arg(brushRadius(), 0, 'g', 4));
+}
+
 void ClonePanel::sourcePointer(const PointerEvent& event) {
+  trackPointer(source_, event);
+  if (brushResizeEvent(*source_, event)) return;
   if (event.kind == PointerEvent::Leave) return hover(std::nullopt, std::nullopt);
   if (event.kind == PointerEvent::Hover) {
     if (tool_ == CloneTool::PaintCanvas) return hover(std::nullopt, event.hit);
@@ -392,6 +464,8 @@ void ClonePanel::sourcePointer(const PointerEvent& event) {
 }
 
 void ClonePanel::targetPointer(const PointerEvent& event) {
+  trackPointer(target_, event);
+  if (brushResizeEvent(*target_, event)) return;
   if (event.kind == PointerEvent::Leave) return hover(std::nullopt, std::nullopt);
   if (event.kind == PointerEvent::Hover) {
     if (tool_ == CloneTool::PaintRegion && event.hit)
@@ -484,6 +558,19 @@ void ClonePanel::hover(const std::optional<Eigen::Vector2d>& uv,
   updateOutlines();
 }
 
+std::optional<Outline> ClonePanel::brushOutline(const Viewport& view) const {
+  const double radius = brushRadius();
+  const bool source = &view == source_;
+  if (hoverUv_ && tool_ == CloneTool::PaintRegion) {
+    // The same disc of the shared domain on both canvases.
+    const auto& locator = source ? view_.sourceLocator : view_.targetLocator;
+    if (locator) return Outline{domainCircle(*locator, *hoverUv_, radius), kBrush, 2};
+  }
+  if (hoverCanvas_ && tool_ == CloneTool::PaintCanvas && source)
+    return tangentCircle(*hoverCanvas_, radius, kEraser);
+  return std::nullopt;
+}
+
 void ClonePanel::updateOutlines() {
   std::vector<Outline> onSource, onTarget;
   const double radius = brushRadius();
@@ -497,15 +584,8 @@ void ClonePanel::updateOutlines() {
     for (Outline& o : originMarker(values.targetMap->origin, 2 * radius * values.targetMap->scale))
       onTarget.push_back(std::move(o));
   }
-  if (hoverUv_ && tool_ == CloneTool::PaintRegion) {
-    // The same disc of the shared domain on both canvases.
-    if (view_.sourceLocator)
-      onSource.push_back({domainCircle(*view_.sourceLocator, *hoverUv_, radius), kBrush, 2});
-    if (view_.targetLocator)
-      onTarget.push_back({domainCircle(*view_.targetLocator, *hoverUv_, radius), kBrush, 2});
-  }
-  if (hoverCanvas_ && tool_ == CloneTool::PaintCanvas)
-    onSource.push_back(tangentCircle(*hoverCanvas_, radius, kEraser));
+  if (auto brush = brushOutline(*source_)) onSource.push_back(std::move(*brush));
+  if (auto brush = brushOutline(*target_)) onTarget.push_back(std::move(*brush));
   source_->setOutlines(std::move(onSource));
   target_->setOutlines(std::move(onTarget));
 }

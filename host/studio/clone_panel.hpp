@@ -70,6 +70,13 @@ class ClonePanel : public QWidget {
   // In the units of the source mesh, which the shared domain keeps.
   void setBrushRadius(double radius);
   double brushRadius() const;
+  // Resizing the brush with the pointer (R, as Blender's F): the disc stays where it is shown and
+  // its edge follows the pointer (right grows it, left shrinks it), the radius written beside
+  // the pointer; a click or R keeps the new radius, Esc restores the old one. False where no
+  // brush is shown under the pointer.
+  bool beginBrushResize();
+  void endBrushResize(bool keep);
+  bool resizingBrush() const { return resize_.has_value(); }
 
   // Colours a viewport's surface by one of the live view's fields (its label), by its canvas (an
   // empty label), or not at all ("Plain"); false where the field does not fit the surface shown.
@@ -98,6 +105,12 @@ class ClonePanel : public QWidget {
   // The point of the target surface (not of the pasted detail) under a hit on the shown target.
   std::optional<Eigen::Vector3d> onTargetSurface(const SurfaceHit& hit) const;
   void hover(const std::optional<Eigen::Vector2d>& uv, const std::optional<SurfaceHit>& canvasHit);
+  // Where the pointer is, and over which view (none when it left both).
+  void trackPointer(Viewport* view, const PointerEvent& event);
+  // The events of a view while the brush is resized; true where they were the resize's.
+  bool brushResizeEvent(Viewport& view, const PointerEvent& event);
+  // The brush's disc as the view shows it, where it shows one.
+  std::optional<Outline> brushOutline(const Viewport& view) const;
   void updateOutlines();
   void updateLines();
   // The surfaces shown again with the chosen colours; the choices refilled from the live view.
@@ -126,6 +139,18 @@ class ClonePanel : public QWidget {
   std::optional<Eigen::Vector3d> lastPoint_;
   QPointF lastPosition_;
   QPointF originOffset_;  // target origin minus the pointer, on the screen, while dragging
+  Viewport* pointerView_ = nullptr;
+  QPointF pointerPosition_;
+  // The resize under way: its view, the screen point the disc's edge is measured from, and the
+  // radius and its length on the screen when it began.
+  struct BrushResize {
+    Viewport* view;
+    QPointF centre;
+    double startRadius;
+    double startPixels;
+  };
+  std::optional<BrushResize> resize_;
+  bool resizeClick_ = false;  // the press that ended a resize: its moves and release are its own
 };
 
 }  // namespace geobrush::studio

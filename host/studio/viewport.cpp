@@ -58,6 +58,11 @@ void Viewport::setOutlines(std::vector<Outline> outlines) {
   update();
 }
 
+void Viewport::setNote(std::optional<Note> note) {
+  note_ = std::move(note);
+  update();
+}
+
 void Viewport::setLines(std::vector<SurfaceLines> lines) {
   lines_ = std::move(lines);
   update();
@@ -201,6 +206,16 @@ void Viewport::paintEvent(QPaintEvent*) {
       painter.setPen(QPen(outline.color, outline.width));
       painter.drawPath(path);
     }
+  }
+  if (note_) {
+    // On a dark box, below and to the right of the point, kept inside the view.
+    QRectF box = painter.fontMetrics().boundingRect(note_->text).adjusted(-4, -2, 4, 2);
+    box.moveTopLeft(note_->at + QPointF(14, 14));
+    box.moveRight(std::min(box.right(), double(width() - 2)));
+    box.moveBottom(std::min(box.bottom(), double(height() - 2)));
+    painter.fillRect(box, QColor(20, 20, 24, 200));
+    painter.setPen(QColor(255, 220, 160));
+    painter.drawText(box, Qt::AlignCenter, note_->text);
   }
   painter.setPen(QColor(230, 230, 230));
   painter.drawText(rect().adjusted(8, 6, -8, -6), Qt::AlignLeft | Qt::AlignTop, title_);

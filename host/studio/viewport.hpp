@@ -60,6 +60,13 @@ class Viewport : public QWidget {
   const std::vector<SurfaceLines>& lines() const { return lines_; }
   void setLegend(std::optional<Legend> legend);
   const std::optional<Legend>& legend() const { return legend_; }
+  // A line of text drawn beside a window position (the brush radius while it is resized).
+  struct Note {
+    QPointF at;
+    QString text;
+  };
+  void setNote(std::optional<Note> note);
+  const std::optional<Note>& note() const { return note_; }
   // Frames the shown surface again, from the default direction.
   void resetView();
   // Frames the box (a part of the surface: the paste, the canvas), looking from where the view
@@ -101,6 +108,7 @@ class Viewport : public QWidget {
   QString title_;
   ShownSurface surface_;
   std::optional<Legend> legend_;
+  std::optional<Note> note_;
   std::optional<RenderFrame> frame_;
   RenderView view_;
   std::vector<Outline> outlines_;

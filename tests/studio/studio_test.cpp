@@ -455,6 +455,77 @@ TEST(StudioWindow, TheBrushRadiusStepsWithItsSizeAndFollowsTheBracketKeys) {
   ASSERT_TRUE(waitUntilIdle(window));
 }
 
+// R resizes the brush with the pointer, which starts on the disc's edge: its distance from a point
+// one disc radius to the left sets the radius, written beside the pointer. Esc restores the radius,
+// a click keeps it, and neither paints.
+TEST(StudioWindow, RResizesTheBrushWithThePointer) {
+  StudioWindow window(test::registry());
+  ASSERT_TRUE(openShown(window, "clone_ear_cube_edge.json"));
+  auto& panel = window.clonePanel();
+  const auto roles = panel.roles();
+  const StudioDocument& document = window.document();
+  Viewport& target = panel.targetView();
+  panel.setTool(CloneTool::PaintRegion);
+  panel.setBrushRadius(0.05);
+  const std::vector<double> dabs = dabsOf(document, roles.strokes);
+  const QPoint at = onScreen(target, vec3Of(document, roles.targetMap, "origin"));
+  QTest::mouseMove(&target, at);
+  ASSERT_FALSE(target.outlines().empty());
+  // The disc's radius on the screen, from its outline (the last one drawn).
+  const auto camera = target.camera();
+  ASSERT_TRUE(camera);
+  double sum = 0;
+  int count = 0;
+  for (const Eigen::Vector3d& point : target.outlines().back().points) {
+    const auto p = point.allFinite() ? camera->project(point) : std::nullopt;
+    if (!p) continue;
+    sum += std::hypot(p->x() - at.x(), p->y() - at.y());
+    ++count;
+  }
+  ASSERT_GT(count, 0);
+  const double pixels = sum / count;
+  ASSERT_GT(pixels, 2.0);
+
+  // The radius box holds the radius to its decimals.
+  auto* box = window.findChild<QDoubleSpinBox*>("brushRadius");
+  ASSERT_NE(box, nullptr);
+  const double held = 0.5 * std::pow(10.0, -box->decimals());
+  QTest::keyClick(&window, Qt::Key_R);
+  ASSERT_TRUE(panel.resizingBrush());
+  ASSERT_TRUE(target.note());
+  QTest::mouseMove(&target, at + QPoint(10, 0));
+  EXPECT_NEAR(panel.brushRadius(), 0.05 * (pixels + 10) / pixels, held);
+  QTest::mouseMove(&target, at + QPoint(-1, 0));
+  EXPECT_NEAR(panel.brushRadius(), 0.05 * (pixels - 1) / pixels, held);
+  ASSERT_TRUE(target.note());
+  EXPECT_TRUE(target.note()->text.contains(QString::number(panel.brushRadius(), 'g', 4)))
+      << target.note()->text.toStdString();
+  QTest::keyClick(&window, Qt::Key_Escape);
+  EXPECT_FALSE(panel.resizingBrush());
+  EXPECT_FALSE(target.note());
+  EXPECT_EQ(panel.brushRadius(), 0.05);
+
+  QTest::mouseMove(&target, at);
+  QTest::keyClick(&window, Qt::Key_R);
+  ASSERT_TRUE(panel.resizingBrush());
+  QTest::mouseMove(&target, at + QPoint(20, 0));
+  const double grown = panel.brushRadius();
+  EXPECT_NEAR(grown, 0.05 * (pixels + 20) / pixels, held);
+  screenshot(target, "brush_resize.png");
+  QTest::mouseClick(&target, Qt::LeftButton, {}, at + QPoint(20, 0));
+  EXPECT_FALSE(panel.resizingBrush());
+  EXPECT_FALSE(target.note());
+  EXPECT_EQ(panel.brushRadius(), grown);
+  EXPECT_EQ(dabsOf(document, roles.strokes), dabs);
+  // Without a brush under the pointer R says so and changes nothing.
+  QTest::mouseMove(&target, QPoint(2, target.height() - 2));
+  QTest::keyClick(&window, Qt::Key_R);
+  EXPECT_FALSE(panel.resizingBrush());
+  EXPECT_TRUE(window.statusBar()->currentMessage().contains("resize"))
+      << window.statusBar()->currentMessage().toStdString();
+  ASSERT_TRUE(waitUntilIdle(window));
+}
+
 // A clone opens framed on the paste, not on the whole target (Home frames it all, F the paste
 // again); the wheel zooms toward the pointer: the point under it stays there.
 TEST(StudioWindow, OpensFramedOnThePasteAndZoomsTowardThePointer) {
