@@ -12,8 +12,10 @@
 #include "geobrush/render.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -21,6 +23,15 @@
 #include "render_scene.hpp"
 
 namespace geobrush {
+
+// What a render keeps of a mesh it has checked, whatever the camera: its bounding box, and its
+// geometry around the last centre it was drawn about.
+struct Renderer::KeptMesh {
+  MeshPtr mesh;
+  Eigen::AlignedBox3d box;
+  std::shared_ptr<const detail::SceneMesh> geometry;
+};
+
 namespace detail {
 namespace {
 
@@ -80,11 +91,10 @@ void checkItem(const RenderItem& item, std::size_t index) {
   }
 }
 
-Eigen::AlignedBox3d boundingBox(const std::vector<RenderItem>& items) {
+Eigen::AlignedBox3d meshBox(const TriMesh& surface) {
   Eigen::AlignedBox3d box;
-  for (const RenderItem& item : items)
-    for (auto v : item.mesh->surface.vertices())
-      box.extend(toEigen(item.mesh->surface.point(v)));
+  for (auto v : surface.vertices())
+    box.extend(toEigen(surface.point(v)));
   return box;
 }
 
@@ -150,8 +160,10 @@ struct Framing {
   double clipRadius = 0;
 };
 
-Framing frameItems(const std::vector<RenderItem>& items, const RenderOptions& options) {
-  const Eigen::AlignedBox3d box = boundingBox(items);
+Framing frameItems(const std::vector<Eigen::AlignedBox3d>& boxes, const RenderOptions& options) {
+  Eigen::AlignedBox3d box;
+  for (const Eigen::AlignedBox3d& itemBox : boxes)
+    box.extend(itemBox);
   const double boxRadius = 0.5 * box.diagonal().norm();
   Framing framing{box.center(), boxRadius, boxRadius};
   if (options.frame) {
@@ -164,14 +176,36 @@ Framing frameItems(const std::vector<RenderItem>& items, const RenderOptions& op
   return framing;
 }
 
-// The checks and the camera that every render and renderCamera() share.
+using KeptGeometry = Renderer::KeptMesh;
+
+// The checks and the camera that every render and camera share, for items whose meshes `kept`
+// holds checked (one entry per item, in order; a new one where the mesh was not kept).
 std::pair<Framing, Camera> prepareCamera(const std::vector<RenderItem>& items,
-                                         const RenderOptions& options) {
+                                         const RenderOptions& options,
+                                         std::vector<KeptGeometry>& kept) {
   checkOptions(options);
   if (items.empty()) fail("there is nothing to draw (no items)");
-  for (std::size_t i = 0; i < items.size(); ++i)
+  std::vector<KeptGeometry> current;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    // The same item's entry first: one mesh may be drawn twice, in two colours.
+    auto same = i < kept.size() && kept[i].mesh == items[i].mesh ? kept.begin() + std::ptrdiff_t(i)
+                                                                 : kept.end();
+    if (same == kept.end())
+      same = std::find_if(kept.begin(), kept.end(), [&](const KeptGeometry& k) {
+        return items[i].mesh && k.mesh == items[i].mesh;
+      });
+    if (same != kept.end()) {
+      current.push_back(*same);
+      continue;
+    }
     checkItem(items[i], i);
-  const Framing framing = frameItems(items, options);
+    current.push_back({items[i].mesh, meshBox(items[i].mesh->surface), nullptr});
+  }
+  kept = std::move(current);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (const KeptGeometry& k : kept)
+    boxes.push_back(k.box);
+  const Framing framing = frameItems(boxes, options);
   return {framing, fitCamera(framing.radius, framing.clipRadius, options.view, options.width,
                              options.height)};
 }
@@ -198,60 +232,49 @@ std::vector<Eigen::Vector3d> vertexNormals(const TriMesh& surface) {
   return normals;
 }
 
-// Homogeneous window coordinates (pixels, y down) of each corner; the line
-// through two of them is their cross product, even for a corner behind the eye.
-std::array<std::array<float, 3>, 3> edgeLines(const std::array<Eigen::Vector3d, 3>& points,
-                                              const Camera& camera, int width, int height) {
-  std::array<Eigen::Vector3d, 3> window;
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector4d clip = camera.viewProjection * points[k].homogeneous();
-    window[k] = {0.5 * (clip.x() + clip.w()) * width, 0.5 * (clip.y() + clip.w()) * height,
-                 clip.w()};
-  }
-  std::array<std::array<float, 3>, 3> lines;
-  for (int k = 0; k < 3; ++k) {
-    Eigen::Vector3d line = window[(k + 1) % 3].cross(window[(k + 2) % 3]);
-    // An edge seen end-on gives a zero line, but its triangle covers no pixel.
-    line /= std::max(line.head<2>().norm(), std::numeric_limits<double>::min());
-    lines[k] = toFloats(line);
-  }
-  return lines;
+// The unit vector along v in float; zero where v has no length.
+std::array<float, 3> unitOrZero(const Eigen::Vector3d& v) {
+  return v.squaredNorm() > 0 ? toFloats(v.normalized()) : std::array<float, 3>{};
 }
 
-void appendTriangles(const RenderItem& item, const Eigen::Vector3d& centre, const Camera& camera,
-                     int width, int height, std::vector<SceneVertex>& out) {
+std::shared_ptr<const SceneMesh> buildSceneMesh(const RenderItem& item,
+                                                const Eigen::Vector3d& centre) {
+  auto built = std::make_shared<SceneMesh>();
+  SceneMesh& out = *built;
   const TriMesh& surface = item.mesh->surface;
   const auto& colors = item.mesh->vertexColors;
-  const std::vector<Eigen::Vector3d> normals = vertexNormals(surface);
-  const float wire = item.wireframe ? 1.0f : 0.0f;
-  for (auto f : surface.faces()) {
-    std::array<TriMesh::VertexHandle, 3> corners;
-    std::array<Eigen::Vector3d, 3> points;
-    int k = 0;
-    for (auto v : surface.fv_range(f)) {
-      corners[k] = v;
-      points[k++] = toEigen(surface.point(v)) - centre;
-    }
-    const Eigen::Vector3d faceNormal = (points[1] - points[0]).cross(points[2] - points[0]);
-    // Two-sided lighting: a triangle seen from behind is lit as its other side.
-    const double side = faceNormal.dot(camera.eye - points[0]) < 0 ? -1 : 1;
-    // Only a wireframe reads the edge lines (weighted by 0 elsewhere).
-    const auto lines = item.wireframe ? edgeLines(points, camera, width, height)
-                                      : std::array<std::array<float, 3>, 3>{};
-    for (k = 0; k < 3; ++k) {
-      // Where degenerate faces leave no normal: the face's own, else the view direction.
-      Eigen::Vector3d normal = normals[corners[k].idx()];
-      if (normal.squaredNorm() == 0) normal = faceNormal;
-      normal = normal.squaredNorm() > 0 ? Eigen::Vector3d(side * normal.normalized()) : camera.back;
-      SceneVertex vertex;
-      vertex.position = toFloats(points[k]);
-      vertex.normal = toFloats(normal);
-      vertex.color = colors.empty() ? item.color : colors[corners[k].idx()];
-      vertex.edgeLines = lines;
-      vertex.wireframe = wire;
-      out.push_back(vertex);
-    }
+  out.mesh = item.mesh;
+  out.color = item.color;
+  out.centre = centre;
+  const std::size_t vertices = surface.n_vertices();
+  out.points.resize(vertices);
+  out.positions.resize(vertices);
+  out.colors.resize(vertices);
+  for (std::size_t v = 0; v < vertices; ++v) {
+    out.points[v] = toEigen(surface.point(TriMesh::VertexHandle(int(v)))) - centre;
+    out.positions[v] = toFloats(out.points[v]);
+    out.colors[v] = colors.empty() ? item.color : colors[v];
   }
+  out.normals.resize(vertices);
+  const std::vector<Eigen::Vector3d> sums = vertexNormals(surface);
+  for (std::size_t v = 0; v < vertices; ++v)
+    out.normals[v] = unitOrZero(sums[v]);
+  out.faces.reserve(surface.n_faces());
+  out.faceNormals.reserve(surface.n_faces());
+  out.faceUnits.reserve(surface.n_faces());
+  for (auto f : surface.faces()) {
+    std::array<int, 3> corners;
+    int k = 0;
+    for (auto v : surface.fv_range(f))
+      corners[k++] = v.idx();
+    const Eigen::Vector3d& p0 = out.points[std::size_t(corners[0])];
+    const Eigen::Vector3d normal =
+        (out.points[std::size_t(corners[1])] - p0).cross(out.points[std::size_t(corners[2])] - p0);
+    out.faces.push_back(corners);
+    out.faceNormals.push_back(normal);
+    out.faceUnits.push_back(unitOrZero(normal));
+  }
+  return built;
 }
 
 ShadingConstants shadingConstants(const Camera& camera) {
@@ -270,22 +293,88 @@ ShadingConstants shadingConstants(const Camera& camera) {
 
 }  // namespace
 
-std::uint8_t toUnorm8(float value) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * 255.0f));
+std::size_t Scene::triangles() const {
+  std::size_t count = 0;
+  for (const SceneItem& item : items)
+    count += item.mesh->faces.size();
+  return count;
 }
 
-Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& options) {
-  const auto [framing, camera] = prepareCamera(items, options);
+float visibleSide(const Scene& scene, const SceneMesh& mesh, std::size_t face) {
+  const Eigen::Vector3d& p0 = mesh.points[std::size_t(mesh.faces[face][0])];
+  return mesh.faceNormals[face].dot(scene.eye - p0) < 0 ? -1.0f : 1.0f;
+}
+
+std::array<float, 3> cornerNormal(const Scene& scene, const SceneMesh& mesh, std::size_t face,
+                                  int k, float side) {
+  constexpr std::array<float, 3> kNone{};
+  std::array<float, 3> normal = mesh.normals[std::size_t(mesh.faces[face][std::size_t(k)])];
+  if (normal == kNone) normal = mesh.faceUnits[face];
+  if (normal == kNone) return toFloats(scene.back);
+  return {side * normal[0], side * normal[1], side * normal[2]};
+}
+
+std::array<std::array<float, 3>, 3> edgeLines(const Scene& scene, const SceneMesh& mesh,
+                                              std::size_t face) {
+  // Homogeneous window coordinates (pixels, y down) of each corner; the line through two of them
+  // is their cross product, even for a corner behind the eye.
+  std::array<Eigen::Vector3d, 3> window;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d& point = mesh.points[std::size_t(mesh.faces[face][std::size_t(k)])];
+    const Eigen::Vector4d clip = scene.viewProjection * point.homogeneous();
+    window[k] = {0.5 * (clip.x() + clip.w()) * scene.width,
+                 0.5 * (clip.y() + clip.w()) * scene.height, clip.w()};
+  }
+  std::array<std::array<float, 3>, 3> lines;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Vector3d line = window[(k + 1) % 3].cross(window[(k + 2) % 3]);
+    // An edge seen end-on gives a zero line, but its triangle covers no pixel.
+    line /= std::max(line.head<2>().norm(), std::numeric_limits<double>::min());
+    lines[k] = toFloats(line);
+  }
+  return lines;
+}
+
+void writeCorners(const Scene& scene, SceneVertex* out) {
+  for (const SceneItem& item : scene.items) {
+    const SceneMesh& mesh = *item.mesh;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+      const float side = visibleSide(scene, mesh, f);
+      // Only a wireframe reads the edge lines (weighted by 0 elsewhere).
+      const auto lines =
+          item.wireframe ? edgeLines(scene, mesh, f) : std::array<std::array<float, 3>, 3>{};
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t v = std::size_t(mesh.faces[f][std::size_t(k)]);
+        SceneVertex& vertex = *out++;
+        vertex.position = mesh.positions[v];
+        vertex.normal = cornerNormal(scene, mesh, f, k, side);
+        vertex.color = mesh.colors[v];
+        vertex.edgeLines = lines;
+        vertex.wireframe = item.wireframe ? 1.0f : 0.0f;
+      }
+    }
+  }
+}
+
+namespace {
+
+// The scene of one render: the kept geometry where it was drawn in the same colour around the same
+// centre, else built anew (and kept).
+Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& options,
+                   std::vector<KeptGeometry>& kept) {
+  const auto [framing, camera] = prepareCamera(items, options, kept);
   Scene scene;
   scene.width = options.width;
   scene.height = options.height;
-  // Reserved whole: grown by doubling, a large mesh's corners would be copied several times.
-  std::size_t corners = 0;
-  for (const RenderItem& item : items)
-    corners += 3 * item.mesh->surface.n_faces();
-  scene.vertices.reserve(corners);
-  for (const RenderItem& item : items)
-    appendTriangles(item, framing.center, camera, scene.width, scene.height, scene.vertices);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    std::shared_ptr<const SceneMesh>& geometry = kept[i].geometry;
+    if (!geometry || geometry->centre != framing.center || geometry->color != items[i].color)
+      geometry = buildSceneMesh(items[i], framing.center);
+    scene.items.push_back({geometry, items[i].wireframe});
+  }
+  scene.eye = camera.eye;
+  scene.back = camera.back;
+  scene.viewProjection = camera.viewProjection;
   scene.constants = shadingConstants(camera);
   for (int c = 0; c < 3; ++c)
     scene.background[c] = toUnorm8(options.background[c]);
@@ -293,6 +382,34 @@ Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& op
   return scene;
 }
 
+RenderResult draw(const Scene& scene, RenderBackend backend) {
+  gpu::VulkanContext* context =
+      backend == RenderBackend::Cpu ? nullptr : gpu::VulkanContext::shared();
+  if (backend == RenderBackend::Vulkan && !context)
+    throw std::runtime_error("renderMeshes: the Vulkan backend is unavailable: " +
+                             gpu::VulkanContext::unavailableReason());
+  // Auto falls back to the CPU twin; the result names the backend that drew.
+  if (context) {
+    try {
+      return {renderVulkan(scene, *context), "vulkan", context->deviceName()};
+    } catch (const std::exception&) {
+      if (backend == RenderBackend::Vulkan) throw;
+    }
+  }
+  return {renderCpu(scene), "cpu", "cpu rasterizer"};
+}
+
+RenderCamera publicCamera(const Framing& framing, const Camera& camera,
+                          const RenderOptions& options) {
+  // The scene is drawn relative to the framed centre (float precision); the public camera
+  // takes world points.
+  Eigen::Matrix4d toCentre = Eigen::Matrix4d::Identity();
+  toCentre.block<3, 1>(0, 3) = -framing.center;
+  return {camera.viewProjection * toCentre, camera.eye + framing.center, options.width,
+          options.height};
+}
+
+}  // namespace
 }  // namespace detail
 
 double framedRadiiPerPixel(const RenderView& view, int width, int height) {
@@ -302,13 +419,22 @@ double framedRadiiPerPixel(const RenderView& view, int width, int height) {
 }
 
 RenderCamera renderCamera(const std::vector<RenderItem>& items, const RenderOptions& options) {
-  const auto [framing, camera] = detail::prepareCamera(items, options);
-  // The scene is drawn relative to the framed centre (float precision); the public camera
-  // takes world points.
-  Eigen::Matrix4d toCentre = Eigen::Matrix4d::Identity();
-  toCentre.block<3, 1>(0, 3) = -framing.center;
-  return {camera.viewProjection * toCentre, camera.eye + framing.center, options.width,
-          options.height};
+  std::vector<Renderer::KeptMesh> none;
+  const auto [framing, camera] = detail::prepareCamera(items, options, none);
+  return detail::publicCamera(framing, camera, options);
+}
+
+Renderer::Renderer() = default;
+Renderer::~Renderer() = default;
+
+RenderResult Renderer::render(const std::vector<RenderItem>& items, const RenderOptions& options) {
+  const detail::Scene scene = detail::prepareScene(items, options, kept_);
+  return detail::draw(scene, options.backend);
+}
+
+RenderCamera Renderer::camera(const std::vector<RenderItem>& items, const RenderOptions& options) {
+  const auto [framing, camera] = detail::prepareCamera(items, options, kept_);
+  return detail::publicCamera(framing, camera, options);
 }
 
 std::optional<Eigen::Vector3d> RenderCamera::project(const Eigen::Vector3d& point) const {
@@ -328,21 +454,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> RenderCamera::ray(double x, double y
 }
 
 RenderResult renderMeshes(const std::vector<RenderItem>& items, const RenderOptions& options) {
-  const detail::Scene scene = detail::prepareScene(items, options);
-  gpu::VulkanContext* context =
-      options.backend == RenderBackend::Cpu ? nullptr : gpu::VulkanContext::shared();
-  if (options.backend == RenderBackend::Vulkan && !context)
-    throw std::runtime_error("renderMeshes: the Vulkan backend is unavailable: " +
-                             gpu::VulkanContext::unavailableReason());
-  // Auto falls back to the CPU twin; the result names the backend that drew.
-  if (context) {
-    try {
-      return {detail::renderVulkan(scene, *context), "vulkan", context->deviceName()};
-    } catch (const std::exception&) {
-      if (options.backend == RenderBackend::Vulkan) throw;
-    }
-  }
-  return {detail::renderCpu(scene), "cpu", "cpu rasterizer"};
+  return Renderer().render(items, options);
 }
 
 }  // namespace geobrush

@@ -8,6 +8,9 @@
 #include <cstdint>
 #include <limits>
 
+#include <thread>
+
+#include "geobrush/parallel.hpp"
 #include "render_scene.hpp"
 
 namespace geobrush::detail {
@@ -75,43 +78,73 @@ std::int64_t ceilDiv(std::int64_t a, std::int64_t b) {
   return -floorDiv(-a, b);
 }
 
+// The rows [rowBegin, rowEnd) of a render: every triangle in draw order, each pixel shaded by
+// the nearest so far. Bands of rows are independent, so that they can be drawn at once.
 class Rasterizer {
  public:
-  explicit Rasterizer(const Scene& scene)
+  // clips[i][v]: vertex v of item i in clip space; windowY the same vertex's window row (NaN
+  // behind the eye).
+  struct Vertices {
+    std::vector<std::vector<Eigen::Vector4f>> clips;
+    std::vector<std::vector<float>> windowY;
+  };
+
+  Rasterizer(const Scene& scene, const Vertices& vertices, Image& image, std::vector<float>& depth,
+             int rowBegin, int rowEnd)
       : scene_(scene),
-        image_(scene.width, scene.height),
-        depth_(std::size_t(scene.width) * scene.height, 1.0f) {
-    for (std::size_t i = 0; i < depth_.size(); ++i)
-      std::copy(scene.background.begin(), scene.background.end(), &image_.rgba[4 * i]);
+        vertices_(vertices),
+        image_(image),
+        depth_(depth),
+        rowBegin_(rowBegin),
+        rowEnd_(rowEnd) {
     const auto& k = scene.constants;
     headlight_ = Eigen::Vector4f(k.headlight.data());
     fillLight_ = Eigen::Vector4f(k.fillLight.data());
     ambient_ = k.material[0];
     edgeGrey_ = k.material[1];
-    viewProjection_ = Eigen::Matrix4f(k.viewProjection.data());
   }
 
-  Image run() && {
-    const auto& vertices = scene_.vertices;
-    for (std::size_t i = 0; i + 2 < vertices.size(); i += 3) {
-      std::array<ClipVertex, 3> triangle;
-      Wireframe wireframe;
-      for (int k = 0; k < 3; ++k) {
-        triangle[k] = toClip(vertices[i + k]);
-        wireframe.edgeLines[k] = Eigen::Vector3f(vertices[i].edgeLines[k].data());
-      }
-      wireframe.weight = vertices[i].wireframe;
-      drawClipped(triangle, wireframe);
+  void run() {
+    for (std::size_t i = 0; i < scene_.items.size(); ++i) {
+      const SceneMesh& mesh = *scene_.items[i].mesh;
+      const bool wire = scene_.items[i].wireframe;
+      for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+        if (mayCoverBand(mesh.faces[f], vertices_.windowY[i])) drawFace(mesh, f, i, wire);
     }
-    return std::move(image_);
   }
 
  private:
-  ClipVertex toClip(const SceneVertex& v) const {
-    return {viewProjection_ * Eigen::Vector4f(v.position[0], v.position[1], v.position[2], 1),
-            Eigen::Vector3f(v.normal.data()), Eigen::Vector3f(v.color.data())};
+  // False only where the face lies wholly above or below the band (a row of margin either way);
+  // a face with a corner behind the eye is clipped first, so it may cover any row.
+  bool mayCoverBand(const std::array<int, 3>& face, const std::vector<float>& windowY) const {
+    const float a = windowY[std::size_t(face[0])], b = windowY[std::size_t(face[1])],
+                c = windowY[std::size_t(face[2])];
+    if (std::isnan(a) || std::isnan(b) || std::isnan(c)) return true;
+    return std::max({a, b, c}) >= float(rowBegin_ - 1) && std::min({a, b, c}) <= float(rowEnd_ + 1);
   }
 
+  void drawFace(const SceneMesh& mesh, std::size_t f, std::size_t item, bool wire) {
+    const float side = visibleSide(scene_, mesh, f);
+    std::array<ClipVertex, 3> triangle;
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t v = std::size_t(mesh.faces[f][std::size_t(k)]);
+      triangle[k] = {vertices_.clips[item][v],
+                     Eigen::Vector3f(cornerNormal(scene_, mesh, f, k, side).data()),
+                     Eigen::Vector3f(mesh.colors[v].data())};
+    }
+    Wireframe wireframe;
+    if (wire) {
+      const auto lines = edgeLines(scene_, mesh, f);
+      for (int k = 0; k < 3; ++k)
+        wireframe.edgeLines[k] = Eigen::Vector3f(lines[k].data());
+      wireframe.weight = 1;
+    } else {
+      wireframe.edgeLines.fill(Eigen::Vector3f::Zero());
+    }
+    drawClipped(triangle, wireframe);
+  }
+
+ private:
   void drawClipped(const std::array<ClipVertex, 3>& triangle, const Wireframe& wireframe) {
     if (insideAllPlanes(triangle)) return drawTriangle(triangle, wireframe);
     const std::vector<ClipVertex> polygon =
@@ -172,9 +205,8 @@ class Rasterizer {
     const auto [minY, maxY] = std::minmax({c[0].y, c[1].y, c[2].y});
     const int x0 = int(std::max<std::int64_t>(ceilDiv(minX - half, kSubpixels), 0));
     const int x1 = int(std::min<std::int64_t>(floorDiv(maxX - half, kSubpixels), scene_.width - 1));
-    const int y0 = int(std::max<std::int64_t>(ceilDiv(minY - half, kSubpixels), 0));
-    const int y1 =
-        int(std::min<std::int64_t>(floorDiv(maxY - half, kSubpixels), scene_.height - 1));
+    const int y0 = int(std::max<std::int64_t>(ceilDiv(minY - half, kSubpixels), rowBegin_));
+    const int y1 = int(std::min<std::int64_t>(floorDiv(maxY - half, kSubpixels), rowEnd_ - 1));
     if (x0 > x1 || y0 > y1) return;
 
     const float invArea = 1.0f / float(area);
@@ -237,9 +269,10 @@ class Rasterizer {
   }
 
   const Scene& scene_;
-  Image image_;
-  std::vector<float> depth_;
-  Eigen::Matrix4f viewProjection_;
+  const Vertices& vertices_;
+  Image& image_;
+  std::vector<float>& depth_;
+  int rowBegin_, rowEnd_;
   Eigen::Vector4f headlight_, fillLight_;
   float ambient_ = 0, edgeGrey_ = 0;
 };
@@ -247,7 +280,33 @@ class Rasterizer {
 }  // namespace
 
 Image renderCpu(const Scene& scene) {
-  return Rasterizer(scene).run();
+  Image image(scene.width, scene.height);
+  std::vector<float> depth(std::size_t(scene.width) * scene.height, 1.0f);
+  for (std::size_t i = 0; i < depth.size(); ++i)
+    std::copy(scene.background.begin(), scene.background.end(), &image.rgba[4 * i]);
+  // Each vertex once into clip space, as the vertex stage does for every corner.
+  const Eigen::Matrix4f viewProjection(scene.constants.viewProjection.data());
+  Rasterizer::Vertices vertices;
+  for (const SceneItem& item : scene.items) {
+    const auto& positions = item.mesh->positions;
+    auto& clips = vertices.clips.emplace_back(positions.size());
+    auto& windowY = vertices.windowY.emplace_back(positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      const auto& p = positions[v];
+      clips[v] = viewProjection * Eigen::Vector4f(p[0], p[1], p[2], 1);
+      windowY[v] = clips[v].w() > 0
+                       ? (clips[v].y() / clips[v].w() * 0.5f + 0.5f) * float(scene.height)
+                       : std::numeric_limits<float>::quiet_NaN();
+    }
+  }
+  // A band of rows per thread: a pixel sees the same triangles in the same order in any band.
+  const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  const std::size_t rows = std::size_t(scene.height);
+  parallelBlocks(rows, (rows + std::size_t(threads) - 1) / std::size_t(threads), threads,
+                 [&](std::size_t first, std::size_t last) {
+                   Rasterizer(scene, vertices, image, depth, int(first), int(last)).run();
+                 });
+  return image;
 }
 
 }  // namespace geobrush::detail

@@ -118,7 +118,7 @@ std::optional<RenderCamera> Viewport::camera() const {
   camera_.reset();
   if (surface_.mesh && surface_.mesh->surface.n_faces() > 0) {
     try {
-      camera_ = renderCamera({{surface_.mesh}}, renderOptions());
+      camera_ = renderer_.camera({{surface_.mesh}}, renderOptions());
     } catch (const std::exception&) {
       // Nothing drawable: no camera, as without a surface.
     }
@@ -151,7 +151,7 @@ void Viewport::paintEvent(QPaintEvent*) {
     try {
       RenderItem item{surface_.mesh};
       item.wireframe = wireframe_;
-      Image rendered = renderMeshes({item}, renderOptions()).image;
+      Image rendered = renderer_.render({item}, renderOptions()).image;
       if (legend_) drawFieldLegend(rendered, legend_->name, legend_->range);
       image_ =
           QImage(rendered.rgba.data(), rendered.width, rendered.height, QImage::Format_RGBA8888)

@@ -115,6 +115,8 @@ class Viewport : public QWidget {
   std::vector<SurfaceLines> lines_;
   QImage image_;
   bool stale_ = true;
+  // Keeps the shown mesh's geometry from frame to frame: an orbit redraws for the camera alone.
+  mutable Renderer renderer_;
   mutable bool cameraKnown_ = false;  // camera_ was computed since the last change
   mutable std::optional<RenderCamera> camera_;
   QString error_;

@@ -9,14 +9,16 @@
 namespace geobrush {
 namespace {
 
+MeshPtr readShared(const std::string& name) {
+  TriMesh surface;
+  const auto path = test::meshPath(name);
+  if (!OpenMesh::IO::read_mesh(surface, path.string()))
+    throw std::runtime_error("cannot read " + path.string());
+  return std::make_shared<const Mesh>(std::move(surface));
+}
+
 MeshPtr bunny() {
-  static const MeshPtr mesh = [] {
-    TriMesh surface;
-    const auto path = test::meshPath("bunny_small.obj");
-    if (!OpenMesh::IO::read_mesh(surface, path.string()))
-      throw std::runtime_error("cannot read " + path.string());
-    return std::make_shared<const Mesh>(std::move(surface));
-  }();
+  static const MeshPtr mesh = readShared("bunny_small.obj");
   return mesh;
 }
 
@@ -51,6 +53,28 @@ BENCHMARK_CAPTURE(renderBunny, vulkan_wireframe, RenderBackend::Vulkan, true)
 BENCHMARK_CAPTURE(renderBunny, cpu_wireframe, RenderBackend::Cpu, true)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// An orbit on the armadillo (29k faces) at a view's size, a degree a frame, on the CPU
+// rasterizer: a Renderer keeping the mesh's geometry between frames, as a view does, against
+// renderMeshes preparing it for every frame.
+void orbitArmadillo(benchmark::State& state, bool kept) {
+  static const MeshPtr armadillo = readShared("armadillo.obj");
+  const std::vector<RenderItem> items = {{armadillo}};
+  RenderOptions options;
+  options.width = 700;
+  options.height = 450;
+  options.backend = RenderBackend::Cpu;
+  Renderer renderer;
+  int frame = 0;
+  for (auto _ : state) {
+    options.view.azimuthDeg = frame++ % 360;
+    benchmark::DoNotOptimize(kept ? renderer.render(items, options) : renderMeshes(items, options));
+  }
+}
+BENCHMARK_CAPTURE(orbitArmadillo, render_meshes, false)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(orbitArmadillo, renderer, true)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace geobrush

@@ -438,6 +438,41 @@ TEST_P(RenderBackendTest, RenderingIsDeterministic) {
   EXPECT_EQ(first.contentHash(), second.contentHash());
 }
 
+// A Renderer keeps each mesh's geometry between frames: through orbits, a wireframe, a new
+// colour, a second item, a fixed frame and a changed mesh, every frame and camera is renderMeshes'
+// and renderCamera's, bit for bit.
+TEST_P(RenderBackendTest, ARendererDrawsWhatRenderMeshesDrawsFrameAfterFrame) {
+  const MeshPtr bunny = loadMesh("bunny_small.obj");
+  const MeshPtr cube = box({0.05, 0.1, 0}, 0.03, std::vector<Rgb>(8, Rgb{0.9f, 0.2f, 0.1f}));
+  Renderer renderer;
+  auto o = options(GetParam(), 160, 120);
+  std::vector<RenderItem> items = {{bunny, {0.7f, 0.7f, 0.7f}, false}};
+  const auto check = [&](const std::string& what) {
+    const RenderCamera kept = renderer.camera(items, o);
+    const RenderCamera fresh = renderCamera(items, o);
+    EXPECT_TRUE(kept.viewProjection == fresh.viewProjection && kept.eye == fresh.eye) << what;
+    EXPECT_TRUE(renderer.render(items, o).image.rgba == renderMeshes(items, o).image.rgba) << what;
+  };
+  for (double azimuth : {0.0, 40.0, 170.0, -95.0}) {
+    o.view.azimuthDeg = azimuth;
+    check("azimuth " + std::to_string(azimuth));
+  }
+  items[0].wireframe = true;
+  check("wireframe");
+  items[0].color = {0.2f, 0.6f, 0.9f};
+  check("another colour");
+  items.push_back({cube});
+  check("a second item, which moves the framed centre");
+  o.frame = RenderFrame{{0.05, 0.1, 0}, 0.05};
+  check("a fixed frame");
+  o.view.elevationDeg = -60;
+  check("from below");
+  items[0].mesh = loadMesh("bunny_small.obj");  // equal content, another value
+  check("another mesh value");
+  items.erase(items.begin());
+  check("the first item gone");
+}
+
 TEST_P(RenderBackendTest, BothSidesAreLitAlike) {
   auto o = options(GetParam(), 120, 120);
   o.view = {.azimuthDeg = 10, .elevationDeg = 15};

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -96,5 +97,30 @@ RenderCamera renderCamera(const std::vector<RenderItem>& items, const RenderOpti
 // the Vulkan backend was forced and is unavailable. With Auto, a failing
 // Vulkan path falls back to the CPU rasterizer.
 RenderResult renderMeshes(const std::vector<RenderItem>& items, const RenderOptions& options = {});
+
+namespace detail {
+struct SceneMesh;
+}
+
+// Draws frame after frame, as an interactive view does: keeps each mesh's geometry that no camera
+// changes (its checks, bounding box, normals, positions around the framed centre, colours) while
+// the same mesh value is drawn in the same colour around the same centre, so that a new view of
+// it costs the camera's work alone. It holds the meshes of its last render (a shared value is
+// never changed). Its images and cameras are renderMeshes' and renderCamera's, bit for bit.
+class Renderer {
+ public:
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  RenderResult render(const std::vector<RenderItem>& items, const RenderOptions& options);
+  RenderCamera camera(const std::vector<RenderItem>& items, const RenderOptions& options);
+
+  struct KeptMesh;
+
+ private:
+  std::vector<KeptMesh> kept_;
+};
 
 }  // namespace geobrush

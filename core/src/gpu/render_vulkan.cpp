@@ -225,7 +225,7 @@ void recordDraw(VkCommandBuffer commands, const Scene& scene, const MeshPipeline
   const VkBuffer buffer = vertices.handle();
   const VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(commands, 0, 1, &buffer, &offset);
-  vkCmdDraw(commands, std::uint32_t(scene.vertices.size()), 1, 0, 0);
+  vkCmdDraw(commands, std::uint32_t(3 * scene.triangles()), 1, 0, 0);
   vkCmdEndRenderPass(commands);
 }
 
@@ -251,10 +251,10 @@ Image renderVulkan(const Scene& scene, gpu::VulkanContext& context) {
   const auto width = std::uint32_t(scene.width);
   const auto height = std::uint32_t(scene.height);
 
-  const VkDeviceSize vertexBytes = scene.vertices.size() * sizeof(SceneVertex);
+  const VkDeviceSize vertexBytes = 3 * scene.triangles() * sizeof(SceneVertex);
   const gpu::Buffer vertices = context.createBuffer(vertexBytes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                                                     VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
-  std::memcpy(vertices.mapped(), scene.vertices.data(), vertexBytes);
+  writeCorners(scene, static_cast<SceneVertex*>(vertices.mapped()));
 
   const gpu::Image2D color =
       context.createImage(width, height, kColorFormat,
