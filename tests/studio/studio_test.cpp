@@ -526,6 +526,35 @@ TEST(StudioWindow, RResizesTheBrushWithThePointer) {
   ASSERT_TRUE(waitUntilIdle(window));
 }
 
+// Wherever the target shows (u, v) lines, on its canvas or on the paste, the region brush shows
+// there too: its disc of the shared domain lies on the target canvas at least in part (a sweep
+// of the whole view, the target canvas moved along the cube's face).
+TEST(StudioWindow, TheRegionBrushShowsWhereverTheTargetShowsLines) {
+  StudioWindow window(test::registry());
+  ASSERT_TRUE(openShown(window, "clone_ear_cube_edge.json"));
+  auto& panel = window.clonePanel();
+  window.setParam(panel.roles().targetMap, "origin", Vec3{1.0, 0.45, 0.7});
+  ASSERT_TRUE(waitUntilIdle(window));
+  ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+  panel.setTool(CloneTool::PaintRegion);
+  const Viewport& target = panel.targetView();
+  const studio::LiveView& live = panel.liveView();
+  ASSERT_TRUE(live.targetLocator);
+  int lined = 0, without = 0;
+  for (int y = 2; y < target.height(); y += 6)
+    for (int x = 2; x < target.width(); x += 6) {
+      const auto hit = target.pick(QPointF(x, y));
+      const auto uv = hit ? uvAt(live.target, *hit) : std::nullopt;
+      if (!uv) continue;
+      ++lined;
+      const auto disc = studio::domainCircle(*live.targetLocator, *uv, panel.brushRadius());
+      without += std::none_of(disc.begin(), disc.end(),
+                              [](const Eigen::Vector3d& p) { return p.allFinite(); });
+    }
+  EXPECT_GT(lined, 1000);
+  EXPECT_EQ(without, 0);
+}
+
 // A clone opens framed on the paste, not on the whole target (Home frames it all, F the paste
 // again); the wheel zooms toward the pointer: the point under it stays there.
 TEST(StudioWindow, OpensFramedOnThePasteAndZoomsTowardThePointer) {
