@@ -145,8 +145,13 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
   for (const auto& [name, factor] : resizes) {
     auto* action = new QAction(name, this);
     action->setShortcut(QKeySequence(factor < 1 ? Qt::Key_BracketLeft : Qt::Key_BracketRight));
-    connect(action, &QAction::triggered, this,
-            [this, factor = factor] { setBrushRadius(brushRadius() * factor); });
+    connect(action, &QAction::triggered, this, [this, factor = factor] {
+      setBrushRadius(brushRadius() * factor);
+      // Written beside the pointer too, until it moves on.
+      if (pointerView_ && !resize_)
+        pointerView_->setNote(
+            Viewport::Note{pointerPosition_, QString("Radius %1").arg(brushRadius(), 0, 'g', 4)});
+    });
     addAction(action);
   }
   auto* resize = new QAction("Resize brush", this);
@@ -370,6 +375,8 @@ void ClonePanel::apply(const std::string& error) {
 }
 
 void ClonePanel::trackPointer(Viewport* view, const PointerEvent& event) {
+  // A radius written by [ or ] goes once the pointer moves on.
+  if (!resize_ && view->note()) view->setNote(std::nullopt);
   pointerView_ = event.kind == PointerEvent::Leave ? nullptr : view;
   pointerPosition_ = event.position;
 }

@@ -70,6 +70,7 @@ class ClonePanel : public QWidget {
   // In the units of the source mesh, which the shared domain keeps.
   void setBrushRadius(double radius);
   double brushRadius() const;
+  // [ and ] write the new radius beside the pointer too, until it moves on.
   // Resizing the brush with the pointer (R, as Blender's F): the disc stays where it is shown and
   // its edge follows the pointer (right grows it, left shrinks it), the radius written beside
   // the pointer; a click or R keeps the new radius, Esc restores the old one. False where no

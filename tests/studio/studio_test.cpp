@@ -90,6 +90,13 @@ QPoint onScreen(const Viewport& view, const Eigen::Vector3d& point) {
   return at ? QPoint(int(at->x()), int(at->y())) : QPoint(-1, -1);
 }
 
+// The pointer moved over a widget with no button held, delivered at once.
+void hoverAt(QWidget& widget, QPoint at) {
+  QMouseEvent move(QEvent::MouseMove, QPointF(at), widget.mapToGlobal(QPointF(at)), Qt::NoButton,
+                   Qt::NoButton, {});
+  QApplication::sendEvent(&widget, &move);
+}
+
 // A left-button drag in `steps` moves, as a hand makes it.
 void drag(QWidget* widget, QPoint from, QPoint to, Qt::KeyboardModifiers modifiers = {},
           int steps = 8) {
@@ -457,7 +464,7 @@ TEST(StudioWindow, TheBrushRadiusStepsWithItsSizeAndFollowsTheBracketKeys) {
 
 // R resizes the brush with the pointer, which starts on the disc's edge: its distance from a point
 // one disc radius to the left sets the radius, written beside the pointer. Esc restores the radius,
-// a click keeps it, and neither paints.
+// a click keeps it, and neither paints. [ and ] write their radius beside the pointer too.
 TEST(StudioWindow, RResizesTheBrushWithThePointer) {
   StudioWindow window(test::registry());
   ASSERT_TRUE(openShown(window, "clone_ear_cube_edge.json"));
@@ -469,7 +476,7 @@ TEST(StudioWindow, RResizesTheBrushWithThePointer) {
   panel.setBrushRadius(0.05);
   const std::vector<double> dabs = dabsOf(document, roles.strokes);
   const QPoint at = onScreen(target, vec3Of(document, roles.targetMap, "origin"));
-  QTest::mouseMove(&target, at);
+  hoverAt(target, at);
   ASSERT_FALSE(target.outlines().empty());
   // The disc's radius on the screen, from its outline (the last one drawn).
   const auto camera = target.camera();
@@ -493,9 +500,9 @@ TEST(StudioWindow, RResizesTheBrushWithThePointer) {
   QTest::keyClick(&window, Qt::Key_R);
   ASSERT_TRUE(panel.resizingBrush());
   ASSERT_TRUE(target.note());
-  QTest::mouseMove(&target, at + QPoint(10, 0));
+  hoverAt(target, at + QPoint(10, 0));
   EXPECT_NEAR(panel.brushRadius(), 0.05 * (pixels + 10) / pixels, held);
-  QTest::mouseMove(&target, at + QPoint(-1, 0));
+  hoverAt(target, at + QPoint(-1, 0));
   EXPECT_NEAR(panel.brushRadius(), 0.05 * (pixels - 1) / pixels, held);
   ASSERT_TRUE(target.note());
   EXPECT_TRUE(target.note()->text.contains(QString::number(panel.brushRadius(), 'g', 4)))
@@ -505,10 +512,10 @@ TEST(StudioWindow, RResizesTheBrushWithThePointer) {
   EXPECT_FALSE(target.note());
   EXPECT_EQ(panel.brushRadius(), 0.05);
 
-  QTest::mouseMove(&target, at);
+  hoverAt(target, at);
   QTest::keyClick(&window, Qt::Key_R);
   ASSERT_TRUE(panel.resizingBrush());
-  QTest::mouseMove(&target, at + QPoint(20, 0));
+  hoverAt(target, at + QPoint(20, 0));
   const double grown = panel.brushRadius();
   EXPECT_NEAR(grown, 0.05 * (pixels + 20) / pixels, held);
   screenshot(target, "brush_resize.png");
@@ -517,8 +524,15 @@ TEST(StudioWindow, RResizesTheBrushWithThePointer) {
   EXPECT_FALSE(target.note());
   EXPECT_EQ(panel.brushRadius(), grown);
   EXPECT_EQ(dabsOf(document, roles.strokes), dabs);
+  // ] writes its new radius beside the pointer too, until the pointer moves on.
+  hoverAt(target, at);
+  QTest::keyClick(&window, Qt::Key_BracketRight);
+  ASSERT_TRUE(target.note());
+  EXPECT_TRUE(target.note()->text.contains(QString::number(panel.brushRadius(), 'g', 4)));
+  hoverAt(target, at + QPoint(3, 0));
+  EXPECT_FALSE(target.note());
   // Without a brush under the pointer R says so and changes nothing.
-  QTest::mouseMove(&target, QPoint(2, target.height() - 2));
+  hoverAt(target, QPoint(2, target.height() - 2));
   QTest::keyClick(&window, Qt::Key_R);
   EXPECT_FALSE(panel.resizingBrush());
   EXPECT_TRUE(window.statusBar()->currentMessage().contains("resize"))
