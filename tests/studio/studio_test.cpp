@@ -542,7 +542,8 @@ TEST(StudioWindow, RResizesTheBrushWithThePointer) {
 
 // Wherever the target shows (u, v) lines, on its canvas or on the paste, the region brush shows
 // there too: its disc of the shared domain lies on the target canvas at least in part (a sweep
-// of the whole view, the target canvas moved along the cube's face).
+// of the whole view, the target canvas moved along the cube's face); and the surface around the
+// moved paste is coloured as its canvas.
 TEST(StudioWindow, TheRegionBrushShowsWhereverTheTargetShowsLines) {
   StudioWindow window(test::registry());
   ASSERT_TRUE(openShown(window, "clone_ear_cube_edge.json"));
@@ -567,6 +568,21 @@ TEST(StudioWindow, TheRegionBrushShowsWhereverTheTargetShowsLines) {
     }
   EXPECT_GT(lined, 1000);
   EXPECT_EQ(without, 0);
+  // Every target vertex beside the moved paste lies on the target canvas: it is drawn in the
+  // canvas's colour with its lines, so no band of uncoloured surface surrounds the paste.
+  const TriMesh& shown = live.target.mesh->surface;
+  const PasteMap& map = *live.values.pasteMap;
+  int besidePaste = 0, offCanvas = 0;
+  for (auto v : shown.vertices()) {
+    if (map.sourceVertex[std::size_t(v.idx())] >= 0) continue;
+    bool beside = false;
+    for (auto w : shown.vv_range(v))
+      beside = beside || map.sourceVertex[std::size_t(w.idx())] >= 0;
+    besidePaste += beside;
+    offCanvas += beside && !live.target.uv[std::size_t(v.idx())].allFinite();
+  }
+  EXPECT_GT(besidePaste, 10);
+  EXPECT_EQ(offCanvas, 0);
 }
 
 // A clone opens framed on the paste, not on the whole target (Home frames it all, F the paste
