@@ -390,7 +390,8 @@ std::vector<std::string> inFileOrder(const Map& map, const std::vector<std::stri
   return keys;
 }
 
-// A value without objects or arrays inside, as a node's params are not: written on one line.
+// An object or array holding numbers, strings and booleans alone (a row, a connection, a ui
+// position) is written on one line; a node's params are not, so that each param takes its own.
 bool writtenOnOneLine(const json& value, const std::string& key) {
   if (value.empty() || key == "params") return value.empty();
   return std::all_of(value.begin(), value.end(),
