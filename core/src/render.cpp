@@ -14,12 +14,14 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
 
 #include "geobrush/gpu/vulkan_context.hpp"
+#include "geobrush/parallel.hpp"
 #include "render_scene.hpp"
 
 namespace geobrush {
@@ -214,27 +216,63 @@ std::array<float, 3> toFloats(const Eigen::Vector3d& v) {
   return {float(v.x()), float(v.y()), float(v.z())};
 }
 
-// Sum of the face normals around each vertex, each as long as twice the
-// face's area: area weighting without a separate area term.
-std::vector<Eigen::Vector3d> vertexNormals(const TriMesh& surface) {
-  std::vector<Eigen::Vector3d> normals(surface.n_vertices(), Eigen::Vector3d::Zero());
-  for (auto f : surface.faces()) {
-    auto h = surface.halfedge_handle(f);
-    const auto v0 = surface.from_vertex_handle(h);
-    const auto v1 = surface.to_vertex_handle(h);
-    const auto v2 = surface.to_vertex_handle(surface.next_halfedge_handle(h));
-    const Eigen::Vector3d p0 = toEigen(surface.point(v0));
-    const Eigen::Vector3d n =
-        (toEigen(surface.point(v1)) - p0).cross(toEigen(surface.point(v2)) - p0);
-    for (auto v : {v0, v1, v2})
-      normals[v.idx()] += n;
-  }
-  return normals;
-}
-
 // The unit vector along v in float; zero where v has no length.
 std::array<float, 3> unitOrZero(const Eigen::Vector3d& v) {
   return v.squaredNorm() > 0 ? toFloats(v.normalized()) : std::array<float, 3>{};
+}
+
+constexpr std::size_t kBlock = 8192;  // vertices or faces per block of a parallel loop
+
+// Each face's corners, in the mesh's face order; a face's vertex loop starts at the head of its
+// halfedge.
+std::vector<std::array<int, 3>> faceCorners(const TriMesh& surface) {
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(surface.n_faces());
+  for (auto f : surface.faces()) {
+    std::array<int, 3> corners;
+    int k = 0;
+    for (auto v : surface.fv_range(f))
+      corners[std::size_t(k++)] = v.idx();
+    faces.push_back(corners);
+  }
+  return faces;
+}
+
+// Sum of the face normals around each vertex, each as long as twice the face's area (area
+// weighting without a separate area term), from the mesh's own coordinates. Each vertex adds its
+// faces in the mesh's face order, so the sums are the same on any number of threads.
+std::vector<Eigen::Vector3d> vertexNormals(const TriMesh& surface,
+                                           const std::vector<std::array<int, 3>>& faces) {
+  const std::size_t vertices = surface.n_vertices();
+  // The faces around each vertex, ascending: a counting sort of the corners by vertex.
+  std::vector<std::size_t> start(vertices + 1, 0);
+  for (const auto& face : faces)
+    for (int v : face)
+      ++start[std::size_t(v) + 1];
+  for (std::size_t v = 0; v < vertices; ++v)
+    start[v + 1] += start[v];
+  std::vector<std::uint32_t> around(start.back());
+  std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (int v : faces[f])
+      around[next[std::size_t(v)]++] = std::uint32_t(f);
+  // The cross product from the face's halfedge tail: corners 2, 0, 1 of its vertex loop.
+  std::vector<Eigen::Vector3d> crosses(faces.size());
+  parallelBlocks(faces.size(), kBlock, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t f = first; f < last; ++f) {
+      const auto& c = faces[f];
+      const Eigen::Vector3d p0 = toEigen(surface.point(TriMesh::VertexHandle(c[2])));
+      crosses[f] = (toEigen(surface.point(TriMesh::VertexHandle(c[0]))) - p0)
+                       .cross(toEigen(surface.point(TriMesh::VertexHandle(c[1]))) - p0);
+    }
+  });
+  std::vector<Eigen::Vector3d> normals(vertices, Eigen::Vector3d::Zero());
+  parallelBlocks(vertices, kBlock, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t v = first; v < last; ++v)
+      for (std::size_t i = start[v]; i < start[v + 1]; ++i)
+        normals[v] += crosses[around[i]];
+  });
+  return normals;
 }
 
 std::shared_ptr<const SceneMesh> buildSceneMesh(const RenderItem& item,
@@ -246,34 +284,32 @@ std::shared_ptr<const SceneMesh> buildSceneMesh(const RenderItem& item,
   out.mesh = item.mesh;
   out.color = item.color;
   out.centre = centre;
+  out.faces = faceCorners(surface);
+  const std::vector<Eigen::Vector3d> sums = vertexNormals(surface, out.faces);
   const std::size_t vertices = surface.n_vertices();
   out.points.resize(vertices);
   out.positions.resize(vertices);
   out.colors.resize(vertices);
-  for (std::size_t v = 0; v < vertices; ++v) {
-    out.points[v] = toEigen(surface.point(TriMesh::VertexHandle(int(v)))) - centre;
-    out.positions[v] = toFloats(out.points[v]);
-    out.colors[v] = colors.empty() ? item.color : colors[v];
-  }
   out.normals.resize(vertices);
-  const std::vector<Eigen::Vector3d> sums = vertexNormals(surface);
-  for (std::size_t v = 0; v < vertices; ++v)
-    out.normals[v] = unitOrZero(sums[v]);
-  out.faces.reserve(surface.n_faces());
-  out.faceNormals.reserve(surface.n_faces());
-  out.faceUnits.reserve(surface.n_faces());
-  for (auto f : surface.faces()) {
-    std::array<int, 3> corners;
-    int k = 0;
-    for (auto v : surface.fv_range(f))
-      corners[k++] = v.idx();
-    const Eigen::Vector3d& p0 = out.points[std::size_t(corners[0])];
-    const Eigen::Vector3d normal =
-        (out.points[std::size_t(corners[1])] - p0).cross(out.points[std::size_t(corners[2])] - p0);
-    out.faces.push_back(corners);
-    out.faceNormals.push_back(normal);
-    out.faceUnits.push_back(unitOrZero(normal));
-  }
+  parallelBlocks(vertices, kBlock, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t v = first; v < last; ++v) {
+      out.points[v] = toEigen(surface.point(TriMesh::VertexHandle(int(v)))) - centre;
+      out.positions[v] = toFloats(out.points[v]);
+      out.colors[v] = colors.empty() ? item.color : colors[v];
+      out.normals[v] = unitOrZero(sums[v]);
+    }
+  });
+  out.faceNormals.resize(out.faces.size());
+  out.faceUnits.resize(out.faces.size());
+  parallelBlocks(out.faces.size(), kBlock, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t f = first; f < last; ++f) {
+      const auto& c = out.faces[f];
+      const Eigen::Vector3d& p0 = out.points[std::size_t(c[0])];
+      out.faceNormals[f] =
+          (out.points[std::size_t(c[1])] - p0).cross(out.points[std::size_t(c[2])] - p0);
+      out.faceUnits[f] = unitOrZero(out.faceNormals[f]);
+    }
+  });
   return built;
 }
 
