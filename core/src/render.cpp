@@ -29,7 +29,7 @@ namespace geobrush {
 // What a render keeps of a mesh it has checked, whatever the camera: its bounding box, and its
 // geometry around the last centre it was drawn about.
 struct Renderer::KeptMesh {
-  MeshPtr mesh;
+  MeshPtr mesh;  // held: a value is never changed while it is shared
   Eigen::AlignedBox3d box;
   std::shared_ptr<const detail::SceneMesh> geometry;
 };
@@ -178,22 +178,20 @@ Framing frameItems(const std::vector<Eigen::AlignedBox3d>& boxes, const RenderOp
   return framing;
 }
 
-using KeptGeometry = Renderer::KeptMesh;
-
 // The checks and the camera that every render and camera share, for items whose meshes `kept`
 // holds checked (one entry per item, in order; a new one where the mesh was not kept).
 std::pair<Framing, Camera> prepareCamera(const std::vector<RenderItem>& items,
                                          const RenderOptions& options,
-                                         std::vector<KeptGeometry>& kept) {
+                                         std::vector<Renderer::KeptMesh>& kept) {
   checkOptions(options);
   if (items.empty()) fail("there is nothing to draw (no items)");
-  std::vector<KeptGeometry> current;
+  std::vector<Renderer::KeptMesh> current;
   for (std::size_t i = 0; i < items.size(); ++i) {
     // The same item's entry first: one mesh may be drawn twice, in two colours.
     auto same = i < kept.size() && kept[i].mesh == items[i].mesh ? kept.begin() + std::ptrdiff_t(i)
                                                                  : kept.end();
     if (same == kept.end())
-      same = std::find_if(kept.begin(), kept.end(), [&](const KeptGeometry& k) {
+      same = std::find_if(kept.begin(), kept.end(), [&](const Renderer::KeptMesh& k) {
         return items[i].mesh && k.mesh == items[i].mesh;
       });
     if (same != kept.end()) {
@@ -205,7 +203,7 @@ std::pair<Framing, Camera> prepareCamera(const std::vector<RenderItem>& items,
   }
   kept = std::move(current);
   std::vector<Eigen::AlignedBox3d> boxes;
-  for (const KeptGeometry& k : kept)
+  for (const Renderer::KeptMesh& k : kept)
     boxes.push_back(k.box);
   const Framing framing = frameItems(boxes, options);
   return {framing, fitCamera(framing.radius, framing.clipRadius, options.view, options.width,
@@ -281,7 +279,6 @@ std::shared_ptr<const SceneMesh> buildSceneMesh(const RenderItem& item,
   SceneMesh& out = *built;
   const TriMesh& surface = item.mesh->surface;
   const auto& colors = item.mesh->vertexColors;
-  out.mesh = item.mesh;
   out.color = item.color;
   out.centre = centre;
   out.faces = faceCorners(surface);
@@ -397,7 +394,7 @@ namespace {
 // The scene of one render: the kept geometry where it was drawn in the same colour around the same
 // centre, else built anew (and kept).
 Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& options,
-                   std::vector<KeptGeometry>& kept) {
+                   std::vector<Renderer::KeptMesh>& kept) {
   const auto [framing, camera] = prepareCamera(items, options, kept);
   Scene scene;
   scene.width = options.width;

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-
 #include <thread>
 
 #include "geobrush/parallel.hpp"
@@ -144,7 +143,6 @@ class Rasterizer {
     drawClipped(triangle, wireframe);
   }
 
- private:
   void drawClipped(const std::array<ClipVertex, 3>& triangle, const Wireframe& wireframe) {
     if (insideAllPlanes(triangle)) return drawTriangle(triangle, wireframe);
     const std::vector<ClipVertex> polygon =

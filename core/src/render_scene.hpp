@@ -24,7 +24,6 @@ namespace geobrush::detail {
 // One mesh drawn in one colour around one centre, independent of the camera: what a Renderer
 // keeps from frame to frame while it draws the same mesh.
 struct SceneMesh {
-  MeshPtr mesh;  // held: a value is never changed while it is shared
   Rgb color{};
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> points;          // per vertex, relative to the centre

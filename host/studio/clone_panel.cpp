@@ -37,6 +37,11 @@ constexpr double kDabSpacing = 0.3;
 constexpr double kDegreesPerPixel = 0.5;
 constexpr double kScalePerPixel = 0.01;
 
+// A brush radius as the status bar and the view write it.
+QString radiusText(double radius) {
+  return QString::number(radius, 'g', 4);
+}
+
 const QColor kBrush(255, 170, 60);
 const QColor kEraser(120, 200, 255);
 const QColor kUAxis(230, 60, 40);
@@ -148,9 +153,7 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
     connect(action, &QAction::triggered, this, [this, factor = factor] {
       setBrushRadius(brushRadius() * factor);
       // Written beside the pointer too, until it moves on.
-      if (pointerView_ && !resize_)
-        pointerView_->setNote(
-            Viewport::Note{pointerPosition_, QString("Radius %1").arg(brushRadius(), 0, 'g', 4)});
+      if (pointerView_ && !resize_) noteRadius(*pointerView_, pointerPosition_);
     });
     addAction(action);
   }
@@ -168,7 +171,7 @@ ClonePanel::ClonePanel(StudioDocument& document, QWidget* parent)
   connect(cancelResize, &QAction::triggered, this, [this] { endBrushResize(false); });
   addAction(cancelResize);
   connect(radius_, &QDoubleSpinBox::valueChanged, this, [this](double radius) {
-    message(QString("Brush radius %1").arg(radius, 0, 'g', 4));
+    message("Brush radius " + radiusText(radius));
     updateOutlines();
   });
   toolBar_->addSeparator();
@@ -374,6 +377,10 @@ void ClonePanel::apply(const std::string& error) {
   if (onEdited) onEdited(error);
 }
 
+void ClonePanel::noteRadius(Viewport& view, const QPointF& at) {
+  view.setNote(Viewport::Note{at, "Radius " + radiusText(brushRadius())});
+}
+
 void ClonePanel::trackPointer(Viewport* view, const PointerEvent& event) {
   // A radius written by [ or ] goes once the pointer moves on.
   if (!resize_ && view->note()) view->setNote(std::nullopt);
@@ -393,8 +400,7 @@ bool ClonePanel::brushResizeEvent(Viewport& view, const PointerEvent& event) {
   } else if (&view == resize_->view && event.kind != PointerEvent::Leave) {
     const double pixels = std::max(QLineF(resize_->centre, event.position).length(), 1.0);
     setBrushRadius(resize_->startRadius * pixels / resize_->startPixels);
-    view.setNote(
-        Viewport::Note{event.position, QString("Radius %1").arg(brushRadius(), 0, 'g', 4)});
+    noteRadius(view, event.position);
   }
   return true;
 }
@@ -417,8 +423,7 @@ bool ClonePanel::beginBrushResize() {
   const double pixels = sum / count;
   // Measured from a point one radius to the left: the pointer starts on the disc's edge.
   resize_ = BrushResize{pointerView_, pointerPosition_ - QPointF(pixels, 0), brushRadius(), pixels};
-  pointerView_->setNote(
-      Viewport::Note{pointerPosition_, QString("Radius %1").arg(brushRadius(), 0, 'g', 4)});
+  noteRadius(*pointerView_, pointerPosition_);
   message("Resizing the brush: move the pointer, click or R keeps the radius, Esc restores it");
   return true;
 }
@@ -429,7 +434,7 @@ void ClonePanel::endBrushResize(bool keep) {
   resize_.reset();
   ended.view->setNote(std::nullopt);
   if (!keep) setBrushRadius(ended.startRadius);
-  message(QString("Brush radius %1").arg(brushRadius(), 0, 'g', 4));
+  message("Brush radius " + radiusText(brushRadius()));
 }
 
 void ClonePanel::sourcePointer(const PointerEvent& event) {

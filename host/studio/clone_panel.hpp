@@ -106,6 +106,8 @@ class ClonePanel : public QWidget {
   // The point of the target surface (not of the pasted detail) under a hit on the shown target.
   std::optional<Eigen::Vector3d> onTargetSurface(const SurfaceHit& hit) const;
   void hover(const std::optional<Eigen::Vector2d>& uv, const std::optional<SurfaceHit>& canvasHit);
+  // The brush radius written beside a window position of a view.
+  void noteRadius(Viewport& view, const QPointF& at);
   // Where the pointer is, and over which view (none when it left both).
   void trackPointer(Viewport* view, const PointerEvent& event);
   // The events of a view while the brush is resized; true where they were the resize's.
