@@ -394,15 +394,17 @@ namespace {
 // The scene of one render: the kept geometry where it was drawn in the same colour around the same
 // centre, else built anew (and kept).
 Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& options,
-                   std::vector<Renderer::KeptMesh>& kept) {
+                   std::vector<Renderer::KeptMesh>& kept, std::size_t& builds) {
   const auto [framing, camera] = prepareCamera(items, options, kept);
   Scene scene;
   scene.width = options.width;
   scene.height = options.height;
   for (std::size_t i = 0; i < items.size(); ++i) {
     std::shared_ptr<const SceneMesh>& geometry = kept[i].geometry;
-    if (!geometry || geometry->centre != framing.center || geometry->color != items[i].color)
+    if (!geometry || geometry->centre != framing.center || geometry->color != items[i].color) {
       geometry = buildSceneMesh(items[i], framing.center);
+      ++builds;
+    }
     scene.items.push_back({geometry, items[i].wireframe});
   }
   scene.eye = camera.eye;
@@ -461,8 +463,34 @@ Renderer::Renderer() = default;
 Renderer::~Renderer() = default;
 
 RenderResult Renderer::render(const std::vector<RenderItem>& items, const RenderOptions& options) {
-  const detail::Scene scene = detail::prepareScene(items, options, kept_);
+  const detail::Scene scene = detail::prepareScene(items, options, kept_, geometryBuilds_);
   return detail::draw(scene, options.backend);
+}
+
+Renderer::Prepared Renderer::prepare(const RenderItem& item,
+                                     const std::optional<RenderFrame>& frame) {
+  try {
+    detail::checkItem(item, 0);
+  } catch (const std::runtime_error&) {
+    return nullptr;
+  }
+  auto prepared = std::make_shared<KeptMesh>();
+  prepared->mesh = item.mesh;
+  prepared->box = detail::meshBox(item.mesh->surface);
+  const Eigen::Vector3d centre =
+      frame ? Eigen::Vector3d(frame->center.data()) : prepared->box.center();
+  prepared->geometry = detail::buildSceneMesh(item, centre);
+  return prepared;
+}
+
+void Renderer::keep(const Prepared& prepared) {
+  if (!prepared) return;
+  auto same = std::find_if(kept_.begin(), kept_.end(),
+                           [&](const KeptMesh& k) { return k.mesh == prepared->mesh; });
+  if (same != kept_.end())
+    *same = *prepared;
+  else
+    kept_.push_back(*prepared);
 }
 
 RenderCamera Renderer::camera(const std::vector<RenderItem>& items, const RenderOptions& options) {

@@ -79,20 +79,45 @@ Eigen::AlignedBox3d boxOf(const ShownSurface& surface, Pick picked) {
 
 }  // namespace
 
+namespace {
+
+// Whether the source surface, its lines and locator are those of `shown`: they depend on the
+// source mesh, its map (the line spacing too) and the strokes' dabs alone (the ROI correction
+// gives new strokes, often the same dabs, on every move of the target).
+bool sameSource(const LiveView& shown, const CloneValues& values) {
+  const auto dabs = [](const StrokesPtr& strokes) { return strokes ? &strokes->dabs : nullptr; };
+  const bool sameStrokes = shown.values.strokes == values.strokes ||
+                           (dabs(shown.values.strokes) && dabs(values.strokes) &&
+                            *dabs(shown.values.strokes) == *dabs(values.strokes));
+  return shown.source.mesh && shown.values.sourceMesh == values.sourceMesh &&
+         shown.values.sourceMap == values.sourceMap && sameStrokes;
+}
+
+}  // namespace
+
 LiveView makeLiveView(const Evaluator& evaluator, const CloneRoles& roles, const Graph& graph,
-                      const NodeRegistry& registry) {
+                      const NodeRegistry& registry, const LiveViewBasis& basis) {
   LiveView view;
   view.fields = fieldLayers(graph, registry, evaluator);
   view.values = fetchClone(evaluator, roles);
-  view.source = showSource(view.values);
-  view.target = showTarget(view.values);
   const double spacing = lineSpacing(view.values);
-  view.sourceLines = coordinateLines(view.source, spacing);
+  if (basis.shown && sameSource(*basis.shown, view.values)) {
+    view.source = basis.shown->source;
+    view.sourceLines = basis.shown->sourceLines;
+    view.sourceLocator = basis.shown->sourceLocator;
+  } else {
+    view.source = showSource(view.values);
+    view.sourceLines = coordinateLines(view.source, spacing);
+    if (view.values.sourceMap)
+      view.sourceLocator = std::make_shared<const DomainLocator>(*view.values.sourceMap);
+    if (view.source.mesh)
+      view.sourceDrawn = Renderer::prepare({view.source.mesh}, basis.sourceFrame);
+  }
+  view.target = showTarget(view.values);
   view.targetLines = coordinateLines(view.target, spacing);
-  if (view.values.sourceMap)
-    view.sourceLocator = std::make_shared<const DomainLocator>(*view.values.sourceMap);
   if (view.values.targetMap)
     view.targetLocator = std::make_shared<const DomainLocator>(*view.values.targetMap);
+  if (view.target.mesh) view.targetDrawn = Renderer::prepare({view.target.mesh}, basis.targetFrame);
   return view;
 }
 
@@ -243,12 +268,16 @@ double ClonePanel::brushRadius() const {
   return radius_->value();
 }
 
+LiveViewBasis ClonePanel::viewBasis() const {
+  return {view_, source_->frame(), target_->frame()};
+}
+
 void ClonePanel::clear() {
   source_->setLines({});
   target_->setLines({});
-  view_ = {};
-  refillColourChoices(sourceColour_, view_.source);
-  refillColourChoices(targetColour_, view_.target);
+  view_ = std::make_shared<const LiveView>();
+  refillColourChoices(sourceColour_, view_->source);
+  refillColourChoices(targetColour_, view_->target);
   source_->setSurface({});
   target_->setSurface({});
   source_->setLegend(std::nullopt);
@@ -262,9 +291,9 @@ void ClonePanel::framePaste() {
   const auto onCanvas = [](const ShownSurface& surface) {
     return [&surface](int v) { return surface.uv[std::size_t(v)].allFinite(); };
   };
-  source_->frameBox(boxOf(view_.source, onCanvas(view_.source)));
-  const ShownSurface& target = view_.target;
-  const PasteMapPtr& paste = view_.values.pasteMap;
+  source_->frameBox(boxOf(view_->source, onCanvas(view_->source)));
+  const ShownSurface& target = view_->target;
+  const PasteMapPtr& paste = view_->values.pasteMap;
   const bool pasted = target.mesh && paste &&
                       paste->sourceVertex.size() == target.mesh->surface.n_vertices() &&
                       std::any_of(paste->sourceVertex.begin(), paste->sourceVertex.end(),
@@ -276,11 +305,11 @@ void ClonePanel::framePaste() {
     target_->frameBox(boxOf(target, onCanvas(target)));
 }
 
-void ClonePanel::showView(LiveView view) {
-  const bool first = !view_.source.mesh && !view_.target.mesh;
+void ClonePanel::showView(LiveViewPtr view) {
+  const bool first = !view_->source.mesh && !view_->target.mesh;
   view_ = std::move(view);
-  refillColourChoices(sourceColour_, view_.source);
-  refillColourChoices(targetColour_, view_.target);
+  refillColourChoices(sourceColour_, view_->source);
+  refillColourChoices(targetColour_, view_->target);
   showColours();
   updateLines();
   // A clone opens framed on what it copies and where it goes, not on the whole meshes.
@@ -311,8 +340,8 @@ void ClonePanel::updateLines() {
     target_->setLines({});
     return;
   }
-  source_->setLines({{&view_.sourceLines.u, kULine}, {&view_.sourceLines.v, kVLine}});
-  target_->setLines({{&view_.targetLines.u, kULine}, {&view_.targetLines.v, kVLine}});
+  source_->setLines({{&view_->sourceLines.u, kULine}, {&view_->sourceLines.v, kVLine}});
+  target_->setLines({{&view_->targetLines.u, kULine}, {&view_->targetLines.v, kVLine}});
 }
 
 void ClonePanel::refillColourChoices(QComboBox* box, const ShownSurface& surface) {
@@ -322,13 +351,14 @@ void ClonePanel::refillColourChoices(QComboBox* box, const ShownSurface& surface
   box->addItem("Canvas");
   box->addItem(kPlain);
   const std::size_t count = surface.mesh ? surface.mesh->surface.n_vertices() : 0;
-  for (const FieldLayer& layer : view_.fields)
+  for (const FieldLayer& layer : view_->fields)
     if (layer.fields->vertexCount == count) box->addItem(QString::fromStdString(layer.label()));
   box->setCurrentIndex(std::max(box->findText(chosen), 0));
 }
 
 void ClonePanel::showColours() {
-  const auto show = [this](Viewport* view, const ShownSurface& surface, const QComboBox* box,
+  const auto show = [this](Viewport* view, const ShownSurface& surface,
+                           const Renderer::Prepared& drawn, const QComboBox* box,
                            const MeshPtr& plain) {
     if (box->currentText() == kPlain && plain) {
       view->setSurface({plain, surface.uv});
@@ -336,7 +366,7 @@ void ClonePanel::showColours() {
       return;
     }
     const std::string label = box->currentIndex() > 1 ? box->currentText().toStdString() : "";
-    for (const FieldLayer& layer : view_.fields) {
+    for (const FieldLayer& layer : view_->fields) {
       if (label.empty() || layer.label() != label) continue;
       FieldRange range;
       if (auto coloured = colouredBy(surface, layer, &range)) {
@@ -345,12 +375,13 @@ void ClonePanel::showColours() {
         return;
       }
     }
-    view->setSurface(surface);
+    view->setSurface(surface, drawn);
     view->setLegend(std::nullopt);
   };
-  const CloneValues& values = view_.values;
-  show(source_, view_.source, sourceColour_, values.sourceMesh);
-  show(target_, view_.target, targetColour_, values.result ? values.result : values.targetMesh);
+  const CloneValues& values = view_->values;
+  show(source_, view_->source, view_->sourceDrawn, sourceColour_, values.sourceMesh);
+  show(target_, view_->target, view_->targetDrawn, targetColour_,
+       values.result ? values.result : values.targetMesh);
 }
 
 bool ClonePanel::colourSourceBy(const std::string& label) {
@@ -444,7 +475,7 @@ void ClonePanel::sourcePointer(const PointerEvent& event) {
   if (event.kind == PointerEvent::Hover) {
     if (tool_ == CloneTool::PaintCanvas) return hover(std::nullopt, event.hit);
     if (tool_ == CloneTool::PaintRegion && event.hit)
-      return hover(uvAt(view_.source, *event.hit), std::nullopt);
+      return hover(uvAt(view_->source, *event.hit), std::nullopt);
     return hover(std::nullopt, std::nullopt);
   }
   if (event.kind == PointerEvent::Press) document_.beginGesture();
@@ -468,7 +499,7 @@ void ClonePanel::sourcePointer(const PointerEvent& event) {
                                event.modifiers & Qt::ShiftModifier));
     }
     case CloneTool::PaintRegion:
-      return paintRegionAt(view_.source, event);
+      return paintRegionAt(view_->source, event);
     case CloneTool::TargetOrigin:
     case CloneTool::MoveTarget:
       return message("The target tools work in the target view");
@@ -481,7 +512,7 @@ void ClonePanel::targetPointer(const PointerEvent& event) {
   if (event.kind == PointerEvent::Leave) return hover(std::nullopt, std::nullopt);
   if (event.kind == PointerEvent::Hover) {
     if (tool_ == CloneTool::PaintRegion && event.hit)
-      return hover(uvAt(view_.target, *event.hit), std::nullopt);
+      return hover(uvAt(view_->target, *event.hit), std::nullopt);
     return hover(std::nullopt, std::nullopt);
   }
   if (event.kind == PointerEvent::Press) {
@@ -502,7 +533,7 @@ void ClonePanel::targetPointer(const PointerEvent& event) {
     case CloneTool::MoveTarget:
       return moveTarget(event);
     case CloneTool::PaintRegion:
-      return paintRegionAt(view_.target, event);
+      return paintRegionAt(view_->target, event);
     case CloneTool::SourceOrigin:
     case CloneTool::PaintCanvas:
       return message("The source tools work in the source view");
@@ -550,17 +581,17 @@ void ClonePanel::moveTarget(const PointerEvent& event) {
 }
 
 std::optional<Eigen::Vector3d> ClonePanel::onTargetSurface(const SurfaceHit& hit) const {
-  const auto& values = view_.values;
+  const auto& values = view_->values;
   if (!values.result || !values.pasteMap) return hit.point;
-  const TriMesh& mesh = view_.target.mesh->surface;
+  const TriMesh& mesh = view_->target.mesh->surface;
   bool target = true;
   for (auto v : mesh.fv_range(mesh.face_handle(hit.face)))
     target = target && values.pasteMap->targetVertex[v.idx()] >= 0;
   if (target) return hit.point;
   // A pasted face: where its (u, v) lies on the target canvas.
-  const auto uv = uvAt(view_.target, hit);
-  if (!uv || !view_.targetLocator) return std::nullopt;
-  return view_.targetLocator->locate(*uv).point;
+  const auto uv = uvAt(view_->target, hit);
+  if (!uv || !view_->targetLocator) return std::nullopt;
+  return view_->targetLocator->locate(*uv).point;
 }
 
 void ClonePanel::hover(const std::optional<Eigen::Vector2d>& uv,
@@ -575,7 +606,7 @@ std::optional<Outline> ClonePanel::brushOutline(const Viewport& view) const {
   const bool source = &view == source_;
   if (hoverUv_ && tool_ == CloneTool::PaintRegion) {
     // The same disc of the shared domain on both canvases.
-    const auto& locator = source ? view_.sourceLocator : view_.targetLocator;
+    const auto& locator = source ? view_->sourceLocator : view_->targetLocator;
     if (locator) return Outline{domainCircle(*locator, *hoverUv_, radius), kBrush, 2};
   }
   if (hoverCanvas_ && tool_ == CloneTool::PaintCanvas && source)
@@ -586,7 +617,7 @@ std::optional<Outline> ClonePanel::brushOutline(const Viewport& view) const {
 void ClonePanel::updateOutlines() {
   std::vector<Outline> onSource, onTarget;
   const double radius = brushRadius();
-  const auto& values = view_.values;
+  const auto& values = view_->values;
   const bool axes = axesAction_->isChecked();
   if (values.sourceMap && axes) {
     for (Outline& o : originMarker(values.sourceMap->origin, 2 * radius))

@@ -34,12 +34,26 @@ struct LiveView {
   std::shared_ptr<const DomainLocator> sourceLocator;
   std::shared_ptr<const DomainLocator> targetLocator;
   std::vector<FieldLayer> fields;  // what the surfaces can be coloured by
+  // The shown surfaces' render geometry, built around their views' centres; null where the view
+  // already holds it (a source kept from the last view) or the surface cannot be drawn.
+  Renderer::Prepared sourceDrawn;
+  Renderer::Prepared targetDrawn;
+};
+using LiveViewPtr = std::shared_ptr<const LiveView>;
+
+// What the next view starts from: the view shown now (its source surface is kept while the
+// source mesh, map and strokes stay the same values, as they do while the target is dragged)
+// and the frames the viewports draw around.
+struct LiveViewBasis {
+  LiveViewPtr shown;
+  std::optional<RenderFrame> sourceFrame;
+  std::optional<RenderFrame> targetFrame;
 };
 
-// Reads the roles' values from the evaluator and prepares the surfaces (call on the thread that
-// evaluated).
+// Reads the roles' values from the evaluator and prepares the surfaces and their render geometry
+// (call on the thread that evaluated), so that showing them leaves the UI thread drawing alone.
 LiveView makeLiveView(const Evaluator& evaluator, const CloneRoles& roles, const Graph& graph,
-                      const NodeRegistry& registry);
+                      const NodeRegistry& registry, const LiveViewBasis& basis = {});
 
 class ClonePanel : public QWidget {
   Q_OBJECT
@@ -49,8 +63,10 @@ class ClonePanel : public QWidget {
 
   void setRoles(const CloneRoles& roles) { roles_ = roles; }
   const CloneRoles& roles() const { return roles_; }
-  void showView(LiveView view);
-  const LiveView& liveView() const { return view_; }
+  void showView(LiveViewPtr view);
+  const LiveView& liveView() const { return *view_; }
+  // What an evaluation starting now prepares the next view from.
+  LiveViewBasis viewBasis() const;
   // Forgets the shown surfaces and the cameras' frames (a new graph was opened).
   void clear();
 
@@ -122,7 +138,7 @@ class ClonePanel : public QWidget {
 
   StudioDocument& document_;
   CloneRoles roles_;
-  LiveView view_;
+  LiveViewPtr view_ = std::make_shared<const LiveView>();
   Viewport* source_;
   Viewport* target_;
   QToolBar* toolBar_;

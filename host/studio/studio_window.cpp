@@ -319,19 +319,21 @@ void StudioWindow::startEvaluation(EvalMode mode) {
         },
         Qt::QueuedConnection);
   };
-  worker_ = std::thread([this, generation, mode, roles = clone_->roles(),
-                         options = std::move(options), graph = std::move(graph)] {
-    EvalReport report = evaluator_->evaluate(graph, options);
-    LiveView view;
-    if (roles.found() && !report.cancelled)
-      view = makeLiveView(*evaluator_, roles, graph, registry_);
-    QMetaObject::invokeMethod(
-        this,
-        [this, generation, mode, report = std::move(report), view = std::move(view)]() mutable {
-          finishEvaluation(generation, mode, std::move(report), std::move(view));
-        },
-        Qt::QueuedConnection);
-  });
+  worker_ =
+      std::thread([this, generation, mode, roles = clone_->roles(), basis = clone_->viewBasis(),
+                   options = std::move(options), graph = std::move(graph)] {
+        EvalReport report = evaluator_->evaluate(graph, options);
+        LiveViewPtr view;
+        if (roles.found() && !report.cancelled)
+          view = std::make_shared<const LiveView>(
+              makeLiveView(*evaluator_, roles, graph, registry_, basis));
+        QMetaObject::invokeMethod(
+            this,
+            [this, generation, mode, report = std::move(report), view = std::move(view)]() mutable {
+              finishEvaluation(generation, mode, std::move(report), std::move(view));
+            },
+            Qt::QueuedConnection);
+      });
 }
 
 void StudioWindow::showProgress(const std::string& node, double fraction) {
@@ -341,7 +343,7 @@ void StudioWindow::showProgress(const std::string& node, double fraction) {
 }
 
 void StudioWindow::finishEvaluation(int generation, EvalMode mode, EvalReport report,
-                                    LiveView view) {
+                                    LiveViewPtr view) {
   if (generation != generation_) return;
   finished_ = true;
   if (worker_.joinable()) worker_.join();
@@ -370,8 +372,9 @@ void StudioWindow::finishEvaluation(int generation, EvalMode mode, EvalReport re
   // A failure shows where it happened.
   if (!report_.ok && !report_.errorNode.empty()) editor_->focusNode(report_.errorNode);
   if (clone_->roles().found()) {
-    if (!radiusChosen_ && view.values.sourceMesh) {
-      clone_->setBrushRadius(defaultBrushRadius(document_, clone_->roles(), view.values));
+    if (!view) view = std::make_shared<const LiveView>();
+    if (!radiusChosen_ && view->values.sourceMesh) {
+      clone_->setBrushRadius(defaultBrushRadius(document_, clone_->roles(), view->values));
       radiusChosen_ = true;
     }
     clone_->showView(std::move(view));

@@ -101,7 +101,7 @@ class StudioWindow : public QMainWindow {
   // the same, recomputing what a warm start gave.
   enum class EvalMode { Full, Live, Settle };
   void startEvaluation(EvalMode mode);
-  void finishEvaluation(int generation, EvalMode mode, EvalReport report, LiveView view);
+  void finishEvaluation(int generation, EvalMode mode, EvalReport report, LiveViewPtr view);
   void showProgress(const std::string& node, double fraction);
   void stopWorker();
   void updateRoles();

@@ -46,11 +46,13 @@ Viewport::Viewport(const QString& title, QWidget* parent)
   setAttribute(Qt::WA_OpaquePaintEvent);
 }
 
-void Viewport::setSurface(ShownSurface surface) {
+void Viewport::setSurface(ShownSurface surface, const Renderer::Prepared& drawn) {
+  renderer_.keep(drawn);
+  const bool sameMesh = surface.mesh == surface_.mesh;
   surface_ = std::move(surface);
   if (!frame_ && surface_.mesh && surface_.mesh->surface.n_faces() > 0)
     frame_ = frameOf(surface_.mesh->surface);
-  changed();
+  if (!sameMesh) changed();
 }
 
 void Viewport::setOutlines(std::vector<Outline> outlines) {
@@ -135,6 +137,7 @@ std::optional<SurfaceHit> Viewport::pick(const QPointF& position) const {
 }
 
 void Viewport::setLegend(std::optional<Legend> legend) {
+  if (legend == legend_) return;
   legend_ = std::move(legend);
   changed();
 }

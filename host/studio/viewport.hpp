@@ -42,6 +42,7 @@ struct SurfaceLines {
 struct Legend {
   std::string name;
   FieldRange range;
+  bool operator==(const Legend&) const = default;
 };
 
 class Viewport : public QWidget {
@@ -51,8 +52,10 @@ class Viewport : public QWidget {
   explicit Viewport(const QString& title, QWidget* parent = nullptr);
 
   // The surface to show. The camera frames the first surface shown, and keeps that frame for
-  // the next ones, so that a changing result does not move the view.
-  void setSurface(ShownSurface surface);
+  // the next ones, so that a changing result does not move the view. `drawn`, the surface's
+  // render geometry prepared ahead (Renderer::prepare), spares the next frame that work. The
+  // same mesh value shown again is not drawn again.
+  void setSurface(ShownSurface surface, const Renderer::Prepared& drawn = nullptr);
   const ShownSurface& surface() const { return surface_; }
   void setOutlines(std::vector<Outline> outlines);
   void setLines(std::vector<SurfaceLines> lines);
@@ -86,6 +89,9 @@ class Viewport : public QWidget {
   std::optional<SurfaceHit> pick(const QPointF& position) const;
   // The last rendered image (without outlines).
   const QImage& image() const { return image_; }
+  // How many frames built their surface's render geometry themselves rather than finding it
+  // prepared or kept (for tests).
+  std::size_t geometryBuilds() const { return renderer_.geometryBuilds(); }
 
   std::function<void(const PointerEvent&)> onPointer;
 

@@ -473,6 +473,53 @@ TEST_P(RenderBackendTest, ARendererDrawsWhatRenderMeshesDrawsFrameAfterFrame) {
   check("the first item gone");
 }
 
+TEST_P(RenderBackendTest, GeometryPreparedAheadIsUsedWhereItFitsAndChangesNoImage) {
+  const MeshPtr bunny = loadMesh("bunny_small.obj");
+  const MeshPtr cube = box({0.05, 0.1, 0}, 0.03, std::vector<Rgb>(8, Rgb{0.9f, 0.2f, 0.1f}));
+  auto o = options(GetParam(), 160, 120);
+  const RenderItem item{bunny, {0.7f, 0.7f, 0.7f}, false};
+  const auto fresh = [&](const std::vector<RenderItem>& items) {
+    return renderMeshes(items, o).image.rgba;
+  };
+
+  // Around the mesh's own centre, as a render of it alone frames it: no build at the frame.
+  Renderer renderer;
+  std::optional<Renderer::Prepared> prepared;
+  std::thread([&] { prepared = Renderer::prepare(item, std::nullopt); }).join();
+  ASSERT_TRUE(*prepared);
+  renderer.keep(*prepared);
+  EXPECT_EQ(renderer.render({item}, o).image.rgba, fresh({item}));
+  EXPECT_EQ(renderer.geometryBuilds(), 0u);
+
+  // Around a frame's centre.
+  o.frame = RenderFrame{{0.01, 0.1, 0.02}, 0.08};
+  renderer.keep(Renderer::prepare(item, o.frame));
+  EXPECT_EQ(renderer.render({item}, o).image.rgba, fresh({item}));
+  EXPECT_EQ(renderer.geometryBuilds(), 0u);
+
+  // Where it does not fit (another centre, another colour), the frame builds its own.
+  renderer.keep(Renderer::prepare(item, RenderFrame{{0, 0, 0}, 1}));
+  EXPECT_EQ(renderer.render({item}, o).image.rgba, fresh({item}));
+  EXPECT_EQ(renderer.geometryBuilds(), 1u);
+  RenderItem grey = item;
+  grey.color = {0.5f, 0.5f, 0.5f};
+  renderer.keep(Renderer::prepare(item, o.frame));
+  EXPECT_EQ(renderer.render({grey}, o).image.rgba, fresh({grey}));
+  EXPECT_EQ(renderer.geometryBuilds(), 2u);
+
+  // A prepared mesh that is not drawn changes nothing; one beside another item is used.
+  renderer.keep(Renderer::prepare({cube}, o.frame));
+  EXPECT_EQ(renderer.render({grey}, o).image.rgba, fresh({grey}));
+  renderer.keep(Renderer::prepare({cube}, o.frame));
+  EXPECT_EQ(renderer.render({grey, {cube}}, o).image.rgba, fresh({grey, {cube}}));
+  EXPECT_EQ(renderer.geometryBuilds(), 2u);
+
+  // What a render refuses is not prepared; keeping nothing is allowed.
+  EXPECT_FALSE(Renderer::prepare({std::make_shared<const Mesh>()}, std::nullopt));
+  EXPECT_FALSE(Renderer::prepare({nullptr}, std::nullopt));
+  renderer.keep(nullptr);
+}
+
 TEST_P(RenderBackendTest, BothSidesAreLitAlike) {
   auto o = options(GetParam(), 120, 120);
   o.view = {.azimuthDeg = 10, .elevationDeg = 15};

@@ -585,6 +585,45 @@ TEST(StudioWindow, TheRegionBrushShowsWhereverTheTargetShowsLines) {
   EXPECT_EQ(offCanvas, 0);
 }
 
+// While the target canvas is dragged, the source surface stays the same value and is not drawn
+// again, and the target's new surface arrives with its render geometry built on the evaluating
+// thread: the UI thread only rasterizes it.
+TEST(StudioWindow, MovingTheTargetRedrawsTheTargetAloneFromGeometryPreparedAhead) {
+  StudioWindow window(test::registry());
+  ASSERT_TRUE(openShown(window, "clone_ear_cube_edge.json"));
+  auto& panel = window.clonePanel();
+  Viewport& source = panel.sourceView();
+  Viewport& target = panel.targetView();
+  source.repaint();
+  target.repaint();
+  const MeshPtr sourceShown = source.surface().mesh;
+  const MeshPtr targetShown = target.surface().mesh;
+  const qint64 sourceImage = source.image().cacheKey();
+  const std::size_t targetBuilds = target.geometryBuilds();
+  ASSERT_TRUE(sourceShown && targetShown);
+  for (const Vec3& origin : {Vec3{1.0, 0.45, 0.7}, Vec3{1.0, 0.5, 0.65}}) {
+    window.setParam(panel.roles().targetMap, "origin", origin);
+    ASSERT_TRUE(waitUntilIdle(window));
+    ASSERT_TRUE(window.lastReport().ok) << window.lastReport().error;
+    source.repaint();
+    target.repaint();
+    EXPECT_EQ(source.surface().mesh, sourceShown);
+    EXPECT_EQ(source.image().cacheKey(), sourceImage);
+    EXPECT_NE(target.surface().mesh, targetShown);
+    EXPECT_EQ(target.geometryBuilds(), targetBuilds);
+  }
+  // A new stroke changes the source's tint: its surface is made and drawn again.
+  const std::string strokes = panel.roles().strokes;
+  auto dabs =
+      std::get<std::vector<double>>(window.document().graph().nodes.at(strokes).params.at("dabs"));
+  dabs.insert(dabs.end(), {dabs[0] + 0.01, dabs[1], dabs[2], 1});
+  ASSERT_EQ(window.setParam(strokes, "dabs", dabs), "");
+  ASSERT_TRUE(waitUntilIdle(window));
+  source.repaint();
+  EXPECT_NE(source.surface().mesh, sourceShown);
+  EXPECT_NE(source.image().cacheKey(), sourceImage);
+}
+
 // A clone opens framed on the paste, not on the whole target (Home frames it all, F the paste
 // again); the wheel zooms toward the pointer: the point under it stays there.
 TEST(StudioWindow, OpensFramedOnThePasteAndZoomsTowardThePointer) {

@@ -16,6 +16,7 @@ struct FieldRange {
   double low = 0.0;
   double high = 1.0;
   bool diverging = false;  // blue below zero, white at zero, red above
+  bool operator==(const FieldRange&) const = default;
 };
 
 // The range that shows a field: for a field of both signs, -m..m with m the 98th percentile of

@@ -118,9 +118,20 @@ class Renderer {
   RenderCamera camera(const std::vector<RenderItem>& items, const RenderOptions& options);
 
   struct KeptMesh;
+  // An item's checks, box and geometry made ahead of the frame that draws it, on any thread (a
+  // view prepares its next mesh while it still shows the current one): built around `frame`'s
+  // centre, else the mesh's box centre (where a render of the item alone frames it). Null where
+  // a render would refuse the item. keep() hands it to a renderer; a render of that item around
+  // that centre then skips the work, and any other render ignores it: images stay the same.
+  using Prepared = std::shared_ptr<const KeptMesh>;
+  static Prepared prepare(const RenderItem& item, const std::optional<RenderFrame>& frame);
+  void keep(const Prepared& prepared);
+  // How many times a render built a mesh's geometry itself (for tests).
+  std::size_t geometryBuilds() const { return geometryBuilds_; }
 
  private:
   std::vector<KeptMesh> kept_;
+  std::size_t geometryBuilds_ = 0;
 };
 
 }  // namespace geobrush
