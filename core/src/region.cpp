@@ -59,6 +59,22 @@ Hash Region2D::contentHash() const {
   return hasher.digest();
 }
 
+void requireRegionOn(const Region2D& region, std::size_t sourceCanvasVertices,
+                     const std::size_t* targetCanvasVertices) {
+  // The lists ascend: their last entries are their largest.
+  const auto require = [](const std::vector<int>& vertices, std::size_t count, const char* side) {
+    if (vertices.empty() || (vertices.front() >= 0 && std::size_t(vertices.back()) < count)) return;
+    const int named = vertices.front() < 0 ? vertices.front() : vertices.back();
+    throw std::invalid_argument("the region names " + std::string(side) + " canvas vertex " +
+                                std::to_string(named) + ", which this " + std::to_string(count) +
+                                "-vertex canvas does not have: it was painted on other canvases "
+                                "(connect the ones its ROI was painted on)");
+  };
+  require(region.sourceVertices, sourceCanvasVertices, "source");
+  require(region.draftSupport, sourceCanvasVertices, "source");
+  if (targetCanvasVertices) require(region.targetVertices, *targetCanvasVertices, "target");
+}
+
 std::string Region2D::summary() const {
   std::size_t nodes = 0;
   for (auto in : inside)

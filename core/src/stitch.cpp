@@ -1035,6 +1035,12 @@ OpenStitch openLayout(TriMesh& out, const Region2D& region, const Parameterizati
   if (!source.canvas || !target.canvas) throw StitchError("the parameterizations have no canvases");
   const TriMesh& canvas = source.canvas->surface;
   const TriMesh& targetMesh = meshOf(*target.canvas);
+  try {
+    const std::size_t targetCanvasVertices = target.canvas->surface.n_vertices();
+    requireRegionOn(region, canvas.n_vertices(), &targetCanvasVertices);
+  } catch (const std::invalid_argument& e) {
+    throw StitchError(e.what());
+  }
   if (region.empty()) return keepTargetOpen(out, targetMesh);
   const PatchFaces patch = selectPatch(canvas, region);
   if (patch.faces.empty()) return keepTargetOpen(out, targetMesh);

@@ -82,8 +82,9 @@ class GcWarpNode final : public geobrush::Node {
     ctx.out("coordinates", coordinates_);
     try {
       if (ctx.hasInput("region")) {
-        ctx.out("draft", partialDraft(*canvas, *sourceCage, targetCage,
-                                      ctx.in<geobrush::Region2D>("region")->draftSupport));
+        const auto region = ctx.in<geobrush::Region2D>("region");
+        requireRegionOnCanvas(*region, *canvas);
+        ctx.out("draft", partialDraft(*canvas, *sourceCage, targetCage, region->draftSupport));
         return;
       }
       const auto warped = geobrush::applyGreenCoordinates(coordinates_->phi, coordinates_->psi,
@@ -98,6 +99,14 @@ class GcWarpNode final : public geobrush::Node {
   }
 
  private:
+  static void requireRegionOnCanvas(const geobrush::Region2D& region, const Canvas& canvas) {
+    try {
+      geobrush::requireRegionOn(region, canvas.surface.n_vertices());
+    } catch (const std::invalid_argument& e) {
+      throw NodeError::input("region", e.what());
+    }
+  }
+
   static void setPoint(geobrush::TriMesh& mesh, int v, const Eigen::Vector3d& p) {
     mesh.set_point(geobrush::TriMesh::VertexHandle(v), geobrush::toPoint(p));
   }

@@ -75,6 +75,11 @@ class MembraneNode final : public geobrush::Node {
     const auto targetLocator = geobrush::derivedLocator(ctx, "target");
     geobrush::MembraneSetup setup;
     try {
+      geobrush::requireRegionOn(*region, source->uv.size());
+    } catch (const std::invalid_argument& e) {
+      throw NodeError::input("region", e.what());
+    }
+    try {
       setup = geobrush::membraneSetup(*region, *source, draft->surface, *sourceLocator,
                                       *targetLocator, continuity);
     } catch (const std::invalid_argument& e) {

@@ -96,6 +96,21 @@ double closestInsertedDistance(const TriMesh& mesh, std::size_t firstInserted,
   return closest;
 }
 
+// Refused before any work where the template's area alone needs more than the limit: once every
+// edge is at most sqrt(3) delta_min long, a face covers at most 3 sqrt(3) / 4 delta_min^2 and a
+// mesh has about two faces a vertex (an estimate: declined midpoints leave a few edges longer).
+void requireFewEnoughVertices(const TriMesh& mesh, double delta, std::size_t maxVertices) {
+  double area = 0;
+  for (const auto f : mesh.faces())
+    area += mesh.calc_face_area(f);
+  const double needed = area / (2 * 3 * std::sqrt(3.0) / 4 * delta * delta);
+  if (needed > double(maxVertices))
+    throw PointInsertError("delta_min " + std::to_string(delta) + " would need about " +
+                           std::to_string(std::llround(std::min(needed, 1e18))) +
+                           " vertices, more than " + std::to_string(maxVertices) +
+                           "; raise delta_min");
+}
+
 }  // namespace
 
 PointInsertResult insertPoints(const TriMesh& mesh, const PointInsertOptions& options) {
@@ -104,6 +119,7 @@ PointInsertResult insertPoints(const TriMesh& mesh, const PointInsertOptions& op
     throw PointInsertError("delta_min must be a positive number");
   const double half = delta / 2;
   requireRepresentable(mesh, half);
+  requireFewEnoughVertices(mesh, delta, options.maxVertices);
   PointInsertResult result;
   result.mesh = mesh;
   TriMesh& out = result.mesh;

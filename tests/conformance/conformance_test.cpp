@@ -10,81 +10,18 @@
 #include "geobrush/graph.hpp"
 #include "perturbed.hpp"
 #include "test_support.hpp"
+#include "wired_node.hpp"
 
 using namespace geobrush;
 
 namespace {
 
-// Adds nodes that produce a value of `typeId` and returns the output feeding
-// it: the first type (by id) whose required inputs can be fed in turn.
-std::optional<Endpoint> feed(Graph& graph, const std::string& typeId, int depth) {
-  if (depth > 4) return std::nullopt;
-  // Producers with the fewest inputs first, so that feeding stays shallow.
-  auto producers = test::registry().types();
-  const auto requiredInputs = [](const NodeType* type) {
-    return std::count_if(type->inputs.begin(), type->inputs.end(),
-                         [](const PortDecl& port) { return !port.optional; });
-  };
-  std::stable_sort(producers.begin(), producers.end(), [&](const NodeType* a, const NodeType* b) {
-    return requiredInputs(a) < requiredInputs(b);
-  });
-  for (const NodeType* type : producers) {
-    const PortDecl* out = nullptr;
-    for (const auto& port : type->outputs)
-      if (port.typeId == typeId) out = &port;
-    // A feeder must run with its defaults: no files to read or write.
-    const bool usesFiles = std::any_of(type->params.begin(), type->params.end(), [](auto& p) {
-      return p.kind == ParamKind::InputPath || p.kind == ParamKind::OutputPath;
-    });
-    if (!out || usesFiles) continue;
-    Graph trial = graph;
-    const std::string name = "feed" + std::to_string(trial.nodes.size());
-    trial.nodes[name] = {type->id, type->version, {}};
-    // Meshes made small: what this suite checks does not depend on an input's size, and it
-    // evaluates every node type several times (the primitive's default sphere has 40,962 vertices).
-    if (type->id == "geobrush.primitive") trial.nodes[name].params["resolution"] = std::int64_t(16);
-    bool ok = true;
-    for (const auto& in : type->inputs) {
-      if (in.optional) continue;
-      auto source = feed(trial, in.typeId, depth + 1);
-      if (!source) {
-        ok = false;
-        break;
-      }
-      trial.connections.push_back({*source, {name, in.name}});
-    }
-    if (!ok) continue;
-    graph = std::move(trial);
-    return Endpoint{name, out->name};
-  }
-  return std::nullopt;
-}
-
 class Conformance : public testing::TestWithParam<std::string> {
  protected:
   const NodeType& type() const { return *test::registry().find(GetParam()); }
 
-  // The node under test ("subject") with every required input fed.
-  std::optional<Graph> wired() const {
-    Graph graph;
-    graph.file = test::tempDir("conformance-" + type().id) / "graph.json";
-    graph.nodes["subject"] = {type().id, type().version, {}};
-    for (const auto& in : type().inputs) {
-      if (in.optional) continue;
-      auto source = feed(graph, in.typeId, 0);
-      if (!source) return std::nullopt;
-      graph.connections.push_back({*source, {"subject", in.name}});
-    }
-    return graph;
-  }
+  std::optional<Graph> wired() const { return test::wiredNode(type(), "conformance"); }
 };
-
-std::vector<std::string> allTypeIds() {
-  std::vector<std::string> ids;
-  for (const NodeType* type : test::registry().types())
-    ids.push_back(type->id);
-  return ids;
-}
 
 }  // namespace
 
@@ -207,10 +144,7 @@ TEST_P(Conformance, DefaultsComputeDeterministicallyOrFailWithAMessage) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllNodeTypes, Conformance, testing::ValuesIn(allTypeIds()),
+INSTANTIATE_TEST_SUITE_P(AllNodeTypes, Conformance, testing::ValuesIn(test::allNodeTypeIds()),
                          [](const testing::TestParamInfo<std::string>& info) {
-                           std::string name = info.param;
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
+                           return test::typeTestName(info.param);
                          });

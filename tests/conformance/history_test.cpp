@@ -1,6 +1,7 @@
 // Nodes hold no state that changes their results: an evaluator taken through a history of edits
 // (strokes, target drags, every param of every node changed and restored) gives, after each
-// edit, the outputs that a fresh evaluator gives on the same graph, bit for bit.
+// edit, the outputs that a fresh evaluator gives on the same graph, bit for bit. Every clone
+// method as a whole, and every node type on its own.
 #include <gtest/gtest.h>
 
 #include "geobrush/clone.hpp"
@@ -8,6 +9,7 @@
 #include "geobrush/graph.hpp"
 #include "perturbed.hpp"
 #include "test_support.hpp"
+#include "wired_node.hpp"
 
 using namespace geobrush;
 
@@ -53,17 +55,14 @@ struct Edit {
   std::function<void(Graph&)> apply;
 };
 
-std::vector<Edit> sessionEdits(const Graph& start) {
+std::function<void(Graph&)> setParam(std::string node, std::string param, ParamValue value) {
+  return [=](Graph& graph) { graph.nodes.at(node).params[param] = value; };
+}
+
+// Every param of every node changed on its own, then back (paths stay: they name files). A
+// node's inputs change with the params of the nodes upstream of it.
+std::vector<Edit> paramEdits(const Graph& start) {
   std::vector<Edit> edits;
-  auto set = [](std::string node, std::string param, ParamValue value) {
-    return [=](Graph& graph) { graph.nodes.at(node).params[param] = value; };
-  };
-  edits.push_back({"a second dab", set("strokes", "dabs",
-                                       std::vector<double>{0, 0, 0.15, 1, 0.08, 0.02, 0.15, 1})});
-  edits.push_back({"the target dragged", set("target_map", "origin", Vec3{0.04, 0.01, 1})});
-  edits.push_back({"the target dragged on", set("target_map", "origin", Vec3{0.08, 0.03, 1})});
-  edits.push_back({"the target dragged back", set("target_map", "origin", Vec3{0, 0, 1})});
-  // Every param of every node changed on its own, then back (paths stay: they name files).
   for (const auto& [name, node] : start.nodes) {
     const NodeType& type = *test::registry().find(node.type);
     for (const ParamDecl& decl : type.params) {
@@ -73,10 +72,23 @@ std::vector<Edit> sessionEdits(const Graph& start) {
       ParamValue changed = test::perturbed(decl);
       if (changed == before) changed = decl.defaultValue;
       if (changed == before) continue;
-      edits.push_back({name + "." + decl.name + " changed", set(name, decl.name, changed)});
-      edits.push_back({name + "." + decl.name + " restored", set(name, decl.name, before)});
+      edits.push_back({name + "." + decl.name + " changed", setParam(name, decl.name, changed)});
+      edits.push_back({name + "." + decl.name + " restored", setParam(name, decl.name, before)});
     }
   }
+  return edits;
+}
+
+// A painting session: a stroke, a drag of the target and back, then every param.
+std::vector<Edit> sessionEdits(const Graph& start) {
+  std::vector<Edit> edits = {
+      {"a second dab",
+       setParam("strokes", "dabs", std::vector<double>{0, 0, 0.15, 1, 0.08, 0.02, 0.15, 1})},
+      {"the target dragged", setParam("target_map", "origin", Vec3{0.04, 0.01, 1})},
+      {"the target dragged on", setParam("target_map", "origin", Vec3{0.08, 0.03, 1})},
+      {"the target dragged back", setParam("target_map", "origin", Vec3{0, 0, 1})}};
+  for (Edit& edit : paramEdits(start))
+    edits.push_back(std::move(edit));
   return edits;
 }
 
@@ -143,6 +155,25 @@ TEST_P(CloneHistory, EveryEditGivesWhatAFreshEvaluatorGives) {
   }
   runHistory(graph, sessionEdits(graph));
 }
+
+// Every node type on its own, its inputs made by other types' nodes (wired_node.hpp: a relief
+// plane, a canvas and a region painted on it): each of its params and each of its feeders'
+// params (a change of its inputs) changed and restored. Where an input does not suit it, the
+// node must fail alike every time.
+class NodeHistory : public testing::TestWithParam<std::string> {};
+
+TEST_P(NodeHistory, EveryEditGivesWhatAFreshEvaluatorGives) {
+  const NodeType& type = *test::registry().find(GetParam());
+  auto graph = test::wiredNode(type, "node-history");
+  if (!graph) GTEST_SKIP() << "no node type produces one of the inputs";
+  prepareGraph(*graph, test::registry());
+  runHistory(*graph, paramEdits(*graph));
+}
+
+INSTANTIATE_TEST_SUITE_P(AllNodeTypes, NodeHistory, testing::ValuesIn(test::allNodeTypeIds()),
+                         [](const testing::TestParamInfo<std::string>& info) {
+                           return test::typeTestName(info.param);
+                         });
 
 INSTANTIATE_TEST_SUITE_P(Methods, CloneHistory,
                          testing::Values("geobrush", "cutpaste", "variational", "emd", "additive",

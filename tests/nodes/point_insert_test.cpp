@@ -1,5 +1,6 @@
 #include "point_insert.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -106,9 +107,25 @@ TEST(PointInsert, AClosedMeshStaysClosedWithItsArea) {
 TEST(PointInsert, RefusesWhatItCannotDo) {
   PointInsertOptions options;
   EXPECT_THROW(insertPoints(bigSquare(1), options), PointInsertError);  // delta 0
+  // A spacing the area alone cannot meet within the limit is refused before any work: the unit
+  // square needs at least 1 / (3 sqrt(3) / 2 delta^2) vertices, 3.8e7 at 1e-4.
   options.deltaMin = 1e-4;
   options.maxVertices = 1000;
-  EXPECT_THROW(insertPoints(bigSquare(1), options), PointInsertError);
+  try {
+    insertPoints(bigSquare(1), options);
+    ADD_FAILURE() << "refused nothing";
+  } catch (const PointInsertError& e) {
+    EXPECT_THAT(e.what(), testing::HasSubstr("would need about 38490018 vertices, more than 1000"));
+  }
+  // One the estimate allows that still passes the limit is refused as the refinement reaches it.
+  options.deltaMin = 0.05;
+  options.maxVertices = std::size_t(1 / (3 * std::sqrt(3.0) / 2 * 0.05 * 0.05)) + 1;
+  try {
+    insertPoints(bigSquare(1), options);
+    ADD_FAILURE() << "refused nothing";
+  } catch (const PointInsertError& e) {
+    EXPECT_THAT(e.what(), testing::HasSubstr("would pass"));
+  }
   options.deltaMin = 1e-300;
   EXPECT_THROW(insertPoints(bigSquare(1e10), options), PointInsertError);
   EXPECT_THROW(borderSpacing(bigSquare(1), {}), PointInsertError);

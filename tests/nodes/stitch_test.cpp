@@ -1,4 +1,5 @@
 // geobrush.stitch: R_in pasted into the target as one manifold mesh.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -277,6 +278,30 @@ TEST(Stitch, RefusesADraftOfAnotherCanvas) {
       paintRegion(strokes({{{0, 0}, 0.5, false}}), *source, *source, RoiOptions{32});
   EXPECT_THROW(stitchPaste(roi.region, *source, flatSquare(9)->canvas->surface, nullptr, *source),
                StitchError);
+}
+
+// A region painted on larger canvases names vertices the stitch's canvases do not have: refused
+// with the vertex named, never read out of bounds.
+TEST(Stitch, RefusesARegionPaintedOnOtherCanvases) {
+  auto large = flatSquare(16);
+  auto small = flatSquare(8);
+  const RoiResult roi =
+      paintRegion(strokes({{{0, 0}, 0.5, false}}), *large, *large, RoiOptions{32});
+  ASSERT_FALSE(roi.region.empty());
+  for (const auto& [source, target] : {std::pair{small, large}, std::pair{large, small}}) {
+    try {
+      stitchPaste(roi.region, *source, source->canvas->surface, nullptr, *target);
+      ADD_FAILURE() << "refused nothing";
+    } catch (const StitchError& e) {
+      EXPECT_THAT(e.what(), testing::HasSubstr("painted on other canvases"));
+      EXPECT_THAT(e.what(), testing::HasSubstr(source == small ? "source canvas vertex"
+                                                               : "target canvas vertex"));
+    }
+  }
+  // Its own canvases take it.
+  EXPECT_NO_THROW(stitchPaste(roi.region, *large, large->canvas->surface, nullptr, *large));
+  EXPECT_NO_THROW(requireRegionOn(roi.region, large->uv.size()));
+  EXPECT_THROW(requireRegionOn(roi.region, small->uv.size()), std::invalid_argument);
 }
 
 TEST(StitchNode, RefusesAnOffsetOnAnotherGrid) {

@@ -73,6 +73,12 @@ class Region2D final : public Value {
 };
 using Region2DPtr = std::shared_ptr<const Region2D>;
 
+// Throws std::invalid_argument unless every vertex the region names lies on canvases of these
+// sizes (the target's unchecked where null): a region painted on other canvases than the ones a
+// node is given would index vertices they do not have.
+void requireRegionOn(const Region2D& region, std::size_t sourceCanvasVertices,
+                     const std::size_t* targetCanvasVertices = nullptr);
+
 // A function from the parameter domain to R^3 sampled at the nodes of a grid, e.g. the offset
 // membrane x~ of Eq. 4. Nodes it does not define hold zero and are marked so.
 class Field2D final : public Value {
