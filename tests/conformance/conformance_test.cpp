@@ -144,6 +144,22 @@ TEST_P(Conformance, DefaultsComputeDeterministicallyOrFailWithAMessage) {
   }
 }
 
+// Inputs that do not belong together (each made from another mesh, as when a graph is wired
+// across two clones) are refused with a message naming the node, or used: never read out of
+// bounds (the sanitizer build runs this too) and never a crash.
+TEST_P(Conformance, InputsFromDifferentMeshesAreRefusedOrUsedNeverReadOutOfBounds) {
+  auto graph = test::wiredNode(type(), "conformance-mixed", /*mixedMeshes=*/true);
+  if (!graph) GTEST_SKIP() << "no node type produces one of the inputs";
+  prepareGraph(*graph, test::registry());
+  EvalOptions options;
+  options.outputDir = graph->baseDir();
+  Evaluator evaluator(test::registry());
+  const EvalReport report = evaluator.evaluate(*graph, options);
+  if (!report.ok) {
+    EXPECT_NE(report.error.find(": node '"), std::string::npos) << report.error;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(AllNodeTypes, Conformance, testing::ValuesIn(test::allNodeTypeIds()),
                          [](const testing::TestParamInfo<std::string>& info) {
                            return test::typeTestName(info.param);

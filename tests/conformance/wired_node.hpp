@@ -15,8 +15,10 @@
 namespace geobrush::test {
 
 // Adds nodes that produce a value of `typeId` and returns the output feeding
-// it: the first type (by id) whose required inputs can be fed in turn.
-inline std::optional<Endpoint> feed(Graph& graph, const std::string& typeId, int depth) {
+// it: the first type (by id) whose required inputs can be fed in turn. The meshes they start from
+// have `resolution` segments a side.
+inline std::optional<Endpoint> feed(Graph& graph, const std::string& typeId, int depth,
+                                    int resolution = 16) {
   if (depth > 4) return std::nullopt;
   // Producers with the fewest inputs first, so that feeding stays shallow.
   auto producers = registry().types();
@@ -31,7 +33,7 @@ inline std::optional<Endpoint> feed(Graph& graph, const std::string& typeId, int
     const PortDecl* out = nullptr;
     for (const auto& port : type->outputs)
       if (port.typeId == typeId) out = &port;
-    // A feeder must run with its defaults: no files to read or write.
+    // A feeder reads and writes no files.
     const bool usesFiles = std::any_of(type->params.begin(), type->params.end(), [](auto& p) {
       return p.kind == ParamKind::InputPath || p.kind == ParamKind::OutputPath;
     });
@@ -39,14 +41,13 @@ inline std::optional<Endpoint> feed(Graph& graph, const std::string& typeId, int
     Graph trial = graph;
     const std::string name = "feed" + std::to_string(trial.nodes.size());
     trial.nodes[name] = {type->id, type->version, {}};
-    // Meshes made small: what this suite checks does not depend on an input's size, and it
-    // evaluates every node type several times (the primitive's default sphere has 40,962 vertices).
-    // A relief plane, whose boundary the hole-filling types take for a hole and on which the
-    // maps' default origin (0, 0, 0) lies.
+    // A small relief plane (the suites evaluate every node type many times; the primitive's
+    // default sphere has 40,962 vertices), whose boundary the hole-filling types take for a hole
+    // and on which the maps' default origin (0, 0, 0) lies.
     if (type->id == "geobrush.primitive")
       trial.nodes[name].params = {{"shape", std::string("plane")},
                                   {"size", 2.0},
-                                  {"resolution", std::int64_t(16)},
+                                  {"resolution", std::int64_t(resolution)},
                                   {"relief", 0.02}};
     // Something painted, so that what is fed is a clone's: a source canvas around the plane's
     // centre and a region around the domain's origin (the defaults paint nothing and fail).
@@ -57,7 +58,7 @@ inline std::optional<Endpoint> feed(Graph& graph, const std::string& typeId, int
     bool ok = true;
     for (const auto& in : type->inputs) {
       if (in.optional) continue;
-      auto source = feed(trial, in.typeId, depth + 1);
+      auto source = feed(trial, in.typeId, depth + 1, resolution);
       if (!source) {
         ok = false;
         break;
@@ -72,14 +73,19 @@ inline std::optional<Endpoint> feed(Graph& graph, const std::string& typeId, int
 }
 
 // A graph of the node under test ("subject") with every required input fed; none where no node
-// type produces one of them. `suite` names the temporary folder its files go to.
-inline std::optional<Graph> wiredNode(const NodeType& type, const std::string& suite) {
+// type produces one of them. `suite` names the temporary folder its files go to. With
+// `mixedMeshes`, each input comes from a mesh of another resolution (16, 13, 10, ... segments),
+// as a graph wired across two clones would give them.
+inline std::optional<Graph> wiredNode(const NodeType& type, const std::string& suite,
+                                      bool mixedMeshes = false) {
   Graph graph;
   graph.file = tempDir(suite + "-" + type.id) / "graph.json";
   graph.nodes["subject"] = {type.id, type.version, {}};
+  int resolution = 16;
   for (const auto& in : type.inputs) {
     if (in.optional) continue;
-    auto source = feed(graph, in.typeId, 0);
+    auto source = feed(graph, in.typeId, 0, resolution);
+    if (mixedMeshes) resolution = std::max(4, resolution - 3);
     if (!source) return std::nullopt;
     graph.connections.push_back({*source, {"subject", in.name}});
   }
