@@ -13,6 +13,7 @@
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "clone_edits.hpp"
 
@@ -76,10 +77,6 @@ Eigen::AlignedBox3d boxOf(const ShownSurface& surface, Pick picked) {
     if (picked(v.idx())) box.extend(pointOf(surface.mesh->surface, v));
   return box;
 }
-
-}  // namespace
-
-namespace {
 
 // Whether the source surface, its lines and locator are those of `shown`: they depend on the
 // source mesh, its map (the line spacing too) and the strokes' dabs alone (the ROI correction
@@ -307,7 +304,8 @@ void ClonePanel::framePaste() {
 
 void ClonePanel::showView(LiveViewPtr view) {
   const bool first = !view_->source.mesh && !view_->target.mesh;
-  view_ = std::move(view);
+  // The views draw the shown view's lines by pointer: the old one lives until they are replaced.
+  const LiveViewPtr previous = std::exchange(view_, std::move(view));
   refillColourChoices(sourceColour_, view_->source);
   refillColourChoices(targetColour_, view_->target);
   showColours();
