@@ -178,6 +178,12 @@ Framing frameItems(const std::vector<Eigen::AlignedBox3d>& boxes, const RenderOp
   return framing;
 }
 
+// A new kept entry: the item checked (throws as renderMeshes does), its box, no geometry yet.
+Renderer::KeptMesh checkedEntry(const RenderItem& item, std::size_t index) {
+  checkItem(item, index);
+  return {item.mesh, meshBox(item.mesh->surface), nullptr};
+}
+
 // The checks and the camera that every render and camera share, for items whose meshes `kept`
 // holds checked (one entry per item, in order; a new one where the mesh was not kept).
 std::pair<Framing, Camera> prepareCamera(const std::vector<RenderItem>& items,
@@ -198,8 +204,7 @@ std::pair<Framing, Camera> prepareCamera(const std::vector<RenderItem>& items,
       current.push_back(*same);
       continue;
     }
-    checkItem(items[i], i);
-    current.push_back({items[i].mesh, meshBox(items[i].mesh->surface), nullptr});
+    current.push_back(checkedEntry(items[i], i));
   }
   kept = std::move(current);
   std::vector<Eigen::AlignedBox3d> boxes;
@@ -469,14 +474,12 @@ RenderResult Renderer::render(const std::vector<RenderItem>& items, const Render
 
 Renderer::Prepared Renderer::prepare(const RenderItem& item,
                                      const std::optional<RenderFrame>& frame) {
+  std::shared_ptr<KeptMesh> prepared;
   try {
-    detail::checkItem(item, 0);
+    prepared = std::make_shared<KeptMesh>(detail::checkedEntry(item, 0));
   } catch (const std::runtime_error&) {
     return nullptr;
   }
-  auto prepared = std::make_shared<KeptMesh>();
-  prepared->mesh = item.mesh;
-  prepared->box = detail::meshBox(item.mesh->surface);
   const Eigen::Vector3d centre =
       frame ? Eigen::Vector3d(frame->center.data()) : prepared->box.center();
   prepared->geometry = detail::buildSceneMesh(item, centre);

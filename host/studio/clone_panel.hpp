@@ -83,10 +83,10 @@ class ClonePanel : public QWidget {
 
   void setTool(CloneTool tool);
   CloneTool tool() const { return tool_; }
-  // In the units of the source mesh, which the shared domain keeps.
+  // In the units of the source mesh, which the shared domain keeps. [ and ] step it and write the
+  // new radius beside the pointer, until it moves on.
   void setBrushRadius(double radius);
   double brushRadius() const;
-  // [ and ] write the new radius beside the pointer too, until it moves on.
   // Resizing the brush with the pointer (R, as Blender's F): the disc stays where it is shown and
   // its edge follows the pointer (right grows it, left shrinks it), the radius written beside
   // the pointer; a click or R keeps the new radius, Esc restores the old one. False where no
