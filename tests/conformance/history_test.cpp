@@ -4,6 +4,8 @@
 // method as a whole, and every node type on its own.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "geobrush/clone.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
@@ -119,6 +121,16 @@ void expectSame(const Results& kept, const Results& fresh, const std::string& af
   EXPECT_EQ(kept.outputs.size(), fresh.outputs.size()) << after;
 }
 
+// Under the sanitizers the history evaluator takes every edit (its memory accesses are what they
+// check) and a fresh evaluator checks its results after the first edits only: the comparison after
+// every edit, one fresh evaluation of the whole graph each, is the optimized build's run of this
+// suite.
+#ifdef GEOBRUSH_UNDER_SANITIZERS
+constexpr std::size_t kComparedEdits = 4;
+#else
+constexpr std::size_t kComparedEdits = std::numeric_limits<std::size_t>::max();
+#endif
+
 void runHistory(Graph graph, const std::vector<Edit>& edits) {
   EvalOptions options;
   options.outputDir = graph.baseDir();
@@ -126,9 +138,12 @@ void runHistory(Graph graph, const std::vector<Edit>& edits) {
   history.evaluate(graph, options);
   // A fresh evaluator's results per graph (a restored param gives the graph of an earlier step).
   std::map<std::string, Results> freshResults;
-  for (const Edit& edit : edits) {
+  for (std::size_t step = 0; step < edits.size(); ++step) {
+    const Edit& edit = edits[step];
     edit.apply(graph);
     const EvalReport kept = history.evaluate(graph, options);
+    EXPECT_FALSE(kept.historyDependent()) << "after " << edit.name;
+    if (step >= kComparedEdits) continue;
     const std::string text = serializeGraph(graph, &test::registry());
     if (!freshResults.count(text)) {
       Evaluator fresh(test::registry());
@@ -136,7 +151,6 @@ void runHistory(Graph graph, const std::vector<Edit>& edits) {
       freshResults[text] = resultsOf(graph, cold, fresh);
     }
     expectSame(resultsOf(graph, kept, history), freshResults.at(text), "after " + edit.name);
-    EXPECT_FALSE(kept.historyDependent()) << "after " << edit.name;
   }
 }
 
