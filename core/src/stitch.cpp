@@ -200,15 +200,15 @@ double crossingEdgeLength(const TriMesh& targetCanvas, const std::vector<int>& r
 
 // The target faces around dQ, refined: the removed faces and every face sharing a corner with
 // one, so that every corner of a removed face has its whole fan here and the band's own boundary
-// (which is never split: the faces beyond it stay as they are) lies beyond the seam.
+// (which is never split: the faces beyond it stay as they are) lies beyond the seam. Its target
+// vertices and faces are those of the outside's local part (StitchOutside::local).
 struct SeamBand {
-  TriMesh mesh;  // the band's faces, bisected near R_in's outline
-  std::vector<int>
-      meshVertex;             // band vertex -> target mesh vertex, -1 where the refinement added it
-  std::vector<Vector2d> uv;   // band vertex -> its place in the domain
-  std::vector<char> covered;  // band vertex -> its faces are removed (see refineSeamBand)
-  std::vector<char> kept;     // band face -> stays in the result
-  std::vector<int> meshFaces;     // the target mesh faces of the band, increasing
+  TriMesh mesh;                   // the band's faces, bisected near R_in's outline
+  std::vector<int> localVertex;   // band vertex -> local vertex, -1 where the refinement added it
+  std::vector<Vector2d> uv;       // band vertex -> its place in the domain
+  std::vector<char> covered;      // band vertex -> its faces are removed (see refineSeamBand)
+  std::vector<char> kept;         // band face -> stays in the result
+  std::vector<int> localFaces;    // the local faces of the band, increasing
   std::size_t replacedFaces = 0;  // target faces bisected or removed
 };
 
@@ -260,7 +260,7 @@ void bisectNearOutline(SeamBand& band, const Outline& outline, double limit, std
     const bool coveredA = band.covered[std::size_t(a.idx())],
                coveredB = band.covered[std::size_t(b.idx())];
     const auto v = mesh.add_vertex(0.5 * (mesh.point(a) + mesh.point(b)));
-    band.meshVertex.push_back(-1);
+    band.localVertex.push_back(-1);
     band.uv.push_back(uv);
     band.covered.push_back((coveredA && coveredB) || outline.covers(uv, margin));
     mesh.split(e, v);
@@ -304,16 +304,16 @@ void bisectNearOutline(SeamBand& band, const Outline& outline, double limit, std
   }
 }
 
-// Whether the target mesh has faces around band vertex v that the band does not hold and that
-// stay (`keptMesh`: the target faces not removed; the removed faces inside the seam are no
+// Whether the local part has faces around band vertex v that the band does not hold and that
+// stay (`keptLocal`: the local faces not removed; the removed faces inside the seam are no
 // part of the band).
-bool openInBand(const SeamBand& band, const TriMesh& targetMesh, const std::vector<char>& keptMesh,
+bool openInBand(const SeamBand& band, const TriMesh& local, const std::vector<char>& keptLocal,
                 TriMesh::VertexHandle v) {
-  const int m = band.meshVertex[std::size_t(v.idx())];
+  const int m = band.localVertex[std::size_t(v.idx())];
   if (m < 0) return false;  // added inside the band: its fan is the band's
-  for (auto f : targetMesh.vf_range(TriMesh::VertexHandle(m)))
-    if (keptMesh[std::size_t(f.idx())] &&
-        !std::binary_search(band.meshFaces.begin(), band.meshFaces.end(), f.idx()))
+  for (auto f : local.vf_range(TriMesh::VertexHandle(m)))
+    if (keptLocal[std::size_t(f.idx())] &&
+        !std::binary_search(band.localFaces.begin(), band.localFaces.end(), f.idx()))
       return true;
   return false;
 }
@@ -329,7 +329,8 @@ bool openInBand(const SeamBand& band, const TriMesh& targetMesh, const std::vect
 SeamBand refineSeamBand(const std::vector<int>& removedCanvasFaces, const Outline& outline,
                         double limit, const std::vector<char>& coveredCanvas,
                         const Parameterization& target, const StitchBase& base,
-                        const TriMesh& targetMesh, const std::vector<char>& keptMesh) {
+                        const std::vector<char>& keptLocal) {
+  const TriMesh& local = base.outside->local;
   const TriMesh& targetCanvas = target.canvas->surface;
   SeamBand band;
   // Only the removed faces that dQ crosses (a corner uncovered) seed the band: those inside it
@@ -341,17 +342,17 @@ SeamBand refineSeamBand(const std::vector<int>& removedCanvasFaces, const Outlin
     if (!crossed) continue;
     for (auto corner : targetCanvas.fv_range(TriMesh::FaceHandle(f)))
       for (auto g : targetCanvas.vf_range(corner))
-        band.meshFaces.push_back(base.canvasFaceToMesh[std::size_t(g.idx())]);
+        band.localFaces.push_back(base.canvasFaceToLocal[std::size_t(g.idx())]);
   }
-  std::sort(band.meshFaces.begin(), band.meshFaces.end());
-  band.meshFaces.erase(std::unique(band.meshFaces.begin(), band.meshFaces.end()),
-                       band.meshFaces.end());
-  Submesh sub = extractSubmesh(targetMesh, band.meshFaces);
+  std::sort(band.localFaces.begin(), band.localFaces.end());
+  band.localFaces.erase(std::unique(band.localFaces.begin(), band.localFaces.end()),
+                        band.localFaces.end());
+  Submesh sub = extractSubmesh(local, band.localFaces);
   if (sub.unattachedFace >= 0) throw StitchError("the seam band is not a manifold");
   band.mesh = std::move(sub.surface);
-  band.meshVertex = std::move(sub.sourceVertex);
-  for (int m : band.meshVertex) {
-    const int c = base.meshToCanvas[std::size_t(m)];
+  band.localVertex = std::move(sub.sourceVertex);
+  for (int m : band.localVertex) {
+    const int c = base.localToCanvas[std::size_t(m)];
     band.uv.push_back(target.uv[std::size_t(c)]);
     band.covered.push_back(coveredCanvas[std::size_t(c)] ||
                            outline.covers(band.uv.back(), limit / 2));
@@ -375,7 +376,7 @@ SeamBand refineSeamBand(const std::vector<int>& removedCanvasFaces, const Outlin
   for (auto f : band.mesh.faces()) {
     if (band.kept[std::size_t(f.idx())]) continue;
     for (auto v : band.mesh.fv_range(f))
-      if (openInBand(band, targetMesh, keptMesh, v))
+      if (openInBand(band, local, keptLocal, v))
         throw StitchError("the removed faces reach the edge of the seam band");
     if (std::size_t(f.idx()) < changed.size()) changed[std::size_t(f.idx())] = 1;
   }
@@ -383,19 +384,20 @@ SeamBand refineSeamBand(const std::vector<int>& removedCanvasFaces, const Outlin
   return band;
 }
 
-// Adds the band's kept faces to `out`, which holds the rest of the target (`meshInOut`: target
-// mesh vertex -> vertex of `out`, or -1). Target vertices `out` already has are reused; the others
-// and the refinement's are added, with their target vertex and domain point appended to `outToMesh`
-// and `addedUv`. The faces go in breadth-first order from the band's edge, so that each meets the
-// faces before it along an edge (add_face then never has to relink fans). Returns band vertex ->
-// vertex of `out`, -1 where no kept face uses it; `added` counts the refinement's vertices added.
-std::vector<int> addBand(TriMesh& out, const SeamBand& band, const std::vector<int>& meshInOut,
-                         std::vector<int>& outToMesh, std::vector<Vector2d>& addedUv,
+// Adds the band's kept faces to `out`, which holds the rest of the target (`localInOut`: local
+// vertex -> vertex of `out`, or -1). Target vertices `out` already has are reused; the others
+// and the refinement's are added, with their local vertex (-1 for the refinement's) and domain
+// point appended to `addedLocal` and `addedUv`. The faces go in breadth-first order from the band's
+// edge, so that each meets the faces before it along an edge (add_face then never has to relink
+// fans). Returns band vertex -> vertex of `out`, -1 where no kept face uses it; `added` counts the
+// refinement's vertices added.
+std::vector<int> addBand(TriMesh& out, const SeamBand& band, const std::vector<int>& localInOut,
+                         std::vector<int>& addedLocal, std::vector<Vector2d>& addedUv,
                          std::size_t& added) {
   const TriMesh& mesh = band.mesh;
   std::vector<int> bandInOut(mesh.n_vertices(), -1);
-  for (std::size_t v = 0; v < band.meshVertex.size(); ++v)
-    if (band.meshVertex[v] >= 0) bandInOut[v] = meshInOut[std::size_t(band.meshVertex[v])];
+  for (std::size_t v = 0; v < band.localVertex.size(); ++v)
+    if (band.localVertex[v] >= 0) bandInOut[v] = localInOut[std::size_t(band.localVertex[v])];
   std::vector<char> queued(mesh.n_faces(), 0);
   std::vector<int> order;
   auto enqueue = [&](TriMesh::FaceHandle f) {
@@ -425,8 +427,8 @@ std::vector<int> addBand(TriMesh& out, const SeamBand& band, const std::vector<i
       int& o = bandInOut[std::size_t(v.idx())];
       if (o < 0) {
         o = out.add_vertex(mesh.point(v)).idx();
-        added += band.meshVertex[std::size_t(v.idx())] < 0;
-        outToMesh.push_back(band.meshVertex[std::size_t(v.idx())]);
+        added += band.localVertex[std::size_t(v.idx())] < 0;
+        addedLocal.push_back(band.localVertex[std::size_t(v.idx())]);
         addedUv.push_back(band.uv[std::size_t(v.idx())]);
       }
       corners[std::size_t(k++)] = TriMesh::VertexHandle(o);
@@ -476,6 +478,38 @@ void mapCanvas(StitchBase& base, const Parameterization& target) {
 
 }  // namespace
 
+namespace {
+
+// outside.local: the open faces and every face around their corners (`openVertex`: the corners),
+// with its maps into outside.mesh.
+void addLocalPart(StitchOutside& outside, const TriMesh& targetMesh, const AppendedFaces& inMesh,
+                  const std::vector<char>& openVertex, const std::vector<char>& open) {
+  std::vector<int>& faces = outside.localFaceToMesh;
+  for (auto f : targetMesh.faces()) {
+    bool near = false;
+    for (auto v : targetMesh.fv_range(f))
+      near = near || openVertex[std::size_t(v.idx())];
+    if (near) faces.push_back(f.idx());
+  }
+  // appendFaces keeps each halfedge's side: a join through `local` numbers what it adds as one
+  // through the target mesh would.
+  AppendedFaces inLocal = appendFaces(outside.local, targetMesh, faces);
+  outside.localVertexToMesh = std::move(inLocal.sourceVertex);
+  AppendedFaces& joined = outside.localInMesh;
+  for (int m : outside.localVertexToMesh)
+    joined.vertexInOut.push_back(inMesh.vertexInOut[std::size_t(m)]);
+  joined.edgeInOut.assign(outside.local.n_edges(), -1);
+  for (std::size_t e = 0; e < inLocal.edgeInOut.size(); ++e)
+    if (inLocal.edgeInOut[e] >= 0)
+      joined.edgeInOut[std::size_t(inLocal.edgeInOut[e])] = inMesh.edgeInOut[e];
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    joined.faceInOut.push_back(inMesh.faceInOut[std::size_t(faces[k])]);
+    if (open[std::size_t(faces[k])]) outside.localOpenFaces.push_back(int(k));
+  }
+}
+
+}  // namespace
+
 StitchOutside stitchOutside(const TriMesh& targetMesh, const std::vector<char>& open) {
   if (open.size() != targetMesh.n_faces())
     throw StitchError("the open part does not flag every target face");
@@ -483,14 +517,14 @@ StitchOutside stitchOutside(const TriMesh& targetMesh, const std::vector<char>& 
   std::vector<int> outsideFaces;
   for (std::size_t f = 0; f < open.size(); ++f)
     (open[f] ? outside.openMeshFaces : outsideFaces).push_back(int(f));
-  outside.faces = appendFaces(outside.mesh, targetMesh, outsideFaces);
+  AppendedFaces inMesh = appendFaces(outside.mesh, targetMesh, outsideFaces);
   std::vector<char> openVertex(targetMesh.n_vertices(), 0);
   for (int f : outside.openMeshFaces)
     for (auto v : targetMesh.fv_range(TriMesh::FaceHandle(f)))
       openVertex[std::size_t(v.idx())] = 1;
   const TriMesh& mesh = outside.mesh;
   for (auto v : mesh.vertices()) {
-    if (!openVertex[std::size_t(outside.faces.sourceVertex[std::size_t(v.idx())])]) continue;
+    if (!openVertex[std::size_t(inMesh.sourceVertex[std::size_t(v.idx())])]) continue;
     outside.borderVertices.push_back(v.idx());
     for (auto h : mesh.voh_range(v)) {
       outside.borderHalfedges.push_back(h.idx());
@@ -501,6 +535,8 @@ StitchOutside stitchOutside(const TriMesh& targetMesh, const std::vector<char>& 
   outside.borderHalfedges.erase(
       std::unique(outside.borderHalfedges.begin(), outside.borderHalfedges.end()),
       outside.borderHalfedges.end());
+  addLocalPart(outside, targetMesh, inMesh, openVertex, open);
+  outside.meshVertex = std::move(inMesh.sourceVertex);
   return outside;
 }
 
@@ -544,6 +580,26 @@ std::vector<char> openFaces(const TriMesh& mesh, const OpenCell& cell) {
 
 namespace {
 
+// The base's maps between its canvas and its outside's local part, which holds the canvas.
+void mapCanvasToLocal(StitchBase& base) {
+  const StitchOutside& outside = *base.outside;
+  auto localOf = [](const std::vector<int>& localToMesh, int m) {
+    const auto it = std::lower_bound(localToMesh.begin(), localToMesh.end(), m);
+    return it == localToMesh.end() || *it != m ? -1 : int(it - localToMesh.begin());
+  };
+  base.canvasFaceToLocal.clear();
+  for (int f : base.canvasFaceToMesh) {
+    base.canvasFaceToLocal.push_back(localOf(outside.localFaceToMesh, f));
+    if (base.canvasFaceToLocal.back() < 0)
+      throw StitchError("the target canvas reaches beyond the stitch's open part");
+  }
+  // A canvas vertex on no canvas face has no local vertex, and no paste uses it.
+  base.localToCanvas.assign(outside.local.n_vertices(), -1);
+  for (std::size_t c = 0; c < base.canvasToMesh.size(); ++c)
+    if (const int l = localOf(outside.localVertexToMesh, base.canvasToMesh[c]); l >= 0)
+      base.localToCanvas[std::size_t(l)] = int(c);
+}
+
 // Whether the outside's open part holds every face of the base's canvas.
 bool holdsCanvas(const StitchOutside& outside, const StitchBase& base) {
   return std::all_of(base.canvasFaceToMesh.begin(), base.canvasFaceToMesh.end(), [&](int f) {
@@ -560,13 +616,14 @@ StitchBase stitchBase(const Parameterization& target, std::shared_ptr<const Doma
   base.locator = locator ? std::move(locator) : std::make_shared<const DomainLocator>(target);
   if (outside && holdsCanvas(*outside, base)) {
     base.outside = std::move(outside);
-    return base;
+  } else {
+    const TriMesh& mesh = meshOf(*target.canvas);
+    std::vector<char> open(mesh.n_faces(), 0);
+    for (int f : base.canvasFaceToMesh)
+      open[std::size_t(f)] = 1;
+    base.outside = std::make_shared<const StitchOutside>(stitchOutside(mesh, open));
   }
-  const TriMesh& mesh = meshOf(*target.canvas);
-  std::vector<char> open(mesh.n_faces(), 0);
-  for (int f : base.canvasFaceToMesh)
-    open[std::size_t(f)] = 1;
-  base.outside = std::make_shared<const StitchOutside>(stitchOutside(mesh, open));
+  mapCanvasToLocal(base);
   return base;
 }
 
@@ -697,10 +754,12 @@ PatchFaces selectPatch(const TriMesh& canvas, const Region2D& region) {
 }
 
 // The target faces the paste replaces: those of its canvas that touch a covered vertex.
+// Faces are those of the base's local part (StitchOutside::local), which holds the canvas' faces
+// and their neighbours: the cut's arrays follow the open part, not the target.
 struct TargetCut {
   std::vector<char> covered;            // per target canvas vertex: in Q
-  std::vector<char> kept;               // per target mesh face
-  std::vector<int> removedFaces;        // target mesh faces
+  std::vector<char> kept;               // per local face
+  std::vector<int> removedFaces;        // local faces
   std::vector<int> removedCanvasFaces;  // the same faces of the target canvas
 };
 
@@ -709,7 +768,9 @@ TargetCut cutTarget(const Region2D& region, const Parameterization& target, cons
   const TriMesh& targetCanvas = target.canvas->surface;
   if (base.canvasToMesh.size() != targetCanvas.n_vertices() ||
       base.canvasFaceToMesh.size() != targetCanvas.n_faces() ||
-      base.meshToCanvas.size() != targetMesh.n_vertices())
+      base.meshToCanvas.size() != targetMesh.n_vertices() ||
+      base.canvasFaceToLocal.size() != targetCanvas.n_faces() ||
+      base.localToCanvas.size() != base.outside->local.n_vertices())
     throw StitchError("the stitch base was made for another target canvas");
   std::vector<char> outerBoundary(targetCanvas.n_vertices(), 0);
   for (int v : target.canvas->boundary)
@@ -726,13 +787,13 @@ TargetCut cutTarget(const Region2D& region, const Parameterization& target, cons
     }
     cut.covered[std::size_t(v)] = 1;
   }
-  cut.kept.assign(targetMesh.n_faces(), 1);
+  cut.kept.assign(base.outside->local.n_faces(), 1);
   for (int v : region.targetVertices)
     for (auto f : targetCanvas.vf_range(TriMesh::VertexHandle(v))) {
-      const int meshFace = base.canvasFaceToMesh[std::size_t(f.idx())];
-      char& k = cut.kept[std::size_t(meshFace)];
+      const int localFace = base.canvasFaceToLocal[std::size_t(f.idx())];
+      char& k = cut.kept[std::size_t(localFace)];
       if (k) {
-        cut.removedFaces.push_back(meshFace);
+        cut.removedFaces.push_back(localFace);
         cut.removedCanvasFaces.push_back(f.idx());
       }
       k = 0;
@@ -772,11 +833,11 @@ void cutUnderOutline(TargetCut& cut, const std::vector<Segment>& outline, const 
                      const Parameterization& target) {
   const TriMesh& canvas = target.canvas->surface;
   const auto remove = [&](int canvasFace) {
-    const int meshFace = base.canvasFaceToMesh[std::size_t(canvasFace)];
-    char& kept = cut.kept[std::size_t(meshFace)];
+    const int localFace = base.canvasFaceToLocal[std::size_t(canvasFace)];
+    char& kept = cut.kept[std::size_t(localFace)];
     if (!kept) return;
     kept = 0;
-    cut.removedFaces.push_back(meshFace);
+    cut.removedFaces.push_back(localFace);
     cut.removedCanvasFaces.push_back(canvasFace);
   };
   for (const Segment& edge : outline) {
@@ -806,50 +867,97 @@ double refinementLimit(const std::vector<Segment>& outline, const TargetCut& cut
   return kRefinedEdgeRatio * sourceEdge;
 }
 
+// Vertex of `out` -> target mesh vertex: the outside part's vertices first where `out` starts with
+// it, then those added after them (-1 for the refinement's).
+struct OutToMesh {
+  const std::vector<int>* outside = nullptr;  // StitchOutside::meshVertex, or null
+  std::vector<int> added;
+
+  int operator()(int v) const {
+    const std::size_t first = outside ? outside->size() : 0;
+    return std::size_t(v) < first ? (*outside)[std::size_t(v)] : added[std::size_t(v) - first];
+  }
+};
+
 // The kept target faces in `out`: the base's outside part, copied whole (unless `out` holds it
-// already), with the kept open faces joined to it; or, where making the cut manifold reached
-// beyond the open part, every kept face appended afresh.
+// already), with the kept open faces joined to it through the local part; or, where making the
+// cut manifold reached beyond the open part (`keptMesh`: per target mesh face), every kept face
+// appended afresh. The removed faces and the corners they are seeded from are the local part's,
+// or the target mesh's in the second case (`cutMesh`).
 struct TargetPart {
-  AppendedFaces faces;             // the kept faces joined or appended to `out`
-  std::vector<int> outToMesh;      // vertex of `out` -> target mesh vertex
-  std::vector<int> removedFaces;   // the target mesh faces removed, increasing
+  const TriMesh* cutMesh = nullptr;
+  std::vector<int> cutInOut;  // vertex of cutMesh -> vertex of `out`, -1 where no kept face uses it
+  std::vector<int> removedFaces;  // the faces of cutMesh removed, increasing
+  OutToMesh outToMesh;
   bool startsWithOutside = false;  // `out` starts with the base's outside part
 };
 
+// `out` holds the outside part: the kept open faces joined to it.
+TargetPart joinToOutside(TriMesh& out, const StitchOutside& outside,
+                         const std::vector<char>& kept) {
+  TargetPart part;
+  std::vector<int> keptFaces;
+  for (int f : outside.localOpenFaces)
+    (kept[std::size_t(f)] ? keptFaces : part.removedFaces).push_back(f);
+  AppendedFaces joined = joinFaces(out, outside.local, keptFaces, outside.localInMesh);
+  part.cutMesh = &outside.local;
+  part.cutInOut = std::move(joined.vertexInOut);
+  part.outToMesh.outside = &outside.meshVertex;
+  for (int local : joined.sourceVertex)
+    part.outToMesh.added.push_back(outside.localVertexToMesh[std::size_t(local)]);
+  part.startsWithOutside = true;
+  return part;
+}
+
 TargetPart addTargetPart(TriMesh& out, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
                          const StitchBase& base, const std::vector<char>& kept,
-                         bool outHoldsOutside) {
+                         const std::vector<char>* keptMesh, bool outHoldsOutside) {
   // Copied connectivity, not add_face face by face, which takes several times longer on a large
   // target; with room for the patch and the seam strips.
   const StitchOutside& outside = *base.outside;
   auto reserve = [&] {
     reserveForPaste(out, targetMesh, sourceCanvas, outside.openMeshFaces.size());
   };
-  TargetPart part;
-  std::vector<int> keptFaces;
-  for (int f : outside.openMeshFaces)
-    (kept[std::size_t(f)] ? keptFaces : part.removedFaces).push_back(f);
-  if (std::size_t(std::count(kept.begin(), kept.end(), 0)) == part.removedFaces.size()) {
+  if (!keptMesh) {
     if (!outHoldsOutside) {
       // Reserved first, the copy keeps the room (OpenMesh copies into the arrays it has).
       reserve();
       out = outside.mesh;
     }
-    part.faces = joinFaces(out, targetMesh, keptFaces, outside.faces);
-    part.outToMesh = outside.faces.sourceVertex;
-    part.startsWithOutside = true;
-  } else {
-    keptFaces.clear();
-    part.removedFaces.clear();
-    for (std::size_t f = 0; f < kept.size(); ++f)
-      (kept[f] ? keptFaces : part.removedFaces).push_back(int(f));
-    out.clear();
-    reserve();
-    part.faces = appendFaces(out, targetMesh, keptFaces);
+    return joinToOutside(out, outside, kept);
   }
-  part.outToMesh.insert(part.outToMesh.end(), part.faces.sourceVertex.begin(),
-                        part.faces.sourceVertex.end());
+  TargetPart part;
+  std::vector<int> keptFaces;
+  for (std::size_t f = 0; f < keptMesh->size(); ++f)
+    ((*keptMesh)[f] ? keptFaces : part.removedFaces).push_back(int(f));
+  out.clear();
+  reserve();
+  AppendedFaces all = appendFaces(out, targetMesh, keptFaces);
+  part.cutMesh = &targetMesh;
+  part.cutInOut = std::move(all.vertexInOut);
+  part.outToMesh.added = std::move(all.sourceVertex);
   return part;
+}
+
+// Makes the kept faces of the cut one fan at each vertex (removePinches) in the local part. Where
+// that removes a face beyond the open part, whose far corners the local part does not surround,
+// returns the kept faces of the whole target mesh instead, made manifold there.
+std::optional<std::vector<char>> removeCutPinches(TargetCut& cut, const StitchOutside& outside,
+                                                  const TriMesh& targetMesh) {
+  std::vector<int> removed = cut.removedFaces;
+  removePinches(outside.local, cut.kept, cut.removedFaces);
+  std::size_t removedOpen = 0;
+  for (int f : outside.localOpenFaces)
+    removedOpen += !cut.kept[std::size_t(f)];
+  if (removedOpen == std::size_t(std::count(cut.kept.begin(), cut.kept.end(), 0)))
+    return std::nullopt;
+  std::vector<char> keptMesh(targetMesh.n_faces(), 1);
+  for (int& f : removed) {
+    f = outside.localFaceToMesh[std::size_t(f)];
+    keptMesh[std::size_t(f)] = 0;
+  }
+  removePinches(targetMesh, keptMesh, removed);
+  return keptMesh;
 }
 
 // Where the seam loops are traced from: the vertices of `out` at a corner of a removed face
@@ -861,21 +969,25 @@ struct SeamSeeds {
   std::vector<Vector2d> bandUv;  // vertex firstBandVertex + i of `out` -> its place in the domain
 };
 
-SeamSeeds removedFaceSeeds(const TriMesh& out, const TriMesh& targetMesh, const TargetPart& part) {
+SeamSeeds removedFaceSeeds(const TriMesh& out, const TargetPart& part) {
   SeamSeeds seeds;
   seeds.firstBandVertex = int(out.n_vertices());
   for (int f : part.removedFaces)
-    for (auto corner : targetMesh.fv_range(TriMesh::FaceHandle(f)))
-      seeds.vertices.push_back(part.faces.vertexInOut[std::size_t(corner.idx())]);
+    for (auto corner : part.cutMesh->fv_range(TriMesh::FaceHandle(f)))
+      seeds.vertices.push_back(part.cutInOut[std::size_t(corner.idx())]);
   return seeds;
 }
 
-SeamSeeds addBandSeeds(TriMesh& out, const SeamBand& band, TargetPart& part,
-                       std::size_t& refinedVertices) {
+SeamSeeds addBandSeeds(TriMesh& out, const SeamBand& band, const StitchOutside& outside,
+                       TargetPart& part, std::size_t& refinedVertices) {
+  if (part.cutMesh != &outside.local) throw StitchError("the seam band was cut beyond its part");
   SeamSeeds seeds;
   seeds.firstBandVertex = int(out.n_vertices());
+  std::vector<int> bandLocal;
   const std::vector<int> bandInOut =
-      addBand(out, band, part.faces.vertexInOut, part.outToMesh, seeds.bandUv, refinedVertices);
+      addBand(out, band, part.cutInOut, bandLocal, seeds.bandUv, refinedVertices);
+  for (int local : bandLocal)
+    part.outToMesh.added.push_back(local < 0 ? -1 : outside.localVertexToMesh[std::size_t(local)]);
   for (auto f : band.mesh.faces())
     if (!band.kept[std::size_t(f.idx())])
       for (auto corner : band.mesh.fv_range(f))
@@ -886,11 +998,11 @@ SeamSeeds addBandSeeds(TriMesh& out, const SeamBand& band, TargetPart& part,
 // The seam loops: the boundary loops of the target part through a seed, traced before the patch
 // is added.
 std::vector<DomainLoop> traceSeams(const TriMesh& out, const SeamSeeds& seeds,
-                                   const std::vector<int>& outToMesh, const StitchBase& base,
+                                   const OutToMesh& outToMesh, const StitchBase& base,
                                    const Parameterization& target) {
   auto uvInDomain = [&](int v) -> Vector2d {
     if (v >= seeds.firstBandVertex) return seeds.bandUv[std::size_t(v - seeds.firstBandVertex)];
-    const int canvasVertex = base.meshToCanvas[std::size_t(outToMesh[std::size_t(v)])];
+    const int canvasVertex = base.meshToCanvas[std::size_t(outToMesh(v))];
     if (canvasVertex < 0) {
       throw StitchError(
           "the region reaches the edge of the target canvas: paint away from "
@@ -1057,20 +1169,22 @@ OpenStitch openLayout(TriMesh& out, const Region2D& region, const Parameterizati
   if (limit > 0) {
     refined = true;
     band = refineSeamBand(cut.removedCanvasFaces, Outline(std::move(outline), 2 * limit), limit,
-                          cut.covered, target, *base, targetMesh, cut.kept);
-    for (int f : band->meshFaces)
+                          cut.covered, target, *base, cut.kept);
+    for (int f : band->localFaces)
       cut.kept[std::size_t(f)] = 0;
-  } else {
-    removePinches(targetMesh, cut.kept, cut.removedFaces);
   }
+  const std::optional<std::vector<char>> keptMesh =
+      band ? std::nullopt : removeCutPinches(cut, *base->outside, targetMesh);
 
   OpenStitch open;
   StitchResult& result = open.result;  // its mesh stays empty: the mesh is `out`
-  TargetPart part = addTargetPart(out, targetMesh, canvas, *base, cut.kept, outHoldsOutside);
+  TargetPart part = addTargetPart(out, targetMesh, canvas, *base, cut.kept,
+                                  keptMesh ? &*keptMesh : nullptr, outHoldsOutside);
   result.startsWithOutside = part.startsWithOutside;
   result.removedFaces = band ? band->replacedFaces : part.removedFaces.size();
-  const SeamSeeds seeds = band ? addBandSeeds(out, *band, part, result.refinedVertices)
-                               : removedFaceSeeds(out, targetMesh, part);
+  const SeamSeeds seeds =
+      band ? addBandSeeds(out, *band, *base->outside, part, result.refinedVertices)
+           : removedFaceSeeds(out, part);
   open.targetLoops = traceSeams(out, seeds, part.outToMesh, *base, target);
   const PatchPart patchPart = addPatch(out, canvas, patch.faces);
   open.patchLoops = patchLoops(patchPart, source);
@@ -1081,7 +1195,9 @@ OpenStitch openLayout(TriMesh& out, const Region2D& region, const Parameterizati
   result.seamLoops = open.targetLoops.size();
 
   PasteMap& map = result.map;
-  map.targetVertex = part.outToMesh;
+  if (part.outToMesh.outside) map.targetVertex = *part.outToMesh.outside;
+  map.targetVertex.insert(map.targetVertex.end(), part.outToMesh.added.begin(),
+                          part.outToMesh.added.end());
   map.targetVertex.resize(out.n_vertices(), -1);
   map.sourceVertex.assign(std::size_t(patchPart.faces.firstVertex), -1);
   map.sourceVertex.insert(map.sourceVertex.end(), patchPart.faces.sourceVertex.begin(),

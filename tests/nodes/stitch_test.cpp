@@ -14,6 +14,7 @@
 #include "geobrush/graph.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "geobrush/stitch.hpp"
+#include "geobrush/submesh.hpp"
 #include "geobrush/values.hpp"
 #include "mesh_checks.hpp"
 #include "roi.hpp"
@@ -518,6 +519,111 @@ TEST(Stitch, AnOpenPartAroundTheCanvasGivesTheSamePaste) {
     EXPECT_EQ(triangleSet(a.mesh), triangleSet(b.mesh));
     EXPECT_EQ(test::topology(a.mesh).nonManifoldVertices, 0u);
     EXPECT_EQ(test::topology(a.mesh).boundaryLoops, 1u);
+  }
+}
+
+// The faces of `mesh` listed, as a target canvas parameterized by x and y; `boundary` is its
+// longest boundary loop (the others are inner loops).
+std::shared_ptr<Parameterization> flatCanvasOf(const MeshPtr& mesh, const std::vector<int>& faces) {
+  Submesh sub = extractSubmesh(mesh->surface, faces);
+  auto canvas = std::make_shared<Canvas>();
+  canvas->source = mesh;
+  canvas->surface = std::move(sub.surface);
+  canvas->sourceVertex = std::move(sub.sourceVertex);
+  canvas->sourceFace = std::move(sub.sourceFace);
+  const TriMesh& surface = canvas->surface;
+  std::set<int> traced;
+  for (auto start : surface.halfedges()) {
+    if (!surface.is_boundary(start) || traced.count(start.idx())) continue;
+    std::vector<int> loop;
+    for (auto h = start; loop.empty() || h != start; h = surface.next_halfedge_handle(h)) {
+      traced.insert(h.idx());
+      loop.push_back(surface.from_vertex_handle(h).idx());
+    }
+    if (loop.size() > canvas->boundary.size()) canvas->boundary = loop;
+  }
+  canvas->originFace = 0;
+  canvas->originPoint = pointOf(surface, TriMesh::VertexHandle(0));
+  auto param = std::make_shared<Parameterization>();
+  for (auto v : surface.vertices()) {
+    param->uv.emplace_back(surface.point(v)[0], surface.point(v)[1]);
+    param->normal.push_back(Eigen::Vector3d::UnitZ());
+  }
+  param->canvas = canvas;
+  return param;
+}
+
+// A cut whose kept faces meet at a vertex in two fans is made manifold by removing the faces
+// there, which may reach beyond the open part: here the canvas misses one face at vertex b (an
+// inner loop), and Q covers a C around b, two of b's neighbours but not the four between them.
+// The kept faces at b are the missing face and the one across from it; the paste is then made on
+// the whole target and gives what an open part holding every face gives.
+TEST(Stitch, ACutMadeManifoldBeyondTheOpenPartGivesThePasteOfAnOpenPartHoldingIt) {
+  constexpr int n = 20;
+  const MeshPtr square = test::heightGrid(n, [](double, double) { return 0.0; });
+  const TriMesh& mesh = square->surface;
+  const auto at = [](int i, int j) { return j * (n + 1) + i; };
+  const std::set<int> notchCorners = {at(10, 10), at(10, 11), at(9, 10)};  // b, its N and W
+  int notch = -1;
+  std::vector<int> faces;
+  for (auto f : mesh.faces()) {
+    std::set<int> corners;
+    bool near = true;
+    for (auto v : mesh.fv_range(f)) {
+      corners.insert(v.idx());
+      near = near && pointOf(mesh, v).norm() <= 0.55;
+    }
+    if (corners == notchCorners) notch = f.idx();
+    if (near && corners != notchCorners) faces.push_back(f.idx());
+  }
+  ASSERT_GE(notch, 0);
+  const auto target = flatCanvasOf(square, faces);
+  const Canvas& canvas = *target->canvas;
+  // The C: b's NE neighbour, around its E and S sides two rings out, to its SW neighbour.
+  const std::vector<int> arc = {at(11, 11), at(12, 11), at(12, 10), at(12, 9),
+                                at(11, 8),  at(10, 8),  at(9, 8),   at(9, 9)};
+  Region2D region;
+  for (int m : arc) {
+    const auto it = std::find(canvas.sourceVertex.begin(), canvas.sourceVertex.end(), m);
+    ASSERT_NE(it, canvas.sourceVertex.end());
+    region.targetVertices.push_back(int(it - canvas.sourceVertex.begin()));
+  }
+  std::sort(region.targetVertices.begin(), region.targetVertices.end());
+  const auto source = flatSquare(4 * n);
+  const double spacing = 2.0 / n;
+  for (auto v : source->canvas->surface.vertices()) {
+    bool inQ = false;
+    for (int m : arc)
+      inQ = inQ ||
+            (pointOf(source->canvas->surface, v) - pointOf(mesh, TriMesh::VertexHandle(m))).norm() <
+                0.6 * spacing;
+    if (inQ) region.sourceVertices.push_back(v.idx());
+  }
+
+  const StitchBase own = stitchBase(*target);
+  ASSERT_EQ(own.outside->openMeshFaces, faces);
+  const StitchBase whole = stitchBase(*target, nullptr,
+                                      std::make_shared<const StitchOutside>(stitchOutside(
+                                          mesh, std::vector<char>(mesh.n_faces(), 1))));
+  const StitchResult a =
+      stitchPaste(region, *source, source->canvas->surface, nullptr, *target, &own);
+  const StitchResult b =
+      stitchPaste(region, *source, source->canvas->surface, nullptr, *target, &whole);
+  EXPECT_FALSE(a.startsWithOutside);  // made on the whole target
+  EXPECT_TRUE(b.startsWithOutside);
+  EXPECT_EQ(triangleSet(a.mesh), triangleSet(b.mesh));
+  EXPECT_EQ(test::topology(a.mesh).nonManifoldVertices, 0u);
+  EXPECT_EQ(test::topology(a.mesh).boundaryLoops, 1u);
+  // The face outside the canvas is gone.
+  const Eigen::Vector3d centre = (pointOf(mesh, TriMesh::VertexHandle(at(10, 10))) +
+                                  pointOf(mesh, TriMesh::VertexHandle(at(10, 11))) +
+                                  pointOf(mesh, TriMesh::VertexHandle(at(9, 10)))) /
+                                 3;
+  for (auto f : a.mesh.faces()) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (auto v : a.mesh.fv_range(f))
+      c += pointOf(a.mesh, v) / 3;
+    EXPECT_GT((c - centre).norm(), 1e-9);
   }
 }
 

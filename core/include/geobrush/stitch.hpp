@@ -54,10 +54,20 @@ struct StitchResult {
 struct StitchOutside {
   std::vector<int> openMeshFaces;  // the target mesh faces of the open part, increasing
   TriMesh mesh;                    // the target mesh's faces outside the open part
-  AppendedFaces faces;             // how `mesh` maps to the target mesh
+  std::vector<int> meshVertex;     // vertex of `mesh` -> target mesh vertex, increasing
   // The entries of `mesh` that a paste changes when it joins faces to it: its vertices that are
   // corners of open faces too, and every halfedge at one of them.
   std::vector<int> borderVertices, borderHalfedges;
+  // The open faces with every face that shares a corner with one, as a mesh of their own whose
+  // halfedges keep the target mesh's sides: a paste cuts the target and joins the kept open faces
+  // to `mesh` here, with arrays the size of the open part rather than of the target.
+  TriMesh local;
+  std::vector<int> localVertexToMesh;  // local vertex -> target mesh vertex, increasing
+  std::vector<int> localFaceToMesh;    // local face -> target mesh face, increasing
+  std::vector<int> localOpenFaces;     // the local faces of the open part, increasing
+  // Local vertex, edge and face -> the same element of `mesh`, or -1 where only the open part
+  // has it (joinFaces' account of `mesh` for faces of `local`).
+  AppendedFaces localInMesh;
 };
 // The outside of the faces marked in `open` (one flag per face of `targetMesh`).
 StitchOutside stitchOutside(const TriMesh& targetMesh, const std::vector<char>& open);
@@ -83,6 +93,9 @@ struct StitchBase {
   std::vector<int> canvasToMesh;      // target canvas vertex -> target mesh vertex
   std::vector<int> meshToCanvas;      // target mesh vertex -> target canvas vertex, or -1
   std::vector<int> canvasFaceToMesh;  // target canvas face -> target mesh face
+  // The same maps with outside->local in place of the target mesh.
+  std::vector<int> localToCanvas;      // local vertex -> target canvas vertex, or -1
+  std::vector<int> canvasFaceToLocal;  // target canvas face -> local face
   // On the target parameterization: which target faces R_in's outline passes through.
   std::shared_ptr<const DomainLocator> locator;
   std::shared_ptr<const StitchOutside> outside;
