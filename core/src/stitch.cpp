@@ -672,10 +672,14 @@ namespace {
 
 // Room for the whole target, the source canvas and the seam strips (an eighth of the open faces,
 // more than any outline across the open part needs): a paste never outgrows it.
+std::size_t pasteVertexRoom(const TriMesh& targetMesh, const TriMesh& sourceCanvas) {
+  return targetMesh.n_vertices() + sourceCanvas.n_vertices();
+}
+
 void reserveForPaste(TriMesh& out, const TriMesh& targetMesh, const TriMesh& sourceCanvas,
                      std::size_t openFaces) {
   const std::size_t strips = openFaces / 8 + 1024;
-  out.reserve(targetMesh.n_vertices() + sourceCanvas.n_vertices(),
+  out.reserve(pasteVertexRoom(targetMesh, sourceCanvas),
               targetMesh.n_edges() + sourceCanvas.n_edges() + strips,
               targetMesh.n_faces() + sourceCanvas.n_faces() + strips);
 }
@@ -1125,11 +1129,36 @@ void zipSeams(TriMesh& out, const std::vector<DomainLoop>& patch,
   }
 }
 
+// The paste map's vertex arrays for the layout so far, written into `map`'s, with `room` for the
+// paste's vertices (as its mesh has, so that a map kept for the next dab holds it): the target
+// part's vertices, then R_in's from patch.firstVertex. Where `held` and the target part starts
+// with the outside part, `map` is the map of an earlier paste into the same base that started
+// with it, and its entries for the outside part stay as they are.
+void mapVertices(PasteMap& map, const OutToMesh& toMesh, const AppendedFaces& patch, bool held,
+                 std::size_t room) {
+  const std::size_t first = toMesh.outside ? toMesh.outside->size() : 0;
+  const std::size_t vertices = std::size_t(patch.firstVertex) + patch.sourceVertex.size();
+  map.targetVertex.reserve(room);
+  map.sourceVertex.reserve(room);
+  if (!held || map.targetVertex.size() < first || map.sourceVertex.size() < first) {
+    if (toMesh.outside)
+      map.targetVertex.assign(toMesh.outside->begin(), toMesh.outside->end());
+    map.sourceVertex.assign(first, -1);
+  }
+  map.targetVertex.resize(first);
+  map.targetVertex.insert(map.targetVertex.end(), toMesh.added.begin(), toMesh.added.end());
+  map.targetVertex.resize(vertices, -1);
+  map.sourceVertex.resize(first);
+  map.sourceVertex.resize(std::size_t(patch.firstVertex), -1);
+  map.sourceVertex.insert(map.sourceVertex.end(), patch.sourceVertex.begin(),
+                          patch.sourceVertex.end());
+}
+
 // A layout with nothing to paste: the target mesh, no loops.
 OpenStitch keepTargetOpen(TriMesh& out, const TriMesh& targetMesh) {
   OpenStitch open;
   open.result = keepTarget(out, targetMesh);
-  open.firstPatchVertex = int(out.n_vertices());
+  open.firstPatchVertex = open.result.firstPatchVertex = int(out.n_vertices());
   open.firstGapFace = int(out.n_faces());
   return open;
 }
@@ -1138,7 +1167,7 @@ OpenStitch keepTargetOpen(TriMesh& out, const TriMesh& targetMesh) {
 // `refined` tells whether it did.
 OpenStitch openLayout(TriMesh& out, const Region2D& region, const Parameterization& source,
                       const Parameterization& target, const StitchBase* base, bool outHoldsOutside,
-                      double refinementRatio, bool& refined) {
+                      double refinementRatio, bool& refined, PasteMap* reuse) {
   refined = false;
   if (outHoldsOutside && (!base || out.n_vertices() != base->outside->mesh.n_vertices() ||
                           out.n_faces() != base->outside->mesh.n_faces()))
@@ -1194,14 +1223,10 @@ OpenStitch openLayout(TriMesh& out, const Region2D& region, const Parameterizati
   result.patchVertices = patchPart.faces.sourceVertex.size();
   result.seamLoops = open.targetLoops.size();
 
-  PasteMap& map = result.map;
-  if (part.outToMesh.outside) map.targetVertex = *part.outToMesh.outside;
-  map.targetVertex.insert(map.targetVertex.end(), part.outToMesh.added.begin(),
-                          part.outToMesh.added.end());
-  map.targetVertex.resize(out.n_vertices(), -1);
-  map.sourceVertex.assign(std::size_t(patchPart.faces.firstVertex), -1);
-  map.sourceVertex.insert(map.sourceVertex.end(), patchPart.faces.sourceVertex.begin(),
-                          patchPart.faces.sourceVertex.end());
+  result.firstPatchVertex = patchPart.faces.firstVertex;
+  if (reuse) result.map = std::move(*reuse);
+  mapVertices(result.map, part.outToMesh, patchPart.faces, outHoldsOutside && reuse,
+              pasteVertexRoom(targetMesh, canvas));
   return open;
 }
 
@@ -1209,9 +1234,10 @@ OpenStitch openLayout(TriMesh& out, const Region2D& region, const Parameterizati
 // tells whether it did.
 StitchResult layoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
                         const Parameterization& target, const StitchBase* base,
-                        bool outHoldsOutside, double refinementRatio, bool& refined) {
-  OpenStitch open =
-      openLayout(out, region, source, target, base, outHoldsOutside, refinementRatio, refined);
+                        bool outHoldsOutside, double refinementRatio, bool& refined,
+                        PasteMap* reuse) {
+  OpenStitch open = openLayout(out, region, source, target, base, outHoldsOutside, refinementRatio,
+                               refined, reuse);
   zipOpenStitch(out, open);
   return finishOpenStitch(out, std::move(open));
 }
@@ -1225,11 +1251,11 @@ OpenStitch stitchOpenLayoutInto(TriMesh& out, const Region2D& region,
   bool refined = false;
   try {
     return openLayout(out, region, source, target, base, outHoldsOutside,
-                      options.seamRefinementRatio, refined);
+                      options.seamRefinementRatio, refined, nullptr);
   } catch (const StitchError&) {
     if (!refined) throw;
   }
-  return openLayout(out, region, source, target, base, false, 0, refined);
+  return openLayout(out, region, source, target, base, false, 0, refined, nullptr);
 }
 
 void zipOpenStitch(TriMesh& out, const OpenStitch& open) {
@@ -1250,17 +1276,17 @@ StitchResult finishOpenStitch(const TriMesh& out, OpenStitch open) {
 
 StitchResult stitchLayoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
                               const Parameterization& target, const StitchBase* base,
-                              bool outHoldsOutside, const StitchOptions& options) {
+                              bool outHoldsOutside, const StitchOptions& options, PasteMap reuse) {
   bool refined = false;
   try {
     return layoutInto(out, region, source, target, base, outHoldsOutside,
-                      options.seamRefinementRatio, refined);
+                      options.seamRefinementRatio, refined, &reuse);
   } catch (const StitchError&) {
     if (!refined) throw;
   }
   // The refined band could not be made manifold or joined (rare: R_in's outline winds through a
   // coarse face): the paste without it, as good as a coarse target allows, from a fresh copy.
-  return layoutInto(out, region, source, target, base, false, 0, refined);
+  return layoutInto(out, region, source, target, base, false, 0, refined, &reuse);
 }
 
 void requireDraftOf(const TriMesh& draft, const Parameterization& source) {
@@ -1271,12 +1297,13 @@ void requireDraftOf(const TriMesh& draft, const Parameterization& source) {
 }
 
 void placePatch(TriMesh& out, const PasteMap& map, const Parameterization& source,
-                const TriMesh& draft, const Field2D* offset) {
+                const TriMesh& draft, const Field2D* offset, int firstPatchVertex) {
   requireDraftOf(draft, source);
   if (map.sourceVertex.size() != out.n_vertices())
     throw StitchError("the paste map does not describe the mesh to place the patch in");
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-  for (std::size_t v = 0; v < map.sourceVertex.size(); ++v) {
+  for (std::size_t v = std::size_t(std::max(firstPatchVertex, 0)); v < map.sourceVertex.size();
+       ++v) {
     const int c = map.sourceVertex[v];
     if (c < 0) continue;
     const auto& g = draft.point(TriMesh::VertexHandle(c));
@@ -1296,7 +1323,7 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
   requireDraftOf(draft, source);  // before the layout's work, not after it
   StitchResult result =
       stitchLayoutInto(out, region, source, target, base, outHoldsOutside, options);
-  placePatch(out, result.map, source, draft, offset);
+  placePatch(out, result.map, source, draft, offset, result.firstPatchVertex);
   return result;
 }
 

@@ -437,7 +437,7 @@ CdtStitchResult cdtStitchPasteInto(TriMesh& out, const Region2D& region,
     throw CdtStitchError("region", e.what());
   }
   try {
-    placePatch(out, open->result.map, source, draft, offset);
+    placePatch(out, open->result.map, source, draft, offset, open->firstPatchVertex);
   } catch (const StitchError& e) {
     throw CdtStitchError("offset", e.what());
   }

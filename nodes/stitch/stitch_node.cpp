@@ -23,9 +23,10 @@ using geobrush::Region2D;
 // shared by the canvases of a drag within one cell (derivedStitchBase). Every result starts as
 // that outside (tens of megabytes on a large target): one of the node's last results that nothing
 // holds any more (an evaluator keeps two runs' outputs, so the one of three edits ago) is turned
-// back into it in place (restoreOutside, the border alone); where none is free, the part is
-// copied for the next edit on another thread, while the nodes before the stitch (strokes, ROI,
-// warp) work on that next edit. Either way the result is the one a fresh node makes.
+// back into it in place (restoreOutside, the border alone), and its paste map, where nothing holds
+// that either, keeps its entries for the outside part; where none is free, the part is copied for
+// the next edit on another thread, while the nodes before the stitch (strokes, ROI, warp) work on
+// that next edit. Either way the result is the one a fresh node makes.
 class StitchNode final : public geobrush::Node {
  public:
   ~StitchNode() override { dropNext(); }
@@ -46,7 +47,7 @@ class StitchNode final : public geobrush::Node {
         made_.clear();
         outside_ = base->outside;
       }
-      std::shared_ptr<Mesh> mesh = reclaim();
+      auto [mesh, map] = reclaim();
       const bool reclaimed = mesh != nullptr;
       if (!mesh && next_.valid()) mesh = next_.get();
       const bool prepared = mesh != nullptr;
@@ -54,13 +55,14 @@ class StitchNode final : public geobrush::Node {
       geobrush::StitchOptions options;
       options.seamRefinementRatio = ctx.param<double>("seam_refinement");
       geobrush::StitchResult result = geobrush::stitchLayoutInto(
-          mesh->surface, *region, *source, *target, base.get(), prepared, options);
-      made_.push_back({mesh, result.startsWithOutside});
+          mesh->surface, *region, *source, *target, base.get(), prepared, options, std::move(map));
+      auto madeMap = std::make_shared<geobrush::PasteMap>(std::move(result.map));
+      made_.push_back({mesh, madeMap, result.startsWithOutside});
       if (made_.size() > kKept) made_.pop_front();
       // Where this edit found no result to reclaim, the next one is unlikely to: its outside
       // part is copied now, unless the outside changed (a drag changes it again).
       if (!reclaimed && !newOutside) prepareNext(target, source->canvas);
-      laid_ = Laid{std::move(mesh), std::move(result.map)};
+      laid_ = Laid{std::move(mesh), std::move(madeMap), result.firstPatchVertex};
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("region", e.what());
     }
@@ -82,34 +84,38 @@ class StitchNode final : public geobrush::Node {
     Laid laid = std::move(*laid_);
     laid_.reset();
     try {
-      geobrush::placePatch(laid.mesh->surface, laid.map, *source, draft->surface, offset.get());
+      geobrush::placePatch(laid.mesh->surface, *laid.map, *source, draft->surface, offset.get(),
+                           laid.firstPatchVertex);
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("offset", e.what());
     }
     ctx.out("mesh", std::move(laid.mesh));
-    ctx.out("map", std::make_shared<const geobrush::PasteMap>(std::move(laid.map)));
+    ctx.out("map", std::shared_ptr<const geobrush::PasteMap>(std::move(laid.map)));
   }
 
  private:
   struct Made {
     std::shared_ptr<Mesh> mesh;
+    std::shared_ptr<geobrush::PasteMap> map;
     bool startsWithOutside = false;
   };
 
-  // The oldest of the node's last results that no one else holds any more (no one can take hold
-  // of it again then: the node's is the last reference), turned back into the outside part; null
-  // where there is none.
-  std::shared_ptr<Mesh> reclaim() {
+  // The oldest of the node's last results whose mesh no one else holds any more (no one can take
+  // hold of it again then: the node's is the last reference), turned back into the outside part,
+  // with its paste map where that is free too (else an empty one); a null mesh where there is none.
+  std::pair<std::shared_ptr<Mesh>, geobrush::PasteMap> reclaim() {
     auto free = std::find_if(made_.begin(), made_.end(), [](const Made& made) {
       return made.startsWithOutside && made.mesh.use_count() == 1;
     });
-    if (free == made_.end()) return nullptr;
+    if (free == made_.end()) return {nullptr, {}};
     std::shared_ptr<Mesh> mesh = std::move(free->mesh);
+    geobrush::PasteMap map;
+    if (free->map.use_count() == 1) map = std::move(*free->map);
     made_.erase(free);
     dropNext();
     geobrush::restoreOutside(*outside_, mesh->surface);
     mesh->vertexColors.clear();
-    return mesh;
+    return {std::move(mesh), std::move(map)};
   }
 
   void prepareNext(std::shared_ptr<const Parameterization> target,
@@ -130,7 +136,8 @@ class StitchNode final : public geobrush::Node {
 
   struct Laid {
     std::shared_ptr<Mesh> mesh;  // the paste with R_in at the source canvas' positions
-    geobrush::PasteMap map;
+    std::shared_ptr<geobrush::PasteMap> map;
+    int firstPatchVertex = 0;
   };
   std::optional<Laid> laid_;                                // from prepare() to compute()
   std::shared_ptr<const geobrush::StitchOutside> outside_;  // what made_ and next_ start as

@@ -379,9 +379,10 @@ TEST(StitchNode, OutputsWhatStitchPasteMakes) {
 }
 
 // A brush's dabs start from the target's outside part, copied ahead of time or taken back from
-// a result of two dabs ago that nothing holds any more: each result is still what a fresh stitch
-// makes, halfedge for halfedge, dab after dab, with results held elsewhere, an empty region and a
-// change of target between them.
+// a result of two dabs ago that nothing holds any more, its paste map's arrays with it where
+// nothing holds the map either: each result and map is still what a fresh stitch makes, halfedge
+// for halfedge and entry for entry, dab after dab, with results or maps held elsewhere, an empty
+// region and a change of target between them.
 // The base a node derives for `target` (derivedStitchBase): the outside of the canvas' cell.
 StitchBase freshNodeBase(const Parameterization& target) {
   const TriMesh& mesh = target.canvas->source->surface;
@@ -400,9 +401,11 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
       std::make_shared<DerivedStore>();  // kept from dab to dab, as an evaluator keeps it
   std::vector<Dab> dabs;
   const auto first = flatDiscOnSquare(17, 0.8), second = flatDiscOnSquare(19, 0.8);
-  std::vector<const Mesh*> made;  // each dab's result, by address
+  std::vector<const Mesh*> made;       // each dab's result, by address
+  std::vector<const int*> mapEntries;  // each dab's map's targetVertex array, by address
   std::shared_ptr<const Mesh> held;
-  constexpr int kEmpty = 5, kHeld = 3, kNewTarget = 8;
+  std::shared_ptr<const PasteMap> heldMap;
+  constexpr int kEmpty = 5, kHeld = 3, kMapHeld = 6, kNewTarget = 8;
   for (int dab = 0; dab < 10; ++dab) {
     SCOPED_TRACE(dab);
     const auto& target = dab < kNewTarget ? first : second;
@@ -416,12 +419,19 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
     test::run(*node, ctx);
     const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
     ASSERT_TRUE(mesh);
+    const auto map = std::dynamic_pointer_cast<const PasteMap>(ctx.outputs.at("map"));
+    ASSERT_TRUE(map);
     made.push_back(mesh.get());
+    mapEntries.push_back(map->targetVertex.data());
     if (dab == kHeld) held = mesh;
+    if (dab == kMapHeld) heldMap = map;
     const StitchBase base = freshNodeBase(*target);
     const StitchResult fresh =
         stitchPaste(*region, *source, source->canvas->surface, nullptr, *target, &base);
     EXPECT_TRUE(test::sameHalfedgeStructure(mesh->surface, fresh.mesh));
+    EXPECT_EQ(map->targetVertex, fresh.map.targetVertex);
+    EXPECT_EQ(map->sourceVertex, fresh.map.sourceVertex);
+    EXPECT_EQ(map->seamFaces, fresh.map.seamFaces);
     EXPECT_TRUE(test::topology(mesh->surface).nonManifoldVertices == 0);
   }
   // A result the node took back is one that was still alive when the next was made: the same
@@ -434,6 +444,11 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   EXPECT_NE(made[6], made[5]);
   EXPECT_EQ(made[7], made[6]);
   EXPECT_EQ(made[9], made[8]);
+  // The maps go with their results, but for the one held.
+  EXPECT_EQ(mapEntries[1], mapEntries[0]);
+  EXPECT_EQ(mapEntries[3], mapEntries[2]);
+  EXPECT_NE(mapEntries[7], mapEntries[6]);
+  EXPECT_EQ(mapEntries[9], mapEntries[8]);
 }
 
 // Dragging the target canvas over one mesh: each move's base is derived data for its canvas, its

@@ -43,6 +43,7 @@ struct StitchResult {
   std::size_t gapTriangles = 0;     // triangles of the seam strips
   std::size_t seamLoops = 0;        // boundary loops of R_in, each zipped to one of the target
   PasteMap map;                     // the origin of each vertex of `mesh`, and the seam faces
+  int firstPatchVertex = 0;         // R_in's vertices are the patchVertices from here
   // Whether `mesh` starts with the base's `outside` part, element for element, with the rest
   // joined to it: what restoreOutside needs.
   bool startsWithOutside = false;
@@ -136,13 +137,18 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
 // The two halves of stitchPasteInto. The paste's connectivity and seam depend on the region, the
 // canvases and their parameterizations alone: stitchLayoutInto builds them, with R_in's vertices
 // at the source canvas' positions, while the offset membrane is still being solved; placePatch
-// then moves each vertex of R_in (map.sourceVertex >= 0) to x~(E_s(v)) + G(v). Together they give
-// stitchPasteInto's result bit for bit; they throw StitchError as it does.
+// then moves each vertex of R_in (map.sourceVertex >= 0, none before firstPatchVertex) to
+// x~(E_s(v)) + G(v). Together they give stitchPasteInto's result bit for bit; they throw
+// StitchError as it does. The result's map is built in the arrays of `reuse`; with
+// `outHoldsOutside`, `reuse` may be the map of the paste whose mesh `out` held (a result that
+// startsWithOutside, turned back by restoreOutside), and its entries for the outside part are
+// kept as they are: a dab writes the map's entries for what it changes, not for the whole target.
 StitchResult stitchLayoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
                               const Parameterization& target, const StitchBase* base = nullptr,
-                              bool outHoldsOutside = false, const StitchOptions& options = {});
+                              bool outHoldsOutside = false, const StitchOptions& options = {},
+                              PasteMap reuse = {});
 void placePatch(TriMesh& out, const PasteMap& map, const Parameterization& source,
-                const TriMesh& draft, const Field2D* offset);
+                const TriMesh& draft, const Field2D* offset, int firstPatchVertex = 0);
 
 // A boundary loop of a paste laid out with its gap open: vertices of the result mesh, in the
 // order of the boundary halfedges that join them, each with its place in the parameter domain.
