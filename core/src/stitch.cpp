@@ -484,13 +484,14 @@ namespace {
 // with its maps into outside.mesh.
 void addLocalPart(StitchOutside& outside, const TriMesh& targetMesh, const AppendedFaces& inMesh,
                   const std::vector<char>& openVertex, const std::vector<char>& open) {
+  std::vector<char> near(targetMesh.n_faces(), 0);
+  for (std::size_t v = 0; v < openVertex.size(); ++v)
+    if (openVertex[v])
+      for (auto f : targetMesh.vf_range(TriMesh::VertexHandle(int(v))))
+        near[std::size_t(f.idx())] = 1;
   std::vector<int>& faces = outside.localFaceToMesh;
-  for (auto f : targetMesh.faces()) {
-    bool near = false;
-    for (auto v : targetMesh.fv_range(f))
-      near = near || openVertex[std::size_t(v.idx())];
-    if (near) faces.push_back(f.idx());
-  }
+  for (std::size_t f = 0; f < near.size(); ++f)
+    if (near[f]) faces.push_back(int(f));
   // appendFaces keeps each halfedge's side: a join through `local` numbers what it adds as one
   // through the target mesh would.
   AppendedFaces inLocal = appendFaces(outside.local, targetMesh, faces);
@@ -499,9 +500,11 @@ void addLocalPart(StitchOutside& outside, const TriMesh& targetMesh, const Appen
   for (int m : outside.localVertexToMesh)
     joined.vertexInOut.push_back(inMesh.vertexInOut[std::size_t(m)]);
   joined.edgeInOut.assign(outside.local.n_edges(), -1);
-  for (std::size_t e = 0; e < inLocal.edgeInOut.size(); ++e)
-    if (inLocal.edgeInOut[e] >= 0)
+  for (int f : faces)
+    for (auto h : targetMesh.fh_range(TriMesh::FaceHandle(f))) {
+      const std::size_t e = std::size_t(h.idx() / 2);
       joined.edgeInOut[std::size_t(inLocal.edgeInOut[e])] = inMesh.edgeInOut[e];
+    }
   for (std::size_t k = 0; k < faces.size(); ++k) {
     joined.faceInOut.push_back(inMesh.faceInOut[std::size_t(faces[k])]);
     if (open[std::size_t(faces[k])]) outside.localOpenFaces.push_back(int(k));
@@ -1141,8 +1144,7 @@ void mapVertices(PasteMap& map, const OutToMesh& toMesh, const AppendedFaces& pa
   map.targetVertex.reserve(room);
   map.sourceVertex.reserve(room);
   if (!held || map.targetVertex.size() < first || map.sourceVertex.size() < first) {
-    if (toMesh.outside)
-      map.targetVertex.assign(toMesh.outside->begin(), toMesh.outside->end());
+    if (toMesh.outside) map.targetVertex.assign(toMesh.outside->begin(), toMesh.outside->end());
     map.sourceVertex.assign(first, -1);
   }
   map.targetVertex.resize(first);

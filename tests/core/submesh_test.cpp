@@ -191,6 +191,29 @@ TEST(AppendFaces, CopiesWhatExtractSubmeshBuildsFaceByFace) {
   }
 }
 
+// A few faces of a large mesh (a small cap: their edges and vertices are marked from the faces,
+// not by a walk over the mesh) are copied as exactly.
+TEST(AppendFaces, CopiesAFewFacesAsExactly) {
+  const TriMesh sphere = test::icosphere(4);
+  std::vector<int> cap;
+  for (auto f : sphere.faces()) {
+    bool near = true;
+    for (auto v : sphere.fv_range(f))
+      near = near && sphere.point(v)[2] > 0.9;
+    if (near) cap.push_back(f.idx());
+  }
+  ASSERT_GT(cap.size(), 20u);
+  ASSERT_LT(cap.size() * 8, sphere.n_faces());
+  const Submesh reference = extractSubmesh(sphere, cap);
+  ASSERT_EQ(reference.unattachedFace, -1);
+  TriMesh copy;
+  const AppendedFaces added = appendFaces(copy, sphere, cap);
+  EXPECT_EQ(added.sourceVertex, reference.sourceVertex);
+  EXPECT_TRUE(test::bitIdentical(copy, reference.surface));
+  expectConsistentConnectivity(copy);
+  EXPECT_EQ(test::topology(copy).boundaryLoops, 1u);
+}
+
 TEST(AppendFaces, AppendsAfterWhatIsThereAndKeepsTheMeshOpenToAddFace) {
   const TriMesh sphere = test::icosphere(2);
   const auto [below, above] = splitAtWavyCut(sphere);
