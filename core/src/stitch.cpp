@@ -11,6 +11,8 @@
 
 #include <Eigen/Geometry>
 
+#include "append_faces.hpp"
+
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/face_selection.hpp"
 #include "geobrush/loop_zip.hpp"
@@ -481,8 +483,9 @@ void mapCanvas(StitchBase& base, const Parameterization& target) {
 namespace {
 
 // outside.local: the open faces and every face around their corners (`openVertex`: the corners),
-// with its maps into outside.mesh.
-void addLocalPart(StitchOutside& outside, const TriMesh& targetMesh, const AppendedFaces& inMesh,
+// with its maps into outside.mesh (`inMesh`: how outside.mesh was appended, whose arrays the
+// local part's append then reuses).
+void addLocalPart(StitchOutside& outside, const TriMesh& targetMesh, AppendedFaces inMesh,
                   const std::vector<char>& openVertex, const std::vector<char>& open) {
   std::vector<char> near(targetMesh.n_faces(), 0);
   for (std::size_t v = 0; v < openVertex.size(); ++v)
@@ -492,23 +495,30 @@ void addLocalPart(StitchOutside& outside, const TriMesh& targetMesh, const Appen
   std::vector<int>& faces = outside.localFaceToMesh;
   for (std::size_t f = 0; f < near.size(); ++f)
     if (near[f]) faces.push_back(int(f));
-  // appendFaces keeps each halfedge's side: a join through `local` numbers what it adds as one
-  // through the target mesh would.
-  AppendedFaces inLocal = appendFaces(outside.local, targetMesh, faces);
-  outside.localVertexToMesh = std::move(inLocal.sourceVertex);
+  // Where each local face's edges and corners are in outside.mesh, in the order of its halfedges.
   AppendedFaces& joined = outside.localInMesh;
-  for (int m : outside.localVertexToMesh)
-    joined.vertexInOut.push_back(inMesh.vertexInOut[std::size_t(m)]);
-  joined.edgeInOut.assign(outside.local.n_edges(), -1);
-  for (int f : faces)
-    for (auto h : targetMesh.fh_range(TriMesh::FaceHandle(f))) {
-      const std::size_t e = std::size_t(h.idx() / 2);
-      joined.edgeInOut[std::size_t(inLocal.edgeInOut[e])] = inMesh.edgeInOut[e];
-    }
+  std::vector<int> edgeAt, vertexAt;
   for (std::size_t k = 0; k < faces.size(); ++k) {
     joined.faceInOut.push_back(inMesh.faceInOut[std::size_t(faces[k])]);
     if (open[std::size_t(faces[k])]) outside.localOpenFaces.push_back(int(k));
+    for (auto h : targetMesh.fh_range(TriMesh::FaceHandle(faces[k]))) {
+      edgeAt.push_back(inMesh.edgeInOut[std::size_t(h.idx() / 2)]);
+      vertexAt.push_back(inMesh.vertexInOut[std::size_t(targetMesh.to_vertex_handle(h).idx())]);
+    }
   }
+  // appendFaces keeps each halfedge's side and each face's halfedge order: a join through
+  // `local` numbers what it adds as one through the target mesh would.
+  AppendedFaces inLocal = appendFacesReusing(outside.local, targetMesh, faces, std::move(inMesh));
+  outside.localVertexToMesh = std::move(inLocal.sourceVertex);
+  const TriMesh& local = outside.local;
+  joined.vertexInOut.assign(local.n_vertices(), -1);
+  joined.edgeInOut.assign(local.n_edges(), -1);
+  std::size_t corner = 0;
+  for (auto f : local.faces())
+    for (auto h : local.fh_range(f)) {
+      joined.edgeInOut[std::size_t(h.idx() / 2)] = edgeAt[corner];
+      joined.vertexInOut[std::size_t(local.to_vertex_handle(h).idx())] = vertexAt[corner++];
+    }
 }
 
 }  // namespace
@@ -538,8 +548,8 @@ StitchOutside stitchOutside(const TriMesh& targetMesh, const std::vector<char>& 
   outside.borderHalfedges.erase(
       std::unique(outside.borderHalfedges.begin(), outside.borderHalfedges.end()),
       outside.borderHalfedges.end());
-  addLocalPart(outside, targetMesh, inMesh, openVertex, open);
   outside.meshVertex = std::move(inMesh.sourceVertex);
+  addLocalPart(outside, targetMesh, std::move(inMesh), openVertex, open);
   return outside;
 }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 
+#include "append_faces.hpp"
 #include "geobrush/parallel.hpp"
 
 namespace geobrush {
@@ -138,11 +139,17 @@ Submesh extractSubmesh(const TriMesh& mesh, const std::vector<int>& faces) {
 namespace geobrush {
 
 AppendedFaces appendFaces(TriMesh& out, const TriMesh& mesh, const std::vector<int>& faces) {
+  return appendFacesReusing(out, mesh, faces, {});
+}
+
+AppendedFaces appendFacesReusing(TriMesh& out, const TriMesh& mesh, const std::vector<int>& faces,
+                                 AppendedFaces storage) {
   using HalfedgeHandle = TriMesh::HalfedgeHandle;
   // Every pass walks the mesh's arrays in order, split into blocks over the cores; each item is
   // written by one block alone, so the copy is the same for any number of threads.
   constexpr std::size_t kBlock = 1 << 14;
-  AppendedFaces added;
+  AppendedFaces added = std::move(storage);
+  added.sourceVertex.clear();
   added.firstVertex = int(out.n_vertices());
   const int firstEdge = int(out.n_edges()), firstFace = int(out.n_faces());
 
