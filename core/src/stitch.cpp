@@ -905,8 +905,7 @@ struct TargetPart {
   const TriMesh* cutMesh = nullptr;
   std::vector<int> cutInOut;  // vertex of cutMesh -> vertex of `out`, -1 where no kept face uses it
   std::vector<int> removedFaces;  // the faces of cutMesh removed, increasing
-  OutToMesh outToMesh;
-  bool startsWithOutside = false;  // `out` starts with the base's outside part
+  OutToMesh outToMesh;  // its `outside` set where `out` starts with the base's outside part
 };
 
 // `out` holds the outside part: the kept open faces joined to it.
@@ -922,7 +921,6 @@ TargetPart joinToOutside(TriMesh& out, const StitchOutside& outside,
   part.outToMesh.outside = &outside.meshVertex;
   for (int local : joined.sourceVertex)
     part.outToMesh.added.push_back(outside.localVertexToMesh[std::size_t(local)]);
-  part.startsWithOutside = true;
   return part;
 }
 
@@ -961,17 +959,18 @@ TargetPart addTargetPart(TriMesh& out, const TriMesh& targetMesh, const TriMesh&
 // returns the kept faces of the whole target mesh instead, made manifold there.
 std::optional<std::vector<char>> removeCutPinches(TargetCut& cut, const StitchOutside& outside,
                                                   const TriMesh& targetMesh) {
-  std::vector<int> removed = cut.removedFaces;
   removePinches(outside.local, cut.kept, cut.removedFaces);
   std::size_t removedOpen = 0;
   for (int f : outside.localOpenFaces)
     removedOpen += !cut.kept[std::size_t(f)];
   if (removedOpen == std::size_t(std::count(cut.kept.begin(), cut.kept.end(), 0)))
     return std::nullopt;
+  // The cut as it was before, on the target mesh (removePinches leaves its candidates as they are).
   std::vector<char> keptMesh(targetMesh.n_faces(), 1);
-  for (int& f : removed) {
-    f = outside.localFaceToMesh[std::size_t(f)];
-    keptMesh[std::size_t(f)] = 0;
+  std::vector<int> removed;
+  for (int f : cut.removedFaces) {
+    removed.push_back(outside.localFaceToMesh[std::size_t(f)]);
+    keptMesh[std::size_t(removed.back())] = 0;
   }
   removePinches(targetMesh, keptMesh, removed);
   return keptMesh;
@@ -1221,7 +1220,7 @@ OpenStitch openLayout(TriMesh& out, const Region2D& region, const Parameterizati
   StitchResult& result = open.result;  // its mesh stays empty: the mesh is `out`
   TargetPart part = addTargetPart(out, targetMesh, canvas, *base, cut.kept,
                                   keptMesh ? &*keptMesh : nullptr, outHoldsOutside);
-  result.startsWithOutside = part.startsWithOutside;
+  result.startsWithOutside = part.outToMesh.outside != nullptr;
   result.removedFaces = band ? band->replacedFaces : part.removedFaces.size();
   const SeamSeeds seeds =
       band ? addBandSeeds(out, *band, *base->outside, part, result.refinedVertices)
