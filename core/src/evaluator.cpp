@@ -102,7 +102,7 @@ class EvalContext final : public Context {
   // `preparing`: the context of Node::prepare, which runs off the evaluating thread: no outputs,
   // no files, no progress reports.
   EvalContext(const NodeType& type, const GraphNode& node, const std::string& name,
-              const Outputs& inputs, InputKeys inputKeys, DerivedStore& derived,
+              const Outputs& inputs, InputKeys inputKeys, DerivedStore& derived, RecycleBin& bin,
               const std::filesystem::path& baseDir, const std::filesystem::path& outputDir,
               const EvalOptions& options, bool preparing = false)
       : type_(type),
@@ -111,6 +111,7 @@ class EvalContext final : public Context {
         inputs_(inputs),
         inputKeys_(std::move(inputKeys)),
         derived_(derived),
+        bin_(bin),
         baseDir_(baseDir),
         outputDir_(outputDir),
         options_(options),
@@ -134,6 +135,7 @@ class EvalContext final : public Context {
       throw NodeError::output(port, "was set to a " + std::string(value->typeId()) +
                                         " but is declared as " + decl->typeId);
     outputs_[std::string(port)] = std::move(value);
+    recyclable_.erase(std::string(port));  // outRecyclable keeps it again
   }
 
   void progress(double fraction) override {
@@ -176,6 +178,8 @@ class EvalContext final : public Context {
   }
 
   Outputs& outputs() { return outputs_; }
+  // The outputs published with outRecyclable, by port.
+  std::map<std::string, RecyclableValue>& recyclable() { return recyclable_; }
   std::vector<std::string>& warnings() { return warnings_; }
   std::vector<PendingFile>& pending() { return pending_; }
 
@@ -202,6 +206,15 @@ class EvalContext final : public Context {
       const std::function<std::shared_ptr<const void>()>& build) override {
     return derived_.get(key, derivedFrom, build);
   }
+  void keepRecyclable(std::string_view port, RecyclableValue value) override {
+    recyclable_[std::string(port)] = std::move(value);
+  }
+  RecyclableValue recycledValue(
+      std::string_view port, const std::function<bool(const RecyclableValue&)>& accepts) override {
+    if (!type_.findOutput(port))
+      throw NodeError::output(port, "'" + type_.id + "' declares no such output");
+    return bin_.take(name_, port, accepts);
+  }
 
  private:
   const NodeType& type_;
@@ -210,11 +223,13 @@ class EvalContext final : public Context {
   const Outputs& inputs_;
   InputKeys inputKeys_;
   DerivedStore& derived_;
+  RecycleBin& bin_;
   std::filesystem::path baseDir_;
   std::filesystem::path outputDir_;
   const EvalOptions& options_;
   bool preparing_ = false;
   Outputs outputs_;
+  std::map<std::string, RecyclableValue> recyclable_;
   std::vector<std::string> warnings_;
   std::vector<PendingFile> pending_;
 };
@@ -302,6 +317,8 @@ struct Evaluator::Impl {
     std::vector<std::string> warnings;
     std::uint64_t lastUsed = 0;
     bool history = false;  // the outputs depend on a node's history (see NodeRun::history)
+    std::string node;      // the node that computed it
+    std::map<std::string, RecyclableValue> recyclable;  // by port: see Context::outRecyclable
   };
   struct Instance {
     const NodeType* type = nullptr;
@@ -314,6 +331,7 @@ struct Evaluator::Impl {
   std::map<std::string, Instance> instances;
   std::map<std::string, Outputs> lastOutputs;
   DerivedStore derived;
+  RecycleBin bin;  // what retired entries published as recyclable
   std::uint64_t generation = 0;
 
   explicit Impl(const NodeRegistry& r) : registry(r) {}
@@ -443,7 +461,7 @@ class Evaluator::Impl::Run {
         preparation.inputs[port] = results_.at(from->node).at(from->port);
     preparation.context = std::make_unique<EvalContext>(
         type, node, stableName, preparation.inputs, inputKeysOf(stableName, type.prepareInputs),
-        impl_.derived, baseDir_, outputDir_, options_, true);
+        impl_.derived, impl_.bin, baseDir_, outputDir_, options_, true);
     Node& instance = impl_.instance(stableName, type, options_.settle);
     if (ahead) {
       try {
@@ -524,7 +542,7 @@ class Evaluator::Impl::Run {
         inputHistory = inputHistory || history_[from->node];
       }
     EvalContext ctx(type, node, name, inputs, inputKeysOf(name, inputNames(type)), impl_.derived,
-                    baseDir_, outputDir_, options_);
+                    impl_.bin, baseDir_, outputDir_, options_);
     std::optional<Failure> failure;
     double preparedSeconds = 0;
     const bool prepared = !type.prepareInputs.empty();
@@ -568,12 +586,18 @@ class Evaluator::Impl::Run {
       fail(report_, graph_, name, *failure);
       // Deterministic failures are remembered; a cancelled run is not a result.
       if (!report_.cancelled && ctx.pending().empty())
-        impl_.cache[run.key] = {{}, failure, run.warnings, generation_};
+        impl_.cache[run.key] = {{}, failure, run.warnings, generation_, false, name, {}};
       return false;
     }
     ctx.progress(1.0);
     history_[name] = run.history;
-    Entry entry{ctx.outputs(), std::nullopt, run.warnings, generation_, run.history};
+    Entry entry{ctx.outputs(),
+                std::nullopt,
+                run.warnings,
+                generation_,
+                run.history,
+                name,
+                std::move(ctx.recyclable())};
     results_[name] = ctx.outputs();
     if (ctx.pending().empty())
       impl_.cache[run.key] = std::move(entry);
@@ -607,12 +631,24 @@ class Evaluator::Impl::Run {
   }
 
   // Keep what this run or the previous one used: toggling a param back and forth stays
-  // instant, and memory stays bounded by two graphs' worth.
+  // instant, and memory stays bounded by two graphs' worth. What a retired entry published as
+  // recyclable goes to the bin, for its node to build a later result in.
   void retire() {
-    std::erase_if(impl_.cache,
-                  [&](const auto& item) { return item.second.lastUsed + 1 < generation_; });
+    for (auto it = impl_.cache.begin(); it != impl_.cache.end();) {
+      if (it->second.lastUsed + 1 >= generation_) {
+        ++it;
+        continue;
+      }
+      for (auto& [port, value] : it->second.recyclable)
+        impl_.bin.put(it->second.node, port, std::move(value));
+      it = impl_.cache.erase(it);
+    }
     for (auto it = impl_.instances.begin(); it != impl_.instances.end();)
       it = graph_.nodes.count(it->first) ? std::next(it) : impl_.instances.erase(it);
+    std::set<std::string> nodes;
+    for (const auto& [name, node] : graph_.nodes)
+      nodes.insert(name);
+    impl_.bin.keepNodes(nodes);
     impl_.lastOutputs = std::move(results_);
   }
 
@@ -638,10 +674,15 @@ class Evaluator::Impl::Run {
 Evaluator::Evaluator(const NodeRegistry& registry) : impl_(std::make_unique<Impl>(registry)) {}
 Evaluator::~Evaluator() = default;
 
+std::size_t Evaluator::recycledHeld() const {
+  return impl_->bin.size();
+}
+
 void Evaluator::clearCache() {
   impl_->cache.clear();
   impl_->instances.clear();
   impl_->derived.clear();
+  impl_->bin.clear();
 }
 
 std::uint64_t Evaluator::derivedBuildCount() const {

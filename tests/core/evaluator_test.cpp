@@ -432,3 +432,59 @@ TEST(Evaluator, AnInputFailingWhileANodePreparesIsReported) {
   EXPECT_NE(report.error.find("asked to fail"), std::string::npos) << report.error;
   EXPECT_THROW(runOf(report, "prep"), std::out_of_range);
 }
+
+namespace {
+
+// x ── scale (recycling_scale)
+Graph recyclingScale(const std::filesystem::path& file) {
+  Graph graph = parseGraph(R"({
+    "format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {
+      "x": {"type": "test.number", "typeVersion": 1, "params": {"value": 3}},
+      "scale": {"type": "test.recycling_scale", "typeVersion": 1}
+    },
+    "connections": [{"from": "x.value", "to": "scale.in"}]
+  })",
+                           file);
+  prepareGraph(graph, test::testNodeRegistry());
+  return graph;
+}
+
+}  // namespace
+
+// The evaluator keeps two runs' outputs; the one of three edits ago is retired and handed back
+// to its node, unless something still holds it or the node refuses its note. The results are a
+// fresh evaluator's either way.
+TEST(Evaluator, RetiredOutputsGoBackToTheirNodeWhereNothingHoldsThem) {
+  const auto dir = test::tempDir("eval-recycle");
+  Graph graph = recyclingScale(dir / "g.json");
+  Evaluator evaluator(test::testNodeRegistry());
+  std::vector<const Value*> made;
+  ValuePtr held;
+  std::weak_ptr<const Value> third;
+  for (int gain = 1; gain <= 6; ++gain) {
+    SCOPED_TRACE(gain);
+    if (gain == 6) setParamFromText(graph, test::testNodeRegistry(), "x.value=4");
+    setParamFromText(graph, test::testNodeRegistry(), "scale.gain=" + std::to_string(gain));
+    ASSERT_TRUE(evaluator.evaluate(graph).ok);
+    const ValuePtr value = evaluator.output("scale", "value");
+    made.push_back(value.get());
+    if (gain == 2) held = value;
+    if (gain == 3) third = value;
+    EXPECT_EQ(scalar(evaluator, "scale"), (gain == 6 ? 4 : 3) * gain);
+    Evaluator fresh(test::testNodeRegistry());
+    ASSERT_TRUE(fresh.evaluate(graph).ok);
+    EXPECT_EQ(scalar(fresh, "scale"), scalar(evaluator, "scale"));
+  }
+  EXPECT_EQ(made[3], made[0]);  // retired after the third run, recycled in the fourth
+  EXPECT_NE(made[4], made[1]);  // held here
+  // The third, retired after the fifth run, was made from another input than the sixth's: the
+  // node refused it, and the bin let it go.
+  EXPECT_TRUE(third.expired());
+  EXPECT_EQ(evaluator.recycledHeld(), 1u);  // the fourth, retired after the sixth run
+  // A node taken out of the graph takes its retired values with it.
+  graph.nodes.erase("scale");
+  graph.connections.clear();
+  ASSERT_TRUE(evaluator.evaluate(graph).ok);
+  EXPECT_EQ(evaluator.recycledHeld(), 0u);
+}

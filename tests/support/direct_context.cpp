@@ -8,8 +8,10 @@ namespace geobrush::test {
 
 DirectContext::DirectContext(const NodeType& type,
                              std::map<std::string, ValuePtr, std::less<>> inputs,
-                             const ParamMap& params, std::shared_ptr<DerivedStore> derived)
+                             const ParamMap& params, std::shared_ptr<DerivedStore> derived,
+                             std::shared_ptr<RecycleBin> bin)
     : derived_(derived ? std::move(derived) : std::make_shared<DerivedStore>()),
+      bin_(std::move(bin)),
       inputs_(std::move(inputs)) {
   for (const auto& decl : type.params)
     params_[decl.name] = decl.defaultValue;
@@ -17,8 +19,15 @@ DirectContext::DirectContext(const NodeType& type,
     params_[name] = value;
 }
 
+DirectContext::~DirectContext() {
+  if (!bin_) return;
+  for (auto& [port, value] : recyclable_)
+    bin_->put(kNode, port, std::move(value));
+}
+
 void DirectContext::out(std::string_view port, ValuePtr value) {
   outputs[std::string(port)] = std::move(value);
+  recyclable_.erase(std::string(port));  // outRecyclable keeps it again
 }
 
 void DirectContext::writeFile(const std::filesystem::path& path,
@@ -46,6 +55,15 @@ std::shared_ptr<const void> DirectContext::derivedValue(
     Hash key, const std::vector<ValuePtr>& derivedFrom,
     const std::function<std::shared_ptr<const void>()>& build) {
   return derived_->get(key, derivedFrom, build);
+}
+
+void DirectContext::keepRecyclable(std::string_view port, RecyclableValue value) {
+  recyclable_[std::string(port)] = std::move(value);
+}
+
+RecyclableValue DirectContext::recycledValue(
+    std::string_view port, const std::function<bool(const RecyclableValue&)>& accepts) {
+  return bin_ ? bin_->take(kNode, port, accepts) : RecyclableValue{};
 }
 
 NodeRun runNode(const std::string& id, std::map<std::string, ValuePtr, std::less<>> inputs,

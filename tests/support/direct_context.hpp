@@ -9,6 +9,7 @@
 
 #include "geobrush/derived_store.hpp"
 #include "geobrush/node.hpp"
+#include "geobrush/recycle_bin.hpp"
 
 namespace geobrush::test {
 
@@ -16,8 +17,12 @@ class DirectContext final : public Context {
  public:
   // `derived`: where Context::derived keeps its data; contexts that share one reuse what an
   // earlier compute derived, as the evaluator's runs do. Null: a store of this context's own.
+  // `bin`: where the outputs published as recyclable go when the context ends (an evaluator
+  // retires them two runs later), for the next context's node to recycle; null: nowhere.
   DirectContext(const NodeType& type, std::map<std::string, ValuePtr, std::less<>> inputs,
-                const ParamMap& params = {}, std::shared_ptr<DerivedStore> derived = nullptr);
+                const ParamMap& params = {}, std::shared_ptr<DerivedStore> derived = nullptr,
+                std::shared_ptr<RecycleBin> bin = nullptr);
+  ~DirectContext() override;
 
   std::filesystem::path path(std::string_view) const override { return {}; }
   void out(std::string_view port, ValuePtr value) override;
@@ -39,9 +44,15 @@ class DirectContext final : public Context {
   std::shared_ptr<const void> derivedValue(
       Hash key, const std::vector<ValuePtr>& derivedFrom,
       const std::function<std::shared_ptr<const void>()>& build) override;
+  void keepRecyclable(std::string_view port, RecyclableValue value) override;
+  RecyclableValue recycledValue(
+      std::string_view port, const std::function<bool(const RecyclableValue&)>& accepts) override;
 
  private:
+  static constexpr const char* kNode = "node";  // the bin's name for the node
   std::shared_ptr<DerivedStore> derived_;
+  std::shared_ptr<RecycleBin> bin_;
+  std::map<std::string, RecyclableValue> recyclable_;
   std::map<std::string, ValuePtr, std::less<>> inputs_;
   std::map<std::string, ParamValue, std::less<>> params_;
 };

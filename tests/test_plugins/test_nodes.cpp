@@ -33,6 +33,20 @@ void derivedSquare(Context& ctx) {
   ctx.out("value", std::make_shared<Scalar>(in->value * ctx.param<double>("gain") + *square));
 }
 
+// in * gain, built in a retired value of its own made from an equal input where there is one.
+struct MadeFrom {
+  Hash in = 0;
+};
+void recyclingScale(Context& ctx) {
+  const Hash in = ctx.inputKeyOf("in");
+  auto value =
+      ctx.recycle<Scalar, MadeFrom>("value", [&](const MadeFrom& made) { return made.in == in; })
+          .value;
+  if (!value) value = std::make_shared<Scalar>(0.0);
+  value->value = ctx.in<Scalar>("in")->value * ctx.param<double>("gain");
+  ctx.outRecyclable("value", value, std::make_shared<const MadeFrom>(MadeFrom{in}));
+}
+
 void fail(Context& ctx) {
   const std::string how = ctx.param<std::string>("how");
   if (how == "node_error") throw NodeError::param("how", "asked to fail");
@@ -204,6 +218,14 @@ void registerNodes(PluginRegistrar& r) {
             .output<Scalar>("value", "x gain + x^2")
             .paramDouble("gain", 1.0, "gain")
             .compute(derivedSquare)
+            .build());
+  r.add(NodeTypeBuilder("test.recycling_scale", 1)
+            .doc("Scales its input, in a value it published before where the framework hands one "
+                 "back.")
+            .input<Scalar>("in", "x")
+            .output<Scalar>("value", "x gain")
+            .paramDouble("gain", 1.0, "gain")
+            .compute(recyclingScale)
             .build());
   r.add(NodeTypeBuilder("test.warm", 1)
             .doc("Passes its input through, off by 1e-9 when warm-started from a previous compute.")

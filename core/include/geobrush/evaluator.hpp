@@ -80,6 +80,8 @@ class Evaluator {
   // Derived data (Context::derived) built since construction, and held now.
   std::uint64_t derivedBuildCount() const;
   std::size_t derivedHeld() const;
+  // Retired outputs kept for their nodes to recycle (Context::recycle).
+  std::size_t recycledHeld() const;
   void clearCache();
 
  private:

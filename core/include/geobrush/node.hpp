@@ -17,6 +17,7 @@
 
 #include "geobrush/hash.hpp"
 #include "geobrush/param.hpp"
+#include "geobrush/recycle_bin.hpp"
 #include "geobrush/value.hpp"
 
 namespace geobrush {
@@ -50,6 +51,15 @@ class NodeError : public std::runtime_error {
 class Cancelled : public std::runtime_error {
  public:
   Cancelled() : std::runtime_error("cancelled") {}
+};
+
+// A value a node takes back from the framework to build a new result in (Context::recycle), with
+// the note it published it with.
+template <ValueType T, typename Note>
+struct Recycled {
+  std::shared_ptr<T> value;
+  std::shared_ptr<const Note> note;
+  explicit operator bool() const { return value != nullptr; }
 };
 
 // What a node sees while it computes.
@@ -124,6 +134,39 @@ class Context {
     return derivedUnder(key.digest(), values, build);
   }
 
+  // The framework's key of the value on an input port: equal keys mean equal values (equal values
+  // may have different keys). 0 where the port is unconnected.
+  Hash inputKeyOf(std::string_view port) const { return inputKey(port); }
+
+  // Publishes `value` on `port` as out() does, and lets this node take it back to build a later
+  // result in once the framework has retired it and nothing else holds it (recycle). `note` is
+  // what the node will need to know then (what the value was made from), kept with the value; it
+  // must not be null. `value` must not point to a const object.
+  template <ValueType T, typename Note>
+  void outRecyclable(std::string_view port, std::shared_ptr<T> value,
+                     std::shared_ptr<const Note> note) {
+    if (!note) throw NodeError::output(port, "was published as recyclable with no note");
+    out(port, value);
+    keepRecyclable(port, {std::move(value), std::move(note), &typeid(Note)});
+  }
+
+  // A value this node published on `port` with outRecyclable and a Note that `accepts` (called
+  // with a `const Note&`), which the framework has retired and nothing else holds: the node holds
+  // it alone and may change it and publish it again. Empty where there is none (as always on a
+  // fresh evaluator). It is an allocation strategy: a result never depends on whether one was
+  // found.
+  template <ValueType T, typename Note, typename Accepts>
+  Recycled<T, Note> recycle(std::string_view port, const Accepts& accepts) {
+    RecyclableValue taken = recycledValue(port, [&](const RecyclableValue& retired) {
+      return retired.noteType && *retired.noteType == typeid(Note) &&
+             dynamic_cast<const T*>(retired.value.get()) &&
+             accepts(*static_cast<const Note*>(retired.note.get()));
+    });
+    if (!taken.value) return {};
+    return {std::const_pointer_cast<T>(std::static_pointer_cast<const T>(std::move(taken.value))),
+            std::static_pointer_cast<const Note>(std::move(taken.note))};
+  }
+
  private:
   template <typename Build>
   using DerivedType =
@@ -154,6 +197,13 @@ class Context {
   virtual std::shared_ptr<const void> derivedValue(
       Hash key, const std::vector<ValuePtr>& derivedFrom,
       const std::function<std::shared_ptr<const void>()>& build) = 0;
+  // The framework's side of outRecyclable and recycle; a context without a RecycleBin keeps
+  // nothing and finds nothing.
+  virtual void keepRecyclable(std::string_view, RecyclableValue) {}
+  virtual RecyclableValue recycledValue(std::string_view,
+                                        const std::function<bool(const RecyclableValue&)>&) {
+    return {};
+  }
 };
 
 template <typename T>

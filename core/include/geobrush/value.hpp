@@ -10,7 +10,9 @@
 namespace geobrush {
 
 // Base of every value type. A value is immutable once shared: nodes receive
-// std::shared_ptr<const T> and copy before changing anything.
+// std::shared_ptr<const T> and copy before changing anything. (Only the node that made a value
+// may change it again, once the framework hands it back to it held by no one else:
+// Context::recycle.)
 class Value {
  public:
   virtual ~Value() = default;
