@@ -77,17 +77,17 @@ class GcWarpNode final : public geobrush::Node {
         });
     if (!derived->outsideWarning.empty()) ctx.warn(derived->outsideWarning);
     ctx.throwIfCancelled();
-    coordinates_ = derived->value;
+    const auto& coordinates = derived->value;
 
-    ctx.out("coordinates", coordinates_);
+    ctx.out("coordinates", coordinates);
     try {
       if (ctx.hasInput("region")) {
         const auto region = ctx.in<geobrush::Region2D>("region");
         requireRegionOnCanvas(*region, *canvas);
-        ctx.out("draft", partialDraft(*canvas, *sourceCage, targetCage, region->draftSupport));
+        outPartialDraft(ctx, *canvas, coordinates, *sourceCage, *targetCage, region->draftSupport);
         return;
       }
-      const auto warped = geobrush::applyGreenCoordinates(coordinates_->phi, coordinates_->psi,
+      const auto warped = geobrush::applyGreenCoordinates(coordinates->phi, coordinates->psi,
                                                           sourceCage->mesh, targetCage->mesh);
       geobrush::TriMesh draft = canvas->surface;
       for (auto v : draft.vertices())
@@ -111,70 +111,58 @@ class GcWarpNode final : public geobrush::Node {
     mesh.set_point(geobrush::TriMesh::VertexHandle(v), geobrush::toPoint(p));
   }
 
-  // The draft with only `rows` warped, the others at their source positions. Rows warped for the
-  // same target cage are kept from one evaluation to the next, so a dab warps only the rows it
-  // adds; rows that left the support, or were warped for another cage, go back to their source
-  // positions, so the value depends on the inputs alone.
-  std::shared_ptr<const Mesh> partialDraft(const Canvas& canvas, const Cage& sourceCage,
-                                           const std::shared_ptr<const Cage>& targetCage,
-                                           const std::vector<int>& rows) {
-    const geobrush::Hash cage =
-        targetCage == partialCageValue_ ? partialCage_ : targetCage->contentHash();
-    partialCageValue_ = targetCage;
-    if (partial_.n_vertices() != canvas.surface.n_vertices() || partialOf_ != coordinates_) {
-      partial_ = canvas.surface;
-      warpedRow_.assign(canvas.surface.n_vertices(), 0);
-      partialOf_ = coordinates_;
-      published_.clear();
+  // Which rows of a partial draft are warped, by which coordinates and for which target cage
+  // (the framework's key of it); the others are at their source positions.
+  struct Warped {
+    std::shared_ptr<const GreenCoordinates> coordinates;
+    geobrush::Hash targetCage = 0;
+    std::vector<char> rows;
+  };
+
+  // The draft with only `rows` warped, the others at their source positions. A retired draft
+  // warped by the same coordinates is recycled (Context::recycle): its rows warped for the same
+  // target cage are kept, so a dab warps only the rows added since; rows that left the support,
+  // or were warped for another cage, go back to their source positions, so the value depends on
+  // the inputs alone.
+  static void outPartialDraft(Context& ctx, const Canvas& canvas,
+                              const std::shared_ptr<const GreenCoordinates>& coordinates,
+                              const Cage& sourceCage, const Cage& targetCage,
+                              const std::vector<int>& rows) {
+    auto warped = std::make_shared<Warped>();
+    warped->coordinates = coordinates;
+    warped->targetCage = ctx.inputKeyOf("target_cage");
+    const auto recycled = ctx.recycle<Mesh, Warped>(
+        "draft", [&](const Warped& made) { return made.coordinates == coordinates; });
+    std::shared_ptr<Mesh> draft = recycled.value;
+    // A moved target cage: every row is warped anew.
+    bool newCage = true;
+    if (draft) {
+      warped->rows = recycled.note->rows;
+      newCage = recycled.note->targetCage != warped->targetCage;
+    } else {
+      draft = std::make_shared<Mesh>(canvas.surface);
+      warped->rows.assign(canvas.surface.n_vertices(), 0);
     }
-    std::vector<char> wanted(warpedRow_.size(), 0);
+    std::vector<char> wanted(warped->rows.size(), 0);
     for (int row : rows)
       wanted[std::size_t(row)] = 1;
-    // A moved target cage: every row is warped anew.
-    const bool newCage = partialCage_ != cage;
-    partialCage_ = cage;
-    for (std::size_t v = 0; v < warpedRow_.size(); ++v)
-      if (warpedRow_[v] && (!wanted[v] || newCage)) {
-        partial_.set_point(geobrush::TriMesh::VertexHandle(int(v)),
-                           canvas.surface.point(geobrush::TriMesh::VertexHandle(int(v))));
-        warpedRow_[v] = 0;
+    for (std::size_t v = 0; v < wanted.size(); ++v)
+      if (warped->rows[v] && (!wanted[v] || newCage)) {
+        draft->surface.set_point(geobrush::TriMesh::VertexHandle(int(v)),
+                                 canvas.surface.point(geobrush::TriMesh::VertexHandle(int(v))));
+        warped->rows[v] = 0;
       }
     std::vector<int> missing;
     for (int row : rows)
-      if (!warpedRow_[std::size_t(row)]) missing.push_back(row);
-    const auto warped = geobrush::applyGreenCoordinates(coordinates_->phi, coordinates_->psi,
-                                                        sourceCage.mesh, targetCage->mesh, missing);
+      if (!warped->rows[std::size_t(row)]) missing.push_back(row);
+    const auto points = geobrush::applyGreenCoordinates(coordinates->phi, coordinates->psi,
+                                                        sourceCage.mesh, targetCage.mesh, missing);
     for (std::size_t k = 0; k < missing.size(); ++k) {
-      setPoint(partial_, missing[k], warped[k]);
-      warpedRow_[std::size_t(missing[k])] = 1;
+      setPoint(draft->surface, missing[k], points[k]);
+      warped->rows[std::size_t(missing[k])] = 1;
     }
-    return publish();
+    ctx.outRecyclable("draft", std::move(draft), std::shared_ptr<const Warped>(std::move(warped)));
   }
-
-  // partial_ as an output value. One of the last values it gave that nothing holds any more (an
-  // evaluator keeps two runs' outputs) has the same connectivity, so only the points are copied
-  // into it; else a whole copy is made.
-  std::shared_ptr<const Mesh> publish() {
-    for (const std::shared_ptr<Mesh>& made : published_)
-      if (made.use_count() == 1) {
-        std::copy(partial_.points(), partial_.points() + partial_.n_vertices(),
-                  made->surface.property(made->surface.points_pph()).data_vector().begin());
-        return made;
-      }
-    auto made = std::make_shared<Mesh>(partial_);
-    published_.push_back(made);
-    if (published_.size() > kPublished) published_.erase(published_.begin());
-    return made;
-  }
-
-  std::shared_ptr<const GreenCoordinates> coordinates_;  // of this compute
-  geobrush::TriMesh partial_;
-  std::vector<char> warpedRow_;
-  std::shared_ptr<const GreenCoordinates> partialOf_;  // the coordinates partial_ was warped by
-  geobrush::Hash partialCage_ = 0;
-  std::shared_ptr<const Cage> partialCageValue_;  // the target cage partialCage_ hashes
-  static constexpr std::size_t kPublished = 3;
-  std::vector<std::shared_ptr<Mesh>> published_;  // the last values of partial_, as published
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

@@ -75,9 +75,8 @@ geobrush::HandleShape shapeOf(Context& ctx) {
 // each edit's region (H and D(x, H)) are derived data of the unedited template, so the drag finds
 // them all and costs a copy of the template's points and one blend per edit. Copying a whole
 // template (its halfedges: tens of megabytes of fresh pages) would cost more than the rest, so a
-// result of this node that nothing holds any more (the evaluator keeps two runs' outputs), copied
-// from the same template value, has the template's points copied back into it and is reused: an
-// allocation strategy that gives a fresh copy's result bit for bit (core/DESIGN.md).
+// retired result of this node copied from an equal template (Context::recycle) has the
+// template's points copied back into it: a fresh copy's result, bit for bit.
 class HandleEditNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -92,10 +91,11 @@ class HandleEditNode final : public geobrush::Node {
       std::vector<const geobrush::HandleRegion*> pointers;
       for (const auto& region : d.regions)
         pointers.push_back(region.get());
-      const auto edited = copyOf(tmpl);
+      const auto edited = copyOf(ctx, tmpl);
       const auto report = geobrush::applyHandleEdits(tmpl->surface, edited->surface, pointers,
                                                      options, d.nonrigid.get());
-      ctx.out("template", edited);
+      ctx.outRecyclable("template", edited,
+                        std::make_shared<const CopiedFrom>(CopiedFrom{ctx.inputKeyOf("template")}));
       auto metrics = std::make_shared<geobrush::Metrics>();
       metrics->values = {{"handles", report.handles},
                          {"vertices_moved", report.verticesMoved},
@@ -110,27 +110,22 @@ class HandleEditNode final : public geobrush::Node {
   }
 
  private:
-  struct Made {
-    std::shared_ptr<Mesh> mesh;
-    std::weak_ptr<const Mesh> from;  // expired, never equal, once that template is gone
+  // What a result was copied from: the framework's key of the template.
+  struct CopiedFrom {
+    geobrush::Hash templateKey = 0;
   };
 
-  std::shared_ptr<Mesh> copyOf(const std::shared_ptr<const Mesh>& tmpl) {
-    for (const Made& made : made_)
-      if (made.mesh.use_count() == 1 && made.from.lock() == tmpl) {
-        const auto& points = tmpl->surface.property(tmpl->surface.points_pph()).data_vector();
-        auto& into = made.mesh->surface.property(made.mesh->surface.points_pph()).data_vector();
-        std::copy(points.begin(), points.end(), into.begin());
-        return made.mesh;
-      }
-    auto mesh = std::make_shared<Mesh>(*tmpl);
-    made_.push_back({mesh, tmpl});
-    if (made_.size() > kMade) made_.erase(made_.begin());
-    return mesh;
+  static std::shared_ptr<Mesh> copyOf(Context& ctx, const std::shared_ptr<const Mesh>& tmpl) {
+    const geobrush::Hash key = ctx.inputKeyOf("template");
+    const auto recycled = ctx.recycle<Mesh, CopiedFrom>(
+        "template", [&](const CopiedFrom& from) { return from.templateKey == key; });
+    if (!recycled) return std::make_shared<Mesh>(*tmpl);
+    const auto& points = tmpl->surface.property(tmpl->surface.points_pph()).data_vector();
+    auto& into =
+        recycled.value->surface.property(recycled.value->surface.points_pph()).data_vector();
+    std::copy(points.begin(), points.end(), into.begin());
+    return recycled.value;
   }
-
-  static constexpr std::size_t kMade = 3;
-  std::vector<Made> made_;  // the node's last results
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

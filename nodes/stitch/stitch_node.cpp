@@ -1,5 +1,3 @@
-#include <algorithm>
-#include <deque>
 #include <future>
 #include <memory>
 #include <optional>
@@ -16,17 +14,19 @@ using geobrush::Field2D;
 using geobrush::Mesh;
 using geobrush::NodeError;
 using geobrush::Parameterization;
+using geobrush::PasteMap;
 using geobrush::Region2D;
+using geobrush::StitchOutside;
 
 // Every dab re-stitches into the same target: how the target canvas maps into its mesh (the
 // stitch base) is derived data the framework keeps per target parameterization, its outside part
 // shared by the canvases of a drag within one cell (derivedStitchBase). Every result starts as
-// that outside (tens of megabytes on a large target): one of the node's last results that nothing
-// holds any more (an evaluator keeps two runs' outputs, so the one of three edits ago) is turned
-// back into it in place (restoreOutside, the border alone), and its paste map, where nothing holds
-// that either, keeps its entries for the outside part; where none is free, the part is copied for
-// the next edit on another thread, while the nodes before the stitch (strokes, ROI, warp) work on
-// that next edit. Either way the result is the one a fresh node makes.
+// that outside (tens of megabytes on a large target): a result the framework has retired is
+// recycled (Context::recycle) and turned back into it in place (restoreOutside, the border
+// alone), and a retired paste map keeps its entries for the outside part; where there is none,
+// the part is copied for the next edit on another thread, while the nodes before the stitch
+// (strokes, ROI, warp) work on that next edit. Either way the result is the one a fresh node
+// makes.
 class StitchNode final : public geobrush::Node {
  public:
   ~StitchNode() override { dropNext(); }
@@ -44,25 +44,34 @@ class StitchNode final : public geobrush::Node {
       const bool newOutside = base->outside != outside_;
       if (newOutside) {
         dropNext();  // the copy under way reads the old outside
-        made_.clear();
         outside_ = base->outside;
       }
-      auto [mesh, map] = reclaim();
-      const bool reclaimed = mesh != nullptr;
-      if (!mesh && next_.valid()) mesh = next_.get();
+      const auto sameOutside = [&](const StitchOutside& made) {
+        return &made == base->outside.get();
+      };
+      auto mesh = ctx.recycle<Mesh, StitchOutside>("mesh", sameOutside).value;
+      const bool recycled = mesh != nullptr;
+      if (recycled) {
+        dropNext();
+        geobrush::restoreOutside(*base->outside, mesh->surface);
+        mesh->vertexColors.clear();
+      } else if (next_.valid()) {
+        mesh = next_.get();
+      }
       const bool prepared = mesh != nullptr;
       if (!prepared) mesh = std::make_shared<Mesh>();
+      auto map = ctx.recycle<PasteMap, StitchOutside>("map", sameOutside).value;
+      if (!map) map = std::make_shared<PasteMap>();
       geobrush::StitchOptions options;
       options.seamRefinementRatio = ctx.param<double>("seam_refinement");
       geobrush::StitchResult result = geobrush::stitchLayoutInto(
-          mesh->surface, *region, *source, *target, base.get(), prepared, options, std::move(map));
-      auto madeMap = std::make_shared<geobrush::PasteMap>(std::move(result.map));
-      made_.push_back({mesh, madeMap, result.startsWithOutside});
-      if (made_.size() > kKept) made_.pop_front();
-      // Where this edit found no result to reclaim, the next one is unlikely to: its outside
+          mesh->surface, *region, *source, *target, base.get(), prepared, options, std::move(*map));
+      *map = std::move(result.map);
+      // Where this edit found no result to recycle, the next one is unlikely to: its outside
       // part is copied now, unless the outside changed (a drag changes it again).
-      if (!reclaimed && !newOutside) prepareNext(target, source->canvas);
-      laid_ = Laid{std::move(mesh), std::move(madeMap), result.firstPatchVertex};
+      if (!recycled && !newOutside) prepareNext(target, source->canvas);
+      laid_ = Laid{std::move(mesh), std::move(map), result.firstPatchVertex,
+                   result.startsWithOutside ? base->outside : nullptr};
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("region", e.what());
     }
@@ -89,35 +98,17 @@ class StitchNode final : public geobrush::Node {
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("offset", e.what());
     }
-    ctx.out("mesh", std::move(laid.mesh));
-    ctx.out("map", std::shared_ptr<const geobrush::PasteMap>(std::move(laid.map)));
+    // A result that starts with the outside part can be turned back into it.
+    if (laid.startsWith) {
+      ctx.outRecyclable("mesh", std::move(laid.mesh), laid.startsWith);
+      ctx.outRecyclable("map", std::move(laid.map), laid.startsWith);
+    } else {
+      ctx.out("mesh", std::move(laid.mesh));
+      ctx.out("map", std::shared_ptr<const PasteMap>(std::move(laid.map)));
+    }
   }
 
  private:
-  struct Made {
-    std::shared_ptr<Mesh> mesh;
-    std::shared_ptr<geobrush::PasteMap> map;
-    bool startsWithOutside = false;
-  };
-
-  // The oldest of the node's last results whose mesh no one else holds any more (no one can take
-  // hold of it again then: the node's is the last reference), turned back into the outside part,
-  // with its paste map where that is free too (else an empty one); a null mesh where there is none.
-  std::pair<std::shared_ptr<Mesh>, geobrush::PasteMap> reclaim() {
-    auto free = std::find_if(made_.begin(), made_.end(), [](const Made& made) {
-      return made.startsWithOutside && made.mesh.use_count() == 1;
-    });
-    if (free == made_.end()) return {nullptr, {}};
-    std::shared_ptr<Mesh> mesh = std::move(free->mesh);
-    geobrush::PasteMap map;
-    if (free->map.use_count() == 1) map = std::move(*free->map);
-    made_.erase(free);
-    dropNext();
-    geobrush::restoreOutside(*outside_, mesh->surface);
-    mesh->vertexColors.clear();
-    return {std::move(mesh), std::move(map)};
-  }
-
   void prepareNext(std::shared_ptr<const Parameterization> target,
                    std::shared_ptr<const geobrush::Canvas> canvas) {
     dropNext();
@@ -136,14 +127,13 @@ class StitchNode final : public geobrush::Node {
 
   struct Laid {
     std::shared_ptr<Mesh> mesh;  // the paste with R_in at the source canvas' positions
-    std::shared_ptr<geobrush::PasteMap> map;
+    std::shared_ptr<PasteMap> map;
     int firstPatchVertex = 0;
+    std::shared_ptr<const StitchOutside> startsWith;  // the outside part it starts with, or null
   };
-  std::optional<Laid> laid_;                                // from prepare() to compute()
-  std::shared_ptr<const geobrush::StitchOutside> outside_;  // what made_ and next_ start as
-  std::future<std::shared_ptr<Mesh>> next_;  // the next result, its outside part copied
-  static constexpr std::size_t kKept = 3;
-  std::deque<Made> made_;  // the last kKept results, the oldest first
+  std::optional<Laid> laid_;                      // from prepare() to compute()
+  std::shared_ptr<const StitchOutside> outside_;  // what next_ starts as
+  std::future<std::shared_ptr<Mesh>> next_;       // the next result, its outside part copied
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {
@@ -164,10 +154,10 @@ void registerNodes(geobrush::PluginRegistrar& r) {
                                     "The offset membrane x~ on the region's grid; without it the "
                                     "draft is pasted as it is.")
             .output<Mesh>("mesh", "The target mesh with the paste stitched in.")
-            .output<geobrush::PasteMap>("map",
-                                        "Where each result vertex came from (target or source "
-                                        "canvas) and the seam faces: the input of "
-                                        "geobrush.metrics.")
+            .output<PasteMap>("map",
+                              "Where each result vertex came from (target or source "
+                              "canvas) and the seam faces: the input of "
+                              "geobrush.metrics.")
             .paramDouble("seam_refinement", 6.0,
                          "Refine the target along the seam first where its edges there are on "
                          "average more than this many times as long as the paste's outline edges "

@@ -390,6 +390,7 @@ TEST(GcWarpNode, APartialDraftIsTheSupportWarpedWhateverCameBefore) {
     return points;
   }());
   const auto derived = std::make_shared<DerivedStore>();  // kept across steps, as by an evaluator
+  const auto bin = std::make_shared<RecycleBin>();        // where each step's draft is retired
   std::vector<std::shared_ptr<const Mesh>> held;
   std::set<const Mesh*> values;
   for (int step = 0; step < 10; ++step) {
@@ -407,7 +408,7 @@ TEST(GcWarpNode, APartialDraftIsTheSupportWarpedWhateverCameBefore) {
     DirectContext ctx(
         *type,
         {{"canvas", canvas}, {"source_cage", source}, {"target_cage", target}, {"region", region}},
-        {}, derived);
+        {}, derived, bin);
     node->compute(ctx);
     const auto draft = std::dynamic_pointer_cast<const Mesh>(ctx.outputs["draft"]);
     ASSERT_NE(draft, nullptr);
@@ -424,7 +425,7 @@ TEST(GcWarpNode, APartialDraftIsTheSupportWarpedWhateverCameBefore) {
       ASSERT_EQ(toEigen(draft->surface.point(v)), expected[std::size_t(v.idx())]) << v.idx();
     EXPECT_EQ(test::faceIndices(draft->surface), test::faceIndices(canvas->surface));
   }
-  // Values let go were reused: fewer values than steps.
+  // Values let go were recycled: fewer values than steps.
   EXPECT_LT(values.size(), 10u);
 }
 

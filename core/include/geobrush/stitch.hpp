@@ -140,9 +140,9 @@ StitchResult stitchPasteInto(TriMesh& out, const Region2D& region, const Paramet
 // then moves each vertex of R_in (map.sourceVertex >= 0, none before firstPatchVertex) to
 // x~(E_s(v)) + G(v). Together they give stitchPasteInto's result bit for bit; they throw
 // StitchError as it does. The result's map is built in the arrays of `reuse`; with
-// `outHoldsOutside`, `reuse` may be the map of the paste whose mesh `out` held (a result that
-// startsWithOutside, turned back by restoreOutside), and its entries for the outside part are
-// kept as they are: a dab writes the map's entries for what it changes, not for the whole target.
+// `outHoldsOutside`, `reuse` may be the map of any paste that startsWithOutside with this base's
+// outside part, and its entries for the outside part are kept as they are: a dab writes the
+// map's entries for what it changes, not for the whole target.
 StitchResult stitchLayoutInto(TriMesh& out, const Region2D& region, const Parameterization& source,
                               const Parameterization& target, const StitchBase* base = nullptr,
                               bool outHoldsOutside = false, const StitchOptions& options = {},
