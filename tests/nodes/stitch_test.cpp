@@ -404,10 +404,10 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   const auto first = flatDiscOnSquare(17, 0.8), second = flatDiscOnSquare(19, 0.8);
   std::vector<const Mesh*> made;       // each dab's result, by address
   std::vector<const int*> mapEntries;  // each dab's map's targetVertex array, by address
-  std::shared_ptr<const Mesh> held;
+  std::vector<std::shared_ptr<const Mesh>> held;
   std::shared_ptr<const PasteMap> heldMap;
   std::vector<std::size_t> binned;  // what the bin holds as each dab starts
-  constexpr int kEmpty = 5, kHeld = 3, kMapHeld = 6, kNewTarget = 8;
+  constexpr int kEmpty = 5, kMapHeld = 6, kNewTarget = 8;
   for (int dab = 0; dab < 10; ++dab) {
     SCOPED_TRACE(dab);
     binned.push_back(bin->size());
@@ -426,7 +426,7 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
     ASSERT_TRUE(map);
     made.push_back(mesh.get());
     mapEntries.push_back(map->targetVertex.data());
-    if (dab == kHeld) held = mesh;
+    if (dab == 2 || dab == 3) held.push_back(mesh);
     if (dab == kMapHeld) heldMap = map;
     const StitchBase base = freshNodeBase(*target);
     const StitchResult fresh =
@@ -439,11 +439,14 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   }
   // A result the node took back is one that was still alive when the next was made: the same
   // address means it was recycled, not reallocated. Each dab recycles the one before it, which no
-  // one holds here, but for the one held, and the empty region's result, which is the whole
-  // target: the bin has nothing then.
+  // one holds here, but for the two held (dabs 2 and 3) and the empty region's result, which is
+  // the whole target: the bin has nothing then. Finding none to recycle at dab 3, the node copied
+  // the outside part ahead, and dab 4 lays out into that copy with dab 3's paste map.
   EXPECT_EQ(made[1], made[0]);
-  EXPECT_EQ(made[3], made[2]);
+  EXPECT_EQ(made[2], made[1]);
+  EXPECT_NE(made[3], made[2]);
   EXPECT_NE(made[4], made[3]);
+  EXPECT_EQ(mapEntries[4], mapEntries[3]);
   EXPECT_EQ(made[5], made[4]);
   EXPECT_EQ(binned[6], 0u);
   EXPECT_EQ(made[7], made[6]);
