@@ -79,8 +79,16 @@ std::vector<int> seamFacesAround(const TriMesh& mesh, const std::vector<std::uin
 BeltSmoothResult smoothBelt(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
                             const BeltSmoothOptions& options) {
   checkInputs(mesh, inRegion, options);
+  TriMesh smoothed = mesh;
+  BeltSmoothResult result = smoothBeltInPlace(smoothed, inRegion, options);
+  result.mesh = std::move(smoothed);
+  return result;
+}
+
+BeltSmoothResult smoothBeltInPlace(TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
+                                   const BeltSmoothOptions& options) {
+  checkInputs(mesh, inRegion, options);
   BeltSmoothResult result;
-  result.mesh = mesh;
   const std::vector<int> region = regionVertices(inRegion);
   result.belt = beltAround(mesh, inRegion, region, options.rings);
   std::vector<int> moving;
@@ -91,19 +99,38 @@ BeltSmoothResult smoothBelt(const TriMesh& mesh, const std::vector<std::uint8_t>
     for (std::size_t i = 0; i < moving.size(); ++i) {
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       int count = 0;
-      for (auto w : result.mesh.vv_range(TriMesh::VertexHandle(moving[i]))) {
-        mean += pointOf(result.mesh, w.idx());
+      for (auto w : mesh.vv_range(TriMesh::VertexHandle(moving[i]))) {
+        mean += pointOf(mesh, w.idx());
         ++count;
       }
-      const Eigen::Vector3d p = pointOf(result.mesh, moving[i]);
+      const Eigen::Vector3d p = pointOf(mesh, moving[i]);
       next[i] = count > 0 ? Eigen::Vector3d(p + options.lambda * (mean / count - p)) : p;
     }
     for (std::size_t i = 0; i < moving.size(); ++i)
-      result.mesh.set_point(TriMesh::VertexHandle(moving[i]),
-                            {next[i].x(), next[i].y(), next[i].z()});
+      mesh.set_point(TriMesh::VertexHandle(moving[i]), {next[i].x(), next[i].y(), next[i].z()});
   }
   result.seamFaces = seamFacesAround(mesh, inRegion, region);
   return result;
+}
+
+bool sameConnectivity(const TriMesh& a, const TriMesh& b) {
+  if (a.n_vertices() != b.n_vertices() || a.n_halfedges() != b.n_halfedges() ||
+      a.n_faces() != b.n_faces())
+    return false;
+  for (auto v : a.vertices())
+    if (a.halfedge_handle(v) != b.halfedge_handle(v) || a.status(v).bits() != b.status(v).bits())
+      return false;
+  for (auto h : a.halfedges())
+    if (a.to_vertex_handle(h) != b.to_vertex_handle(h) ||
+        a.next_halfedge_handle(h) != b.next_halfedge_handle(h) ||
+        a.face_handle(h) != b.face_handle(h))
+      return false;
+  for (auto e : a.edges())
+    if (a.status(e).bits() != b.status(e).bits()) return false;
+  for (auto f : a.faces())
+    if (a.halfedge_handle(f) != b.halfedge_handle(f) || a.status(f).bits() != b.status(f).bits())
+      return false;
+  return true;
 }
 
 }  // namespace geobrush

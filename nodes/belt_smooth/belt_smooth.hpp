@@ -28,4 +28,13 @@ struct BeltSmoothResult {
 BeltSmoothResult smoothBelt(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
                             const BeltSmoothOptions& options);
 
+// The same in place: `mesh` is smoothed; the result's mesh is left empty.
+BeltSmoothResult smoothBeltInPlace(TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
+                                   const BeltSmoothOptions& options);
+
+// True where `a` and `b` have the same vertices, halfedges and faces, connected the same way and
+// with the same status flags (their points aside): a copy of one's points into the other makes it
+// a copy of that one.
+bool sameConnectivity(const TriMesh& a, const TriMesh& b);
+
 }  // namespace geobrush

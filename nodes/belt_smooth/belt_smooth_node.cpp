@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,9 @@ using geobrush::Mesh;
 using geobrush::NodeError;
 using geobrush::VertexFields;
 
+// A gain change rebuilds the target and smooths its belt on every edit: a retired result of this
+// node (Context::recycle) with the input mesh's connectivity takes its points instead of a whole
+// new copy of the mesh, and a retired paste map its entries (every one is written again).
 class BeltSmoothNode final : public geobrush::Node {
  public:
   void compute(geobrush::Context& ctx) override {
@@ -36,8 +40,11 @@ class BeltSmoothNode final : public geobrush::Node {
     options.rings = ctx.param<int>("rings");
     options.iterations = ctx.param<int>("iterations");
     options.lambda = ctx.param<double>("lambda");
-    geobrush::BeltSmoothResult result = geobrush::smoothBelt(mesh->surface, inRegion, options);
-    auto map = std::make_shared<geobrush::PasteMap>();
+    const auto smoothed = copyOf(ctx, *mesh);
+    geobrush::BeltSmoothResult result =
+        geobrush::smoothBeltInPlace(smoothed->surface, inRegion, options);
+    auto map = ctx.recycle<geobrush::PasteMap, Made>("map", [](const Made&) { return true; }).value;
+    if (!map) map = std::make_shared<geobrush::PasteMap>();
     map->sourceVertex.resize(nearest->size());
     map->targetVertex.resize(nearest->size());
     for (std::size_t v = 0; v < nearest->size(); ++v) {
@@ -45,8 +52,23 @@ class BeltSmoothNode final : public geobrush::Node {
       map->sourceVertex[v] = int((*nearest)[v]);
     }
     map->seamFaces = std::move(result.seamFaces);
-    ctx.out("mesh", std::make_shared<const Mesh>(result.mesh));
-    ctx.out("map", map);
+    const auto made = std::make_shared<const Made>();
+    ctx.outRecyclable("mesh", smoothed, made);
+    ctx.outRecyclable("map", map, made);
+  }
+
+ private:
+  struct Made {};  // recycled results are checked against the input itself
+
+  static std::shared_ptr<Mesh> copyOf(geobrush::Context& ctx, const Mesh& mesh) {
+    const auto recycled = ctx.recycle<Mesh, Made>("mesh", [&](const Made&) { return true; });
+    if (!recycled || !geobrush::sameConnectivity(recycled.value->surface, mesh.surface))
+      return std::make_shared<Mesh>(mesh.surface);
+    const auto& points = mesh.surface.property(mesh.surface.points_pph()).data_vector();
+    auto& into =
+        recycled.value->surface.property(recycled.value->surface.points_pph()).data_vector();
+    std::copy(points.begin(), points.end(), into.begin());
+    return recycled.value;
   }
 };
 

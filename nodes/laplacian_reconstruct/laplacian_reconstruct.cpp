@@ -34,12 +34,16 @@ ReconstructResult reconstructRegion(const LaplacianSystem& system,
 
 TriMesh withRegionMoved(const LaplacianSystem& system, const Eigen::MatrixX3d& points) {
   TriMesh moved = system.mesh->surface;
+  moveRegion(system, points, moved);
+  return moved;
+}
+
+void moveRegion(const LaplacianSystem& system, const Eigen::MatrixX3d& points, TriMesh& mesh) {
   for (std::size_t i = 0; i < system.vertices.size(); ++i) {
     const Eigen::Index row = Eigen::Index(i);
-    moved.set_point(TriMesh::VertexHandle(system.vertices[i]),
-                    {points(row, 0), points(row, 1), points(row, 2)});
+    mesh.set_point(TriMesh::VertexHandle(system.vertices[i]),
+                   {points(row, 0), points(row, 1), points(row, 2)});
   }
-  return moved;
 }
 
 double signalFidelity(const LaplacianSystem& system, const TriMesh& moved,

@@ -32,6 +32,8 @@ ReconstructResult reconstructRegion(const LaplacianSystem& system,
 
 // The system's mesh with the region's points replaced; every other point bit-identical.
 TriMesh withRegionMoved(const LaplacianSystem& system, const Eigen::MatrixX3d& points);
+// The same in place: `mesh` is a copy of the system's mesh, or a mesh this made from one.
+void moveRegion(const LaplacianSystem& system, const Eigen::MatrixX3d& points, TriMesh& mesh);
 
 // |g(result) - g^| / |g^| over the region's vertices off its border, g(result) Eq. 1's signal of
 // `moved` (per unit area when options.perArea): how closely the surface carries the signal.

@@ -34,16 +34,29 @@ class LaplacianReconstructNode final : public geobrush::Node {
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("signal", e.what());
     }
-    auto moved = std::make_shared<const Mesh>(geobrush::withRegionMoved(*system, result.points));
+    // A retired result made with an equal system differs from the system's mesh on the region
+    // alone, which is moved again.
+    const geobrush::Hash systemKey = ctx.inputKeyOf("system");
+    auto moved = ctx.recycle<Mesh, MovedBy>(
+                        "mesh", [&](const MovedBy& made) { return made.system == systemKey; })
+                     .value;
+    if (!moved) moved = std::make_shared<Mesh>(system->mesh->surface);
+    geobrush::moveRegion(*system, result.points, moved->surface);
     auto report = std::make_shared<geobrush::Metrics>();
     report->values["unknowns"] = double(system->vertices.size());
     report->values["border_vertices"] = double(system->boundary.size());
     report->values["max_move"] = result.maxMove;
     report->values["signal_fidelity"] =
         geobrush::signalFidelity(*system, moved->surface, *signal, options);
-    ctx.out("mesh", moved);
+    ctx.outRecyclable("mesh", moved, std::make_shared<const MovedBy>(MovedBy{systemKey}));
     ctx.out("report", report);
   }
+
+ private:
+  // What a result was made by: the framework's key of the system.
+  struct MovedBy {
+    geobrush::Hash system = 0;
+  };
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
@@ -143,6 +145,69 @@ TEST(BeltSmoothNode, RefusesAMeshThatIsNotTheTarget) {
   } catch (const NodeError& e) {
     EXPECT_EQ(e.where(), "input 'mesh'");
   }
+}
+
+// A grid with one interior edge flipped: the same counts, other connectivity.
+TriMesh withAnEdgeFlipped(const TriMesh& mesh) {
+  TriMesh flipped = mesh;
+  for (auto e : flipped.edges())
+    if (!flipped.is_boundary(e) && flipped.is_flip_ok(e)) {
+      flipped.flip(e);
+      break;
+    }
+  return flipped;
+}
+
+TEST(BeltSmooth, SameConnectivityLooksPastThePointsAlone) {
+  const MeshPtr grid = test::heightGrid(6, [](double, double) { return 0.0; });
+  TriMesh moved = grid->surface;
+  moved.set_point(TriMesh::VertexHandle(7), {0.3, 0.2, 0.9});
+  EXPECT_TRUE(sameConnectivity(grid->surface, moved));
+  EXPECT_FALSE(sameConnectivity(grid->surface, withAnEdgeFlipped(grid->surface)));
+  EXPECT_FALSE(sameConnectivity(grid->surface,
+                                test::heightGrid(7, [](double, double) { return 0.0; })->surface));
+  TriMesh marked = grid->surface;
+  marked.status(TriMesh::VertexHandle(3)).set_feature(true);
+  EXPECT_FALSE(sameConnectivity(grid->surface, marked));
+}
+
+// Edit after edit (the rebuilt mesh raised by a growing step, then one with another connectivity
+// but the same counts), each result retired into a bin for the next: every result and map is a
+// fresh node's, bit for bit, and the results nothing holds are recycled.
+TEST(BeltSmoothNode, EditAfterEditGivesWhatAFreshNodeGives) {
+  const NodeType* type = test::registry().find("geobrush.belt_smooth");
+  ASSERT_NE(type, nullptr);
+  const Step flat = raisedSquare(16, 0.0);
+  auto sampled = std::make_shared<VertexFields>(flat.mesh->surface);
+  std::vector<double> region(flat.inside.begin(), flat.inside.end()), nearest(region.size());
+  for (std::size_t v = 0; v < nearest.size(); ++v)
+    nearest[v] = region[v] != 0.0 ? double(v % 7) : -1.0;
+  sampled->add("region", region);
+  sampled->add("nearest", nearest);
+  const auto node = type->create();
+  const auto bin = std::make_shared<RecycleBin>();
+  std::set<const Mesh*> made;
+  constexpr int kFlipped = 4;
+  for (int edit = 0; edit < 6; ++edit) {
+    SCOPED_TRACE(edit);
+    MeshPtr rebuilt = raisedSquare(16, 0.02 * (edit + 1)).mesh;
+    if (edit == kFlipped)
+      rebuilt = std::make_shared<const Mesh>(withAnEdgeFlipped(rebuilt->surface));
+    const std::map<std::string, ValuePtr, std::less<>> inputs = {
+        {"mesh", rebuilt}, {"target", flat.mesh}, {"sampled", sampled}};
+    test::DirectContext ctx(*type, inputs, {}, nullptr, bin);
+    test::run(*node, ctx);
+    const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
+    const auto map = std::dynamic_pointer_cast<const PasteMap>(ctx.outputs.at("map"));
+    ASSERT_TRUE(mesh && map);
+    made.insert(mesh.get());
+    const test::NodeRun fresh = test::runNode("geobrush.belt_smooth", inputs);
+    EXPECT_TRUE(test::bitIdentical(mesh->surface, fresh.get<Mesh>("mesh")->surface));
+    EXPECT_EQ(map->targetVertex, fresh.get<PasteMap>("map")->targetVertex);
+    EXPECT_EQ(map->sourceVertex, fresh.get<PasteMap>("map")->sourceVertex);
+    EXPECT_EQ(map->seamFaces, fresh.get<PasteMap>("map")->seamFaces);
+  }
+  EXPECT_LT(made.size(), 6u);
 }
 
 }  // namespace
