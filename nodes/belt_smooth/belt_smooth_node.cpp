@@ -24,8 +24,12 @@ class BeltSmoothNode final : public geobrush::Node {
     const auto mesh = ctx.in<Mesh>("mesh");
     const auto target = ctx.in<Mesh>("target");
     const auto sampled = ctx.in<VertexFields>("sampled");
-    if (const std::string why = sampled->mismatch(target->surface); !why.empty())
-      throw NodeError::input("sampled", why + " (input 'target')");
+    // The target's geometry hash is derived data: an edit of the gains does not hash it again.
+    const auto targetHash = ctx.derived("geometry_hash", {"target"}, 0, [&] {
+      return std::make_shared<const geobrush::Hash>(geobrush::geometryHash(target->surface));
+    });
+    if (sampled->vertexCount != target->surface.n_vertices() || sampled->meshHash != *targetHash)
+      throw NodeError::input("sampled", sampled->mismatch(target->surface) + " (input 'target')");
     if (mesh->surface.n_vertices() != target->surface.n_vertices() ||
         mesh->surface.n_faces() != target->surface.n_faces())
       throw NodeError::input("mesh", "it is not the target rebuilt (other vertex or face count)");
