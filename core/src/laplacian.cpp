@@ -21,12 +21,16 @@ double cotangent(const Eigen::Vector3d& apex, const Eigen::Vector3d& a, const Ei
 // al. 2003: its Voronoi region where the triangle is not obtuse, else half the triangle where
 // the obtuse angle is a's and a quarter where it is another's. The shares of the three corners
 // sum to the triangle's area.
-double mixedArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+// cotC and cotB: cotangent(c, a, b) and cotangent(b, a, c), where the caller has them.
+double mixedArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                 double cotC, double cotB) {
   const double area = 0.5 * (b - a).cross(c - a).norm();
   if ((b - a).dot(c - a) < 0.0) return area / 2;
   if ((a - b).dot(c - b) < 0.0 || (a - c).dot(b - c) < 0.0) return area / 4;
-  return ((b - a).squaredNorm() * cotangent(c, a, b) + (c - a).squaredNorm() * cotangent(b, a, c)) /
-         8.0;
+  return ((b - a).squaredNorm() * cotC + (c - a).squaredNorm() * cotB) / 8.0;
+}
+double mixedArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return mixedArea(a, b, c, cotangent(c, a, b), cotangent(b, a, c));
 }
 
 struct Corners {
@@ -117,6 +121,26 @@ Eigen::Vector3d areaWeightedNormal(const TriMesh& mesh, int vertex) {
   }
   const double length = normal.norm();
   return length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
+}
+
+// The same sums as the three functions above, in the same order, sharing each face's corners
+// and the two cotangents that both the Laplacian and the mixed area use.
+VertexGeometry vertexGeometry(const TriMesh& mesh, int vertex) {
+  VertexGeometry geometry;
+  geometry.laplace = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (auto face : mesh.vf_range(TriMesh::VertexHandle(vertex))) {
+    const auto [id, p] = cornersOf(mesh, face);
+    const int c = id[0] == vertex ? 0 : id[1] == vertex ? 1 : 2;
+    const int j = (c + 1) % 3, k = (c + 2) % 3;
+    const double cotK = cotangent(p[k], p[c], p[j]), cotJ = cotangent(p[j], p[c], p[k]);
+    geometry.laplace += cotK * (p[j] - p[c]) + cotJ * (p[k] - p[c]);
+    normal += (p[1] - p[0]).cross(p[2] - p[0]);
+    geometry.area += mixedArea(p[c], p[j], p[k], cotK, cotJ);
+  }
+  const double length = normal.norm();
+  geometry.normal = length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
+  return geometry;
 }
 
 std::string LaplacianSystem::summary() const {

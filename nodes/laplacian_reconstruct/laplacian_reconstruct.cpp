@@ -54,11 +54,11 @@ double signalFidelity(const LaplacianSystem& system, const TriMesh& moved,
   double error = 0.0, norm = 0.0;
   for (std::size_t i = 0; i < system.vertices.size(); ++i) {
     if (border[i]) continue;
-    const TriMesh::VertexHandle v(system.vertices[i]);
-    const Eigen::Vector3d delta = cotangentLaplace(moved, v.idx());
-    double g = delta.dot(areaWeightedNormal(moved, v.idx()));
-    if (options.perArea) g /= vertexArea(moved, v.idx());
-    const double wanted = signal[std::size_t(v.idx())];
+    const int v = system.vertices[i];
+    const VertexGeometry geometry = vertexGeometry(moved, v);
+    double g = geometry.laplace.dot(geometry.normal);
+    if (options.perArea) g /= geometry.area;
+    const double wanted = signal[std::size_t(v)];
     error += (g - wanted) * (g - wanted);
     norm += wanted * wanted;
   }

@@ -109,5 +109,27 @@ TEST(CotangentLaplacian, QuantitiesOfARealMeshAreConsistent) {
   EXPECT_LT((laplacian * Eigen::VectorXd::Ones(laplacian.cols())).cwiseAbs().maxCoeff(), 1e-9);
 }
 
+// One pass over a vertex's faces gives what the three functions give, bit for bit, on a sphere
+// (where g = -4 A / R) and on a real mesh with its boundary and obtuse corners.
+TEST(CotangentLaplacian, VertexGeometryIsTheThreeQuantitiesInOnePass) {
+  const double radius = 2.5;
+  TriMesh sphere = test::icosphere(3);
+  for (auto v : sphere.vertices())
+    sphere.set_point(v, sphere.point(v) * radius);
+  const MeshPtr bunny = readMesh(test::meshPath("bunny_small.obj")).mesh;
+  const TriMesh* sphereMesh = &sphere;
+  for (const TriMesh* mesh : {sphereMesh, &bunny->surface})
+    for (auto v : mesh->vertices()) {
+      const VertexGeometry geometry = vertexGeometry(*mesh, v.idx());
+      ASSERT_EQ(geometry.laplace, cotangentLaplace(*mesh, v.idx())) << v.idx();
+      ASSERT_EQ(geometry.normal, areaWeightedNormal(*mesh, v.idx())) << v.idx();
+      ASSERT_EQ(geometry.area, vertexArea(*mesh, v.idx())) << v.idx();
+      if (mesh == sphereMesh) {
+        EXPECT_NEAR(geometry.laplace.dot(geometry.normal), -4 * geometry.area / radius,
+                    0.05 * 4 * geometry.area / radius);
+      }
+    }
+}
+
 }  // namespace
 }  // namespace geobrush

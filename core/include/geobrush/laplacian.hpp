@@ -34,6 +34,15 @@ Eigen::Vector3d cotangentLaplace(const TriMesh& mesh, int vertex);
 double vertexArea(const TriMesh& mesh, int vertex);
 Eigen::Vector3d areaWeightedNormal(const TriMesh& mesh, int vertex);
 
+// All three of one vertex in one pass over its faces (Eq. 1's signal and its area), each bit for
+// bit what cotangentLaplace, areaWeightedNormal and vertexArea give.
+struct VertexGeometry {
+  Eigen::Vector3d laplace;
+  Eigen::Vector3d normal;
+  double area = 0.0;
+};
+VertexGeometry vertexGeometry(const TriMesh& mesh, int vertex);
+
 // The mesh's points as an n x 3 matrix, one row per vertex.
 Eigen::MatrixX3d pointMatrix(const TriMesh& mesh);
 
