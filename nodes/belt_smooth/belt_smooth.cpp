@@ -2,7 +2,6 @@
 
 #include <Eigen/Core>
 #include <algorithm>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -112,38 +111,6 @@ BeltSmoothResult smoothBeltInPlace(TriMesh& mesh, const std::vector<std::uint8_t
   }
   result.seamFaces = seamFacesAround(mesh, inRegion, region);
   return result;
-}
-
-namespace {
-
-// The `count` elements from `first` of `a` and of `b` hold the same bytes (the kernel keeps each
-// kind of element, and each status property, in one contiguous array of plain handles or flags).
-template <typename Element>
-bool sameElements(const Element& a, const Element& b, std::size_t count) {
-  return count == 0 || std::memcmp(&a, &b, count * sizeof(Element)) == 0;
-}
-
-template <typename Handle>
-bool sameStatus(const TriMesh& a, const TriMesh& b, std::size_t count) {
-  if (count == 0) return true;
-  const Handle first(0);
-  return sameElements(a.status(first), b.status(first), count);
-}
-
-}  // namespace
-
-bool sameConnectivity(const TriMesh& a, const TriMesh& b) {
-  if (a.n_vertices() != b.n_vertices() || a.n_edges() != b.n_edges() || a.n_faces() != b.n_faces())
-    return false;
-  if (a.n_vertices() == 0) return true;
-  using VH = TriMesh::VertexHandle;
-  using EH = TriMesh::EdgeHandle;
-  using FH = TriMesh::FaceHandle;
-  return sameElements(a.vertex(VH(0)), b.vertex(VH(0)), a.n_vertices()) &&
-         (a.n_edges() == 0 || sameElements(a.edge(EH(0)), b.edge(EH(0)), a.n_edges())) &&
-         (a.n_faces() == 0 || sameElements(a.face(FH(0)), b.face(FH(0)), a.n_faces())) &&
-         sameStatus<VH>(a, b, a.n_vertices()) && sameStatus<EH>(a, b, a.n_edges()) &&
-         sameStatus<FH>(a, b, a.n_faces());
 }
 
 }  // namespace geobrush

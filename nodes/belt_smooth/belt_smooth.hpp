@@ -32,9 +32,4 @@ BeltSmoothResult smoothBelt(const TriMesh& mesh, const std::vector<std::uint8_t>
 BeltSmoothResult smoothBeltInPlace(TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
                                    const BeltSmoothOptions& options);
 
-// True where `a` and `b` have the same vertices, halfedges and faces, connected the same way and
-// with the same status flags (their points aside): a copy of one's points into the other makes it
-// a copy of that one.
-bool sameConnectivity(const TriMesh& a, const TriMesh& b);
-
 }  // namespace geobrush

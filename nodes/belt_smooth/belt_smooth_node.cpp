@@ -1,9 +1,9 @@
-#include <algorithm>
 #include <memory>
 #include <stdexcept>
 #include <string>
 
 #include "belt_smooth.hpp"
+#include "geobrush/mesh_points.hpp"
 #include "geobrush/node.hpp"
 #include "geobrush/region.hpp"
 #include "geobrush/registry.hpp"
@@ -68,10 +68,7 @@ class BeltSmoothNode final : public geobrush::Node {
     const auto recycled = ctx.recycle<Mesh, Made>("mesh", [&](const Made&) { return true; });
     if (!recycled || !geobrush::sameConnectivity(recycled.value->surface, mesh.surface))
       return std::make_shared<Mesh>(mesh.surface);
-    const auto& points = mesh.surface.property(mesh.surface.points_pph()).data_vector();
-    auto& into =
-        recycled.value->surface.property(recycled.value->surface.points_pph()).data_vector();
-    std::copy(points.begin(), points.end(), into.begin());
+    geobrush::copyPoints(mesh.surface, recycled.value->surface);
     return recycled.value;
   }
 };

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "geobrush/mesh.hpp"
+#include "geobrush/mesh_points.hpp"
 #include "geobrush/node.hpp"
 #include "geobrush/registry.hpp"
 #include "geobrush/values.hpp"
@@ -120,10 +121,7 @@ class HandleEditNode final : public geobrush::Node {
     const auto recycled = ctx.recycle<Mesh, CopiedFrom>(
         "template", [&](const CopiedFrom& from) { return from.templateKey == key; });
     if (!recycled) return std::make_shared<Mesh>(*tmpl);
-    const auto& points = tmpl->surface.property(tmpl->surface.points_pph()).data_vector();
-    auto& into =
-        recycled.value->surface.property(recycled.value->surface.points_pph()).data_vector();
-    std::copy(points.begin(), points.end(), into.begin());
+    geobrush::copyPoints(tmpl->surface, recycled.value->surface);
     return recycled.value;
   }
 };

@@ -147,30 +147,6 @@ TEST(BeltSmoothNode, RefusesAMeshThatIsNotTheTarget) {
   }
 }
 
-// A grid with one interior edge flipped: the same counts, other connectivity.
-TriMesh withAnEdgeFlipped(const TriMesh& mesh) {
-  TriMesh flipped = mesh;
-  for (auto e : flipped.edges())
-    if (!flipped.is_boundary(e) && flipped.is_flip_ok(e)) {
-      flipped.flip(e);
-      break;
-    }
-  return flipped;
-}
-
-TEST(BeltSmooth, SameConnectivityLooksPastThePointsAlone) {
-  const MeshPtr grid = test::heightGrid(6, [](double, double) { return 0.0; });
-  TriMesh moved = grid->surface;
-  moved.set_point(TriMesh::VertexHandle(7), {0.3, 0.2, 0.9});
-  EXPECT_TRUE(sameConnectivity(grid->surface, moved));
-  EXPECT_FALSE(sameConnectivity(grid->surface, withAnEdgeFlipped(grid->surface)));
-  EXPECT_FALSE(sameConnectivity(grid->surface,
-                                test::heightGrid(7, [](double, double) { return 0.0; })->surface));
-  TriMesh marked = grid->surface;
-  marked.status(TriMesh::VertexHandle(3)).set_feature(true);
-  EXPECT_FALSE(sameConnectivity(grid->surface, marked));
-}
-
 // Edit after edit (the rebuilt mesh raised by a growing step, then one with another connectivity
 // but the same counts), each result retired into a bin for the next: every result and map is a
 // fresh node's, bit for bit, and the results nothing holds are recycled.
@@ -192,7 +168,7 @@ TEST(BeltSmoothNode, EditAfterEditGivesWhatAFreshNodeGives) {
     SCOPED_TRACE(edit);
     MeshPtr rebuilt = raisedSquare(16, 0.02 * (edit + 1)).mesh;
     if (edit == kFlipped)
-      rebuilt = std::make_shared<const Mesh>(withAnEdgeFlipped(rebuilt->surface));
+      rebuilt = std::make_shared<const Mesh>(test::withAnEdgeFlipped(rebuilt->surface));
     const std::map<std::string, ValuePtr, std::less<>> inputs = {
         {"mesh", rebuilt}, {"target", flat.mesh}, {"sampled", sampled}};
     test::DirectContext ctx(*type, inputs, {}, nullptr, bin);

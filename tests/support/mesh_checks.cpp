@@ -231,6 +231,16 @@ bool bitIdentical(const TriMesh& a, const TriMesh& b) {
          faceIndices(a) == faceIndices(b);
 }
 
+TriMesh withAnEdgeFlipped(const TriMesh& mesh) {
+  TriMesh flipped = mesh;
+  for (auto e : flipped.edges())
+    if (!flipped.is_boundary(e) && flipped.is_flip_ok(e)) {
+      flipped.flip(e);
+      break;
+    }
+  return flipped;
+}
+
 bool sameHalfedgeStructure(const TriMesh& a, const TriMesh& b) {
   if (a.n_vertices() != b.n_vertices() || a.n_edges() != b.n_edges() ||
       a.n_faces() != b.n_faces() ||

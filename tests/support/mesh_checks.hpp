@@ -58,6 +58,10 @@ std::size_t closeVertexPairs(const TriMesh& mesh, double tolerance);
 // in face order).
 bool bitIdentical(const TriMesh& a, const TriMesh& b);
 
+// A copy of `mesh` with its first flippable interior edge flipped: the same counts, other
+// connectivity.
+TriMesh withAnEdgeFlipped(const TriMesh& mesh);
+
 // Whether both have bit-identical points and the same halfedge structure, element for element:
 // each vertex's and face's halfedge, and each halfedge's vertex, face, next and previous.
 bool sameHalfedgeStructure(const TriMesh& a, const TriMesh& b);
