@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <numeric>
 
+#include "geobrush/canvas.hpp"
+#include "geobrush/node.hpp"
+
 namespace geobrush {
 
 // nanoflann's dataset interface over the points.
@@ -54,6 +57,13 @@ std::vector<int> DomainNeighbours::nearest(const Eigen::Vector2d& query, int k) 
   for (int i : order)
     result.push_back(int(indices[std::size_t(i)]));
   return result;
+}
+
+std::shared_ptr<const DomainNeighbours> derivedDomainNeighbours(Context& ctx,
+                                                                std::string_view port) {
+  const auto canvas = ctx.in<Parameterization>(port);
+  return ctx.derived("domain_neighbours", {port}, 0,
+                     [&] { return std::make_shared<const DomainNeighbours>(canvas->uv); });
 }
 
 }  // namespace geobrush

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "geobrush/node.hpp"
 #include "mesh_hash.hpp"
 
 namespace geobrush {
@@ -12,8 +13,16 @@ Hash geometryHash(const TriMesh& mesh) {
   return hasher.digest();
 }
 
+Hash derivedGeometryHash(Context& ctx, const MeshPtr& mesh) {
+  return *ctx.derivedFrom("geometry_hash", {mesh}, 0, [&] {
+    return std::make_shared<const Hash>(geometryHash(mesh->surface));
+  });
+}
+
 VertexFields::VertexFields(const TriMesh& mesh)
     : meshHash(geometryHash(mesh)), vertexCount(mesh.n_vertices()) {}
+
+VertexFields::VertexFields(std::size_t count, Hash hash) : meshHash(hash), vertexCount(count) {}
 
 Hash VertexFields::contentHash() const {
   Hasher hasher;
@@ -71,10 +80,14 @@ std::vector<std::string> VertexFields::modeNames() const {
 }
 
 std::string VertexFields::mismatch(const TriMesh& mesh) const {
+  return mismatch(mesh, mesh.n_vertices() == vertexCount ? geometryHash(mesh) : 0);
+}
+
+std::string VertexFields::mismatch(const TriMesh& mesh, Hash meshGeometry) const {
   if (mesh.n_vertices() != vertexCount)
     return "the fields were computed on a mesh of " + std::to_string(vertexCount) +
            " vertices, this one has " + std::to_string(mesh.n_vertices());
-  if (geometryHash(mesh) != meshHash)
+  if (meshGeometry != meshHash)
     return "the fields were computed on another mesh with the same vertex count";
   return {};
 }

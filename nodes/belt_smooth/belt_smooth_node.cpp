@@ -25,11 +25,9 @@ class BeltSmoothNode final : public geobrush::Node {
     const auto target = ctx.in<Mesh>("target");
     const auto sampled = ctx.in<VertexFields>("sampled");
     // The target's geometry hash is derived data: an edit of the gains does not hash it again.
-    const auto targetHash = ctx.derived("geometry_hash", {"target"}, 0, [&] {
-      return std::make_shared<const geobrush::Hash>(geobrush::geometryHash(target->surface));
-    });
-    if (sampled->vertexCount != target->surface.n_vertices() || sampled->meshHash != *targetHash)
-      throw NodeError::input("sampled", sampled->mismatch(target->surface) + " (input 'target')");
+    const geobrush::Hash targetHash = geobrush::derivedGeometryHash(ctx, target);
+    if (const std::string why = sampled->mismatch(target->surface, targetHash); !why.empty())
+      throw NodeError::input("sampled", why + " (input 'target')");
     if (mesh->surface.n_vertices() != target->surface.n_vertices() ||
         mesh->surface.n_faces() != target->surface.n_faces())
       throw NodeError::input("mesh", "it is not the target rebuilt (other vertex or face count)");

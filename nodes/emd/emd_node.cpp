@@ -47,7 +47,9 @@ class EmdNode final : public geobrush::Node {
   void compute(geobrush::Context& ctx) override {
     const auto mesh = ctx.in<Mesh>("mesh");
     const auto fields = ctx.in<VertexFields>("signal");
-    if (const std::string why = fields->mismatch(mesh->surface); !why.empty())
+    if (const std::string why =
+            fields->mismatch(mesh->surface, geobrush::derivedGeometryHash(ctx, mesh));
+        !why.empty())
       throw NodeError::input("signal", why + " (of input 'mesh')");
     const std::string name = ctx.param<std::string>("field");
     const auto* signal = fields->find(name);
@@ -57,7 +59,7 @@ class EmdNode final : public geobrush::Node {
     if (ctx.hasInput("parameterization")) {
       canvas = ctx.in<geobrush::Parameterization>("parameterization")->canvas;
       if (!canvas || !canvas->source ||
-          geobrush::geometryHash(canvas->source->surface) != fields->meshHash)
+          geobrush::derivedGeometryHash(ctx, canvas->source) != fields->meshHash)
         throw NodeError::input("parameterization",
                                "its canvas lies on another mesh than input "
                                "'mesh'");

@@ -13,10 +13,22 @@ EmdCorrespondence correspondInDomain(const Parameterization& source, const Param
                                      const std::vector<int>& targetVertices,
                                      const std::vector<const std::vector<double>*>& sourceFields,
                                      const EmdCorrespondOptions& options) {
+  if (source.uv.empty()) throw std::invalid_argument("the source canvas has no vertices");
+  return correspondInDomain(source, DomainNeighbours(source.uv), target, targetVertices,
+                            sourceFields, options);
+}
+
+EmdCorrespondence correspondInDomain(const Parameterization& source,
+                                     const DomainNeighbours& neighbours,
+                                     const Parameterization& target,
+                                     const std::vector<int>& targetVertices,
+                                     const std::vector<const std::vector<double>*>& sourceFields,
+                                     const EmdCorrespondOptions& options) {
   if (options.neighbours < 1 || options.neighbours > 64)
     throw std::out_of_range("neighbours must be in 1..64");
   if (!std::isfinite(options.factor)) throw std::out_of_range("the factor is not finite");
-  if (source.uv.empty()) throw std::invalid_argument("the source canvas has no vertices");
+  if (source.uv.empty() || neighbours.size() != source.uv.size())
+    throw std::invalid_argument("the source canvas has no vertices, or other ones than searched");
   const std::vector<int>& sourceMeshVertex = source.canvas->sourceVertex;
   const std::size_t sourceMeshSize = source.canvas->source->surface.n_vertices();
   for (const auto* field : sourceFields)
@@ -33,7 +45,6 @@ EmdCorrespondence correspondInDomain(const Parameterization& source, const Param
       throw std::invalid_argument("target canvas vertex " + std::to_string(t) + " is not there");
   // Each target vertex reads the tree and writes its own entries: the blocks run on any number of
   // threads with the same result.
-  const DomainNeighbours neighbours(source.uv);
   parallelBlocks(targetVertices.size(), 1024, 0, [&](std::size_t first, std::size_t last) {
     for (std::size_t i = first; i < last; ++i) {
       const std::size_t t = std::size_t(targetVertices[i]);

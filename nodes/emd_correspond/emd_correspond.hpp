@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geobrush/canvas.hpp"
+#include "geobrush/domain_neighbours.hpp"
 
 namespace geobrush {
 
@@ -29,6 +30,13 @@ struct EmdCorrespondence {
 // or a target vertex the canvas does not have, std::out_of_range for k outside 1..64 or a
 // factor that is not finite.
 EmdCorrespondence correspondInDomain(const Parameterization& source, const Parameterization& target,
+                                     const std::vector<int>& targetVertices,
+                                     const std::vector<const std::vector<double>*>& sourceFields,
+                                     const EmdCorrespondOptions& options);
+// The same with the source canvas' neighbours given (DomainNeighbours of source.uv).
+EmdCorrespondence correspondInDomain(const Parameterization& source,
+                                     const DomainNeighbours& sourceNeighbours,
+                                     const Parameterization& target,
                                      const std::vector<int>& targetVertices,
                                      const std::vector<const std::vector<double>*>& sourceFields,
                                      const EmdCorrespondOptions& options);

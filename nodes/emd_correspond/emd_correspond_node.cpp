@@ -22,7 +22,10 @@ class EmdCorrespondNode final : public geobrush::Node {
     const auto source = ctx.in<Parameterization>("source");
     const auto target = ctx.in<Parameterization>("target");
     const auto modes = ctx.in<VertexFields>("source_modes");
-    if (const std::string why = modes->mismatch(source->canvas->source->surface); !why.empty())
+    const auto& sourceMesh = source->canvas->source;
+    if (const std::string why =
+            modes->mismatch(sourceMesh->surface, geobrush::derivedGeometryHash(ctx, sourceMesh));
+        !why.empty())
       throw NodeError::input("source_modes", why + " (the mesh of input 'source')");
     const std::vector<std::string> names = modes->modeNames();
     if (names.empty())
@@ -33,16 +36,20 @@ class EmdCorrespondNode final : public geobrush::Node {
     geobrush::EmdCorrespondOptions options;
     options.neighbours = ctx.param<int>("neighbours");
     if (ctx.param<std::string>("signal") == "per_area") options.factor = 1.0 / target->scale;
+    if (source->uv.empty()) throw NodeError::input("source", "its canvas has no vertices");
     geobrush::EmdCorrespondence result;
     try {
       result =
-          geobrush::correspondInDomain(*source, *target, region->targetVertices, columns, options);
+          geobrush::correspondInDomain(*source, *geobrush::derivedDomainNeighbours(ctx, "source"),
+                                       *target, region->targetVertices, columns, options);
     } catch (const std::out_of_range& e) {
       throw NodeError::param("neighbours", e.what());
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("region", e.what());
     }
-    auto sampled = std::make_shared<VertexFields>(target->canvas->source->surface);
+    const auto& targetMesh = target->canvas->source;
+    auto sampled = std::make_shared<VertexFields>(targetMesh->surface.n_vertices(),
+                                                  geobrush::derivedGeometryHash(ctx, targetMesh));
     for (std::size_t k = 0; k < names.size(); ++k)
       sampled->add(names[k], std::move(result.sampled[k]));
     std::vector<double> inside(sampled->vertexCount, 0.0), nearest(sampled->vertexCount);

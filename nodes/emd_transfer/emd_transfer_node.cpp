@@ -47,8 +47,7 @@ class EmdTransferNode final : public geobrush::Node {
                                                 " target modes (one b(k) per mode)");
     geobrush::EmdTransferResult result =
         geobrush::transferSignal(targetModes, *residue, sourceModes, *region, options);
-    auto signal = std::make_shared<VertexFields>(*target);
-    signal->columns.clear();
+    auto signal = std::make_shared<VertexFields>(target->vertexCount, target->meshHash);
     signal->add("g_hat", std::move(result.signal));
     signal->add("detail", std::move(result.detail));
     signal->add("region", *region);

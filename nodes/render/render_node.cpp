@@ -28,8 +28,11 @@ struct ColoredByField {
 };
 
 // The mesh with its vertices coloured by the chosen field of `fields` (the first when none is).
-ColoredByField colorByField(const MeshPtr& mesh, const VertexFields& fields, std::string name) {
-  if (const std::string why = fields.mismatch(mesh->surface); !why.empty())
+ColoredByField colorByField(geobrush::Context& ctx, const MeshPtr& mesh, const VertexFields& fields,
+                            std::string name) {
+  if (const std::string why =
+          fields.mismatch(mesh->surface, geobrush::derivedGeometryHash(ctx, mesh));
+      !why.empty())
     throw NodeError::input("fields", why + " (input 'mesh')");
   if (name.empty()) {
     if (fields.columns.empty()) throw NodeError::input("fields", "it holds no field");
@@ -50,8 +53,8 @@ class RenderNode final : public Node {
     main.mesh = ctx.in<Mesh>("mesh");
     std::optional<ColoredByField> colored;
     if (ctx.hasInput("fields")) {
-      colored =
-          colorByField(main.mesh, *ctx.in<VertexFields>("fields"), ctx.param<std::string>("field"));
+      colored = colorByField(ctx, main.mesh, *ctx.in<VertexFields>("fields"),
+                             ctx.param<std::string>("field"));
       main.mesh = colored->mesh;
     }
     main.color = toRgb(ctx.param<Vec3>("color"));

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 namespace geobrush {
@@ -27,5 +28,11 @@ class DomainNeighbours {
   std::vector<Eigen::Vector2d> points_;
   std::unique_ptr<Tree> tree_;
 };
+
+class Context;
+// The neighbours among the vertices of the Parameterization on a node's input `port` (its uv),
+// derived data (Context::derived): a new region searches the tree its canvas already has.
+std::shared_ptr<const DomainNeighbours> derivedDomainNeighbours(Context& ctx,
+                                                                std::string_view port);
 
 }  // namespace geobrush

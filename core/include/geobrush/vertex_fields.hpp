@@ -17,6 +17,11 @@ namespace geobrush {
 // belongs to, so that colouring a mesh by its fields keeps them attached.
 Hash geometryHash(const TriMesh& mesh);
 
+class Context;
+// geometryHash of a mesh that a node's input holds, as derived data (Context::derivedFrom): the
+// nodes of an evaluation that check fields against one mesh value hash it once, not every edit.
+Hash derivedGeometryHash(Context& ctx, const MeshPtr& mesh);
+
 class VertexFields final : public Value {
  public:
   static constexpr std::string_view kTypeId = "geobrush.VertexFields";
@@ -24,6 +29,8 @@ class VertexFields final : public Value {
   VertexFields() = default;
   // Empty fields on `mesh`.
   explicit VertexFields(const TriMesh& mesh);
+  // Empty fields on a mesh of `vertexCount` vertices whose geometryHash is `meshHash`.
+  VertexFields(std::size_t vertexCount, Hash meshHash);
 
   std::string_view typeId() const override { return kTypeId; }
   Hash contentHash() const override;
@@ -43,6 +50,8 @@ class VertexFields final : public Value {
   // Empty when the fields belong to `mesh`; else why not ("computed on a mesh of 100 vertices,
   // this one has 120", "same vertex count, other geometry").
   std::string mismatch(const TriMesh& mesh) const;
+  // The same, with the mesh's geometryHash given.
+  std::string mismatch(const TriMesh& mesh, Hash meshGeometry) const;
 
   Hash meshHash = 0;            // geometryHash of the mesh they belong to
   std::size_t vertexCount = 0;  // its vertex count: every column's length
