@@ -58,13 +58,20 @@ Eigen::SparseMatrix<double> cotangentLaplacian(const TriMesh& mesh) {
 }
 
 Eigen::SparseMatrix<double> cotangentLaplacian(const TriMesh& mesh, const std::vector<int>& faces) {
-  const int n = int(mesh.n_vertices());
+  std::vector<int> identity(mesh.n_vertices());
+  for (std::size_t v = 0; v < identity.size(); ++v)
+    identity[v] = int(v);
+  return cotangentLaplacian(mesh, faces, identity, int(mesh.n_vertices()));
+}
+
+Eigen::SparseMatrix<double> cotangentLaplacian(const TriMesh& mesh, const std::vector<int>& faces,
+                                               const std::vector<int>& index, int n) {
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(faces.size() * 12);
   for (int face : faces) {
     const auto [id, p] = cornersOf(mesh, TriMesh::FaceHandle(face));
     for (int c = 0; c < 3; ++c) {
-      const int i = id[(c + 1) % 3], j = id[(c + 2) % 3];
+      const int i = index[std::size_t(id[(c + 1) % 3])], j = index[std::size_t(id[(c + 2) % 3])];
       const double w = cotangent(p[c], p[(c + 1) % 3], p[(c + 2) % 3]);
       entries.emplace_back(i, j, -w);
       entries.emplace_back(j, i, -w);

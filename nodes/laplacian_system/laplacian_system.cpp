@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "geobrush/parallel.hpp"
 #include "geobrush/vertex_fields.hpp"
 
 namespace geobrush {
@@ -26,41 +27,99 @@ void checkInputs(const TriMesh& mesh, const std::vector<int>& vertices,
   }
 }
 
-// The faces the operator reads: around the region (anchor) or within it (drop).
+// The faces the operator reads, ascending: around the region (anchor) or within it (drop).
 std::vector<int> operatorFaces(const TriMesh& mesh, const std::vector<int>& unknown,
                                const std::vector<int>& vertices, OutsideNeighbours outside) {
-  std::vector<int> faces;
+  std::vector<std::uint8_t> read(mesh.n_faces(), 0);
   for (int v : vertices)
     for (auto f : mesh.vf_range(TriMesh::VertexHandle(v))) {
       bool within = true;
       for (auto c : mesh.fv_range(f))
         within = within && unknown[std::size_t(c.idx())] >= 0;
-      if (within || outside == OutsideNeighbours::anchor) faces.push_back(f.idx());
+      if (within || outside == OutsideNeighbours::anchor) read[std::size_t(f.idx())] = 1;
     }
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  std::vector<int> faces;
+  for (std::size_t f = 0; f < read.size(); ++f)
+    if (read[f]) faces.push_back(int(f));
   return faces;
 }
 
-// L restricted to the unknowns, and what the fixed vertices add to their rows of L V.
-void restrictOperator(const TriMesh& mesh, const Sparse& full, const std::vector<int>& unknown,
-                      LaplacianSystem& system) {
+// The vertices the faces touch, ascending, and each one's position among them (-1 elsewhere).
+struct Touched {
+  std::vector<int> vertices;
+  std::vector<int> position;
+};
+
+Touched touchedBy(const TriMesh& mesh, const std::vector<int>& faces) {
+  Touched touched;
+  touched.position.assign(mesh.n_vertices(), -1);
+  for (int f : faces)
+    for (auto c : mesh.fv_range(TriMesh::FaceHandle(f)))
+      touched.position[std::size_t(c.idx())] = 0;
+  for (std::size_t v = 0; v < touched.position.size(); ++v)
+    if (touched.position[v] == 0) {
+      touched.position[v] = int(touched.vertices.size());
+      touched.vertices.push_back(int(v));
+    }
+  return touched;
+}
+
+// L restricted to the unknowns, and what the fixed vertices add to their rows of L V. The
+// operator is built on the vertices its faces touch alone, columns in mesh order.
+void restrictOperator(const TriMesh& mesh, const std::vector<int>& faces,
+                      const std::vector<int>& unknown, LaplacianSystem& system) {
+  const Touched touched = touchedBy(mesh, faces);
+  const Sparse local =
+      cotangentLaplacian(mesh, faces, touched.position, int(touched.vertices.size()));
   const int n = int(system.vertices.size());
   std::vector<Eigen::Triplet<double>> entries;
   system.fixedShare = Eigen::MatrixX3d::Zero(n, 3);
-  for (int col = 0; col < full.outerSize(); ++col)
-    for (Sparse::InnerIterator it(full, col); it; ++it) {
-      const int row = unknown[std::size_t(it.row())];
+  for (int col = 0; col < local.outerSize(); ++col) {
+    const int vertex = touched.vertices[std::size_t(col)];
+    for (Sparse::InnerIterator it(local, col); it; ++it) {
+      const int row = unknown[std::size_t(touched.vertices[std::size_t(it.row())])];
       if (row < 0) continue;
-      if (const int c = unknown[std::size_t(col)]; c >= 0) {
+      if (const int c = unknown[std::size_t(vertex)]; c >= 0) {
         entries.emplace_back(row, c, it.value());
       } else {
-        const auto& p = mesh.point(TriMesh::VertexHandle(col));
+        const auto& p = mesh.point(TriMesh::VertexHandle(vertex));
         system.fixedShare.row(row) += it.value() * Eigen::RowVector3d(p[0], p[1], p[2]);
       }
     }
+  }
   system.laplacian.resize(n, n);
   system.laplacian.setFromTriplets(entries.begin(), entries.end());
+}
+
+// Per unknown: the original normal, point and area, and mu (mu_boundary on the region's border:
+// a vertex of the mesh's boundary or with a neighbour outside). Each row is its own vertex's, so
+// the blocks run on any number of threads with the same result.
+void describeUnknowns(const TriMesh& mesh, const std::vector<int>& unknown,
+                      const LaplacianSystemOptions& options, LaplacianSystem& system) {
+  const int n = int(system.vertices.size());
+  system.normals.resize(n, 3);
+  system.points.resize(n, 3);
+  system.area.resize(n);
+  system.mu = Eigen::VectorXd::Constant(n, options.mu);
+  std::vector<std::uint8_t> border(std::size_t(n), 0);
+  parallelBlocks(std::size_t(n), 2048, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t i = first; i < last; ++i) {
+      const TriMesh::VertexHandle v(system.vertices[i]);
+      const VertexGeometry geometry = vertexGeometry(mesh, v.idx());
+      system.normals.row(Eigen::Index(i)) = geometry.normal.transpose();
+      system.points.row(Eigen::Index(i)) = pointOf(mesh, v).transpose();
+      system.area[Eigen::Index(i)] = geometry.area;
+      bool outside = mesh.is_boundary(v);
+      for (auto w : mesh.vv_range(v))
+        outside = outside || unknown[std::size_t(w.idx())] < 0;
+      border[i] = outside;
+    }
+  });
+  for (int i = 0; i < n; ++i)
+    if (border[std::size_t(i)]) {
+      system.boundary.push_back(i);
+      system.mu[i] = options.muBoundary;
+    }
 }
 
 Hash systemKey(const TriMesh& mesh, const std::vector<int>& vertices, const std::vector<int>& faces,
@@ -83,12 +142,12 @@ Hash systemKey(const TriMesh& mesh, const std::vector<int>& vertices, const std:
 }  // namespace
 
 LaplacianSystem buildLaplacianSystem(const MeshPtr& mesh, const std::vector<int>& vertices,
-                                     const LaplacianSystemOptions& options) {
+                                     const LaplacianSystemOptions& options, Hash meshHash) {
   const TriMesh& surface = mesh->surface;
   checkInputs(surface, vertices, options);
   LaplacianSystem system;
   system.mesh = mesh;
-  system.meshHash = geometryHash(surface);
+  system.meshHash = meshHash != 0 ? meshHash : geometryHash(surface);
   system.vertices = vertices;
   const int n = int(vertices.size());
   std::vector<int> unknown(surface.n_vertices(), -1);
@@ -96,25 +155,8 @@ LaplacianSystem buildLaplacianSystem(const MeshPtr& mesh, const std::vector<int>
     unknown[std::size_t(vertices[std::size_t(i)])] = i;
 
   const std::vector<int> faces = operatorFaces(surface, unknown, vertices, options.outside);
-  restrictOperator(surface, cotangentLaplacian(surface, faces), unknown, system);
-  system.normals.resize(n, 3);
-  system.points.resize(n, 3);
-  system.area.resize(n);
-  system.mu = Eigen::VectorXd::Constant(n, options.mu);
-  for (int i = 0; i < n; ++i) {
-    const TriMesh::VertexHandle v(vertices[std::size_t(i)]);
-    system.normals.row(i) = areaWeightedNormal(surface, v.idx()).transpose();
-    const auto& p = surface.point(v);
-    system.points.row(i) = Eigen::RowVector3d(p[0], p[1], p[2]);
-    system.area[i] = vertexArea(surface, v.idx());
-    bool border = surface.is_boundary(v);
-    for (auto w : surface.vv_range(v))
-      border = border || unknown[std::size_t(w.idx())] < 0;
-    if (border) {
-      system.boundary.push_back(i);
-      system.mu[i] = options.muBoundary;
-    }
-  }
+  restrictOperator(surface, faces, unknown, system);
+  describeUnknowns(surface, unknown, options, system);
   const Eigen::MatrixX3d delta = system.laplacian * system.points + system.fixedShare;
   const Eigen::VectorXd along = delta.cwiseProduct(system.normals).rowwise().sum();
   system.tangential = delta - along.asDiagonal() * system.normals;

@@ -23,8 +23,9 @@ struct LaplacianSystemOptions {
 
 // `vertices`: the region's mesh vertices, ascending and distinct. Throws std::invalid_argument
 // for an empty region or a vertex the mesh lacks, std::out_of_range for a mu outside (0, 1e6],
-// std::runtime_error when the matrix cannot be factored.
+// std::runtime_error when the matrix cannot be factored. `meshHash`: the mesh's geometryHash where
+// the caller has it (0: computed here).
 LaplacianSystem buildLaplacianSystem(const MeshPtr& mesh, const std::vector<int>& vertices,
-                                     const LaplacianSystemOptions& options);
+                                     const LaplacianSystemOptions& options, Hash meshHash = 0);
 
 }  // namespace geobrush

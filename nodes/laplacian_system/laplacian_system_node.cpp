@@ -6,6 +6,7 @@
 #include "geobrush/node.hpp"
 #include "geobrush/region.hpp"
 #include "geobrush/registry.hpp"
+#include "geobrush/vertex_fields.hpp"
 #include "laplacian_system.hpp"
 
 namespace {
@@ -38,8 +39,9 @@ class LaplacianSystemNode final : public geobrush::Node {
                        ? geobrush::LaplacianForm::leastSquares
                        : geobrush::LaplacianForm::screened;
     try {
+      const auto& mesh = target->canvas->source;
       ctx.out("system", std::make_shared<const LaplacianSystem>(geobrush::buildLaplacianSystem(
-                            target->canvas->source, vertices, options)));
+                            mesh, vertices, options, geobrush::derivedGeometryHash(ctx, mesh))));
     } catch (const std::runtime_error& e) {
       throw NodeError::input("region", e.what());
     }

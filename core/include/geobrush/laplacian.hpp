@@ -19,6 +19,10 @@ namespace geobrush {
 Eigen::SparseMatrix<double> cotangentLaplacian(const TriMesh& mesh);
 // The same n x n operator from the given faces only (the open mesh they form).
 Eigen::SparseMatrix<double> cotangentLaplacian(const TriMesh& mesh, const std::vector<int>& faces);
+// The same on the vertices the faces touch alone: `index` maps each of their corners to its row
+// and column in [0, size), so that a small patch of a large mesh costs the patch's size.
+Eigen::SparseMatrix<double> cotangentLaplacian(const TriMesh& mesh, const std::vector<int>& faces,
+                                               const std::vector<int>& index, int size);
 
 // The mixed Voronoi area of each vertex (Meyer et al. 2003; the lumped mass): the areas of the
 // mesh's faces shared out among their corners, so that they sum to the surface's area.
