@@ -6,6 +6,9 @@
 #include <cmath>
 
 #include "canvas_fixtures.hpp"
+#include "direct_context.hpp"
+#include "geobrush/derived_store.hpp"
+#include "geobrush/registry.hpp"
 #include "geobrush/mesh_io.hpp"
 #include "geobrush/vertex_fields.hpp"
 #include "mesh_checks.hpp"
@@ -95,6 +98,61 @@ TEST(VertexFields, BelongToTheirMeshWhateverItsColours) {
   const MeshPtr other = test::heightGrid(4, [](double, double) { return 0.0; });
   EXPECT_TRUE(test::contains(fields.mismatch(other->surface),
                              "computed on a mesh of 16 vertices, this one has 25"));
+}
+
+// Fields made from a count and a hash, and checked against a hash the caller has, say what the
+// mesh's own do; the hash as derived data is computed once per mesh value.
+TEST(VertexFields, TakeTheMeshHashFromTheCaller) {
+  const MeshPtr grid = test::heightGrid(3, [](double x, double) { return x; });
+  const VertexFields fields(grid->surface.n_vertices(), geometryHash(grid->surface));
+  EXPECT_EQ(fields.meshHash, VertexFields(grid->surface).meshHash);
+  EXPECT_EQ(fields.mismatch(grid->surface, geometryHash(grid->surface)), "");
+  EXPECT_TRUE(test::contains(fields.mismatch(grid->surface, geometryHash(grid->surface) + 1),
+                             "another mesh with the same vertex count"));
+  const MeshPtr other = test::heightGrid(4, [](double, double) { return 0.0; });
+  EXPECT_TRUE(test::contains(fields.mismatch(other->surface, fields.meshHash),
+                             "computed on a mesh of 16 vertices, this one has 25"));
+
+  const NodeType reader = NodeTypeBuilder("test.reader", 1)
+                              .input<Mesh>("mesh", "Any mesh.")
+                              .compute([](Context&) {})
+                              .build();
+  auto store = std::make_shared<DerivedStore>();
+  for (int run = 0; run < 2; ++run) {
+    test::DirectContext ctx(reader, {{"mesh", grid}}, {}, store);
+    EXPECT_EQ(derivedGeometryHash(ctx, grid), fields.meshHash);
+  }
+  test::DirectContext ctx(reader, {{"mesh", other}}, {}, store);
+  EXPECT_EQ(derivedGeometryHash(ctx, other), geometryHash(other->surface));
+  EXPECT_EQ(store->builds(), 2u);
+}
+
+// On the vertices its faces touch, numbered in mesh order, the operator holds the whole-mesh
+// operator's entries bit for bit: a patch costs its own size.
+TEST(CotangentLaplacian, OnThePatchItsFacesTouchIsTheWholeOperatorsBlock) {
+  const MeshPtr bunny = readMesh(test::meshPath("bunny_small.obj")).mesh;
+  const TriMesh& mesh = bunny->surface;
+  std::vector<int> faces;
+  for (auto f : mesh.faces())
+    if (f.idx() % 3 != 0 && mesh.point(f.halfedge().to())[1] > 0.1) faces.push_back(f.idx());
+  ASSERT_FALSE(faces.empty());
+  std::vector<int> index(mesh.n_vertices(), -1), touched;
+  for (int f : faces)
+    for (auto c : mesh.fv_range(TriMesh::FaceHandle(f)))
+      index[std::size_t(c.idx())] = 0;
+  for (std::size_t v = 0; v < index.size(); ++v)
+    if (index[v] == 0) {
+      index[v] = int(touched.size());
+      touched.push_back(int(v));
+    }
+  const Eigen::SparseMatrix<double> whole = cotangentLaplacian(mesh, faces);
+  const Eigen::SparseMatrix<double> patch =
+      cotangentLaplacian(mesh, faces, index, int(touched.size()));
+  ASSERT_EQ(patch.rows(), Eigen::Index(touched.size()));
+  EXPECT_EQ(patch.nonZeros(), whole.nonZeros());
+  for (int col = 0; col < patch.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(patch, col); it; ++it)
+      ASSERT_EQ(it.value(), whole.coeff(touched[std::size_t(it.row())], touched[std::size_t(col)]));
 }
 
 // A real mesh: the areas sum to its surface area and the normals are unit.
