@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "geobrush/parallel.hpp"
+
 namespace geobrush {
 
 ReconstructResult reconstructRegion(const LaplacianSystem& system,
@@ -26,8 +28,13 @@ ReconstructResult reconstructRegion(const LaplacianSystem& system,
           ? Eigen::MatrixX3d(target + system.mu.asDiagonal() * system.points)
           : Eigen::MatrixX3d(system.laplacian.transpose() * target +
                              system.mu.cwiseProduct(system.mu).asDiagonal() * system.points);
+  // The three coordinates are solved apart, each the same on any thread.
   ReconstructResult result;
-  result.points = system.factor->solve(rhs);
+  result.points.resize(n, 3);
+  parallelBlocks(3, 1, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t c = first; c < last; ++c)
+      result.points.col(Eigen::Index(c)) = system.factor->solve(rhs.col(Eigen::Index(c)));
+  });
   result.maxMove = (result.points - system.points).rowwise().norm().maxCoeff();
   return result;
 }
@@ -44,25 +51,6 @@ void moveRegion(const LaplacianSystem& system, const Eigen::MatrixX3d& points, T
     mesh.set_point(TriMesh::VertexHandle(system.vertices[i]),
                    {points(row, 0), points(row, 1), points(row, 2)});
   }
-}
-
-double signalFidelity(const LaplacianSystem& system, const TriMesh& moved,
-                      const std::vector<double>& signal, const ReconstructOptions& options) {
-  std::vector<std::uint8_t> border(system.vertices.size(), 0);
-  for (int i : system.boundary)
-    border[std::size_t(i)] = 1;
-  double error = 0.0, norm = 0.0;
-  for (std::size_t i = 0; i < system.vertices.size(); ++i) {
-    if (border[i]) continue;
-    const int v = system.vertices[i];
-    const VertexGeometry geometry = vertexGeometry(moved, v);
-    double g = geometry.laplace.dot(geometry.normal);
-    if (options.perArea) g /= geometry.area;
-    const double wanted = signal[std::size_t(v)];
-    error += (g - wanted) * (g - wanted);
-    norm += wanted * wanted;
-  }
-  return norm > 0.0 ? std::sqrt(error / norm) : 0.0;
 }
 
 }  // namespace geobrush

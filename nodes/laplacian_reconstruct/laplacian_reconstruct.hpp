@@ -35,9 +35,4 @@ TriMesh withRegionMoved(const LaplacianSystem& system, const Eigen::MatrixX3d& p
 // The same in place: `mesh` is a copy of the system's mesh, or a mesh this made from one.
 void moveRegion(const LaplacianSystem& system, const Eigen::MatrixX3d& points, TriMesh& mesh);
 
-// |g(result) - g^| / |g^| over the region's vertices off its border, g(result) Eq. 1's signal of
-// `moved` (per unit area when options.perArea): how closely the surface carries the signal.
-double signalFidelity(const LaplacianSystem& system, const TriMesh& moved,
-                      const std::vector<double>& signal, const ReconstructOptions& options);
-
 }  // namespace geobrush

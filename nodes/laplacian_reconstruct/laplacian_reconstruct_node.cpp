@@ -46,8 +46,6 @@ class LaplacianReconstructNode final : public geobrush::Node {
     report->values["unknowns"] = double(system->vertices.size());
     report->values["border_vertices"] = double(system->boundary.size());
     report->values["max_move"] = result.maxMove;
-    report->values["signal_fidelity"] =
-        geobrush::signalFidelity(*system, moved->surface, *signal, options);
     ctx.outRecyclable("mesh", moved, std::make_shared<const MovedBy>(MovedBy{systemKey}));
     ctx.out("report", report);
   }
@@ -76,8 +74,8 @@ void registerNodes(geobrush::PluginRegistrar& r) {
           .output<Mesh>("mesh", "The target with the region moved (same connectivity).")
           .output<geobrush::Metrics>(
               "report",
-              "unknowns, border_vertices, max_move (the largest displacement), signal_fidelity "
-              "(|g(result) - g^| / |g^| over the region off its border).")
+              "unknowns, border_vertices, max_move (the largest displacement); signal_fidelity "
+              "measures how closely the mesh carries the signal.")
           .paramString("field", "g_hat", "The field of 'signal' to rebuild from.")
           .paramBool("per_area", false,
                      "The signal is per unit area (emd_signal's area_normalize): multiplied by "
