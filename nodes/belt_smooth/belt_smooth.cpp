@@ -20,18 +20,25 @@ void checkInputs(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
     throw std::out_of_range("lambda must be in (0, 1]");
 }
 
-// The region's vertices, ascending.
-std::vector<int> regionVertices(const std::vector<std::uint8_t>& inRegion) {
-  std::vector<int> vertices;
-  for (std::size_t v = 0; v < inRegion.size(); ++v)
-    if (inRegion[v]) vertices.push_back(int(v));
-  return vertices;
+// The region's vertices with a neighbour outside it, ascending: every edge across the border
+// starts at one.
+std::vector<int> borderVertices(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion) {
+  std::vector<int> border;
+  for (std::size_t v = 0; v < inRegion.size(); ++v) {
+    if (!inRegion[v]) continue;
+    for (auto w : mesh.vv_range(TriMesh::VertexHandle(int(v))))
+      if (!inRegion[std::size_t(w.idx())]) {
+        border.push_back(int(v));
+        break;
+      }
+  }
+  return border;
 }
 
 // The vertices fewer than `rings` rings from an edge across the border, by breadth-first search
-// from the region's vertices, so that the cost follows the region rather than the mesh.
+// from the border, so that the cost follows the region rather than the mesh.
 std::vector<int> beltAround(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
-                            const std::vector<int>& region, int rings) {
+                            const std::vector<int>& border, int rings) {
   std::vector<std::uint8_t> reached(mesh.n_vertices(), 0);
   std::vector<int> frontier;
   const auto reach = [&](int v, std::vector<int>& into) {
@@ -39,7 +46,7 @@ std::vector<int> beltAround(const TriMesh& mesh, const std::vector<std::uint8_t>
     reached[std::size_t(v)] = 1;
     into.push_back(v);
   };
-  for (int v : region)
+  for (int v : border)
     for (auto w : mesh.vv_range(TriMesh::VertexHandle(v)))
       if (!inRegion[std::size_t(w.idx())]) {
         reach(v, frontier);
@@ -58,11 +65,11 @@ std::vector<int> beltAround(const TriMesh& mesh, const std::vector<std::uint8_t>
   return belt;
 }
 
-// The faces with corners on both sides of the border, ascending.
+// The faces with corners on both sides of the border, ascending: each has a corner on the border.
 std::vector<int> seamFacesAround(const TriMesh& mesh, const std::vector<std::uint8_t>& inRegion,
-                                 const std::vector<int>& region) {
+                                 const std::vector<int>& border) {
   std::vector<int> faces;
-  for (int v : region)
+  for (int v : border)
     for (auto f : mesh.vf_range(TriMesh::VertexHandle(v))) {
       int inside = 0;
       for (auto c : mesh.fv_range(f))
@@ -89,8 +96,8 @@ BeltSmoothResult smoothBeltInPlace(TriMesh& mesh, const std::vector<std::uint8_t
                                    const BeltSmoothOptions& options) {
   checkInputs(mesh, inRegion, options);
   BeltSmoothResult result;
-  const std::vector<int> region = regionVertices(inRegion);
-  result.belt = beltAround(mesh, inRegion, region, options.rings);
+  const std::vector<int> border = borderVertices(mesh, inRegion);
+  result.belt = beltAround(mesh, inRegion, border, options.rings);
   std::vector<int> moving;
   for (int v : result.belt)
     if (!mesh.is_boundary(TriMesh::VertexHandle(v))) moving.push_back(v);
@@ -109,7 +116,7 @@ BeltSmoothResult smoothBeltInPlace(TriMesh& mesh, const std::vector<std::uint8_t
     for (std::size_t i = 0; i < moving.size(); ++i)
       mesh.set_point(TriMesh::VertexHandle(moving[i]), {next[i].x(), next[i].y(), next[i].z()});
   }
-  result.seamFaces = seamFacesAround(mesh, inRegion, region);
+  result.seamFaces = seamFacesAround(mesh, inRegion, border);
   return result;
 }
 

@@ -2,6 +2,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "geobrush/mesh_points.hpp"
 #include "geobrush/node.hpp"
 #include "geobrush/registry.hpp"
 #include "geobrush/values.hpp"
@@ -34,26 +35,30 @@ class LaplacianReconstructNode final : public geobrush::Node {
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("signal", e.what());
     }
-    // A retired result made with an equal system differs from the system's mesh on the region
-    // alone, which is moved again.
-    const geobrush::Hash systemKey = ctx.inputKeyOf("system");
-    auto moved = ctx.recycle<Mesh, MovedBy>(
-                        "mesh", [&](const MovedBy& made) { return made.system == systemKey; })
-                     .value;
-    if (!moved) moved = std::make_shared<Mesh>(system->mesh->surface);
+    // A retired result copied from the system's mesh differs from it on the region it moved
+    // alone: those points are copied back, and the new region moved.
+    auto recycled = ctx.recycle<Mesh, MovedBy>(
+        "mesh", [&](const MovedBy& made) { return made.base == system->mesh; });
+    auto moved = recycled.value;
+    if (moved)
+      geobrush::copyPoints(system->mesh->surface, recycled.note->vertices, moved->surface);
+    else
+      moved = std::make_shared<Mesh>(system->mesh->surface);
     geobrush::moveRegion(*system, result.points, moved->surface);
     auto report = std::make_shared<geobrush::Metrics>();
     report->values["unknowns"] = double(system->vertices.size());
     report->values["border_vertices"] = double(system->boundary.size());
     report->values["max_move"] = result.maxMove;
-    ctx.outRecyclable("mesh", moved, std::make_shared<const MovedBy>(MovedBy{systemKey}));
+    ctx.outRecyclable("mesh", moved,
+                      std::make_shared<const MovedBy>(MovedBy{system->mesh, system->vertices}));
     ctx.out("report", report);
   }
 
  private:
-  // What a result was made by: the framework's key of the system.
+  // What a result was copied from, held so that nothing changes it, and the vertices moved.
   struct MovedBy {
-    geobrush::Hash system = 0;
+    geobrush::MeshPtr base;
+    std::vector<int> vertices;
   };
 };
 

@@ -190,8 +190,8 @@ TEST(LaplacianReconstructNode, RebuildsARegionOfARealMeshFromItsOwnSignal) {
 }
 
 // Gain after gain (the signal scaled), then another region's system, each result retired into a
-// bin for the next: every result is a fresh node's, bit for bit, and the results made with an
-// equal system that nothing holds are recycled.
+// bin for the next: every result is a fresh node's, bit for bit, and the results copied from the
+// same mesh that nothing holds are recycled, the second region's too.
 TEST(LaplacianReconstructNode, EditAfterEditGivesWhatAFreshNodeGives) {
   const NodeType* type = test::registry().find("geobrush.laplacian_reconstruct");
   ASSERT_NE(type, nullptr);
@@ -232,7 +232,7 @@ TEST(LaplacianReconstructNode, EditAfterEditGivesWhatAFreshNodeGives) {
     const test::NodeRun fresh = test::runNode("geobrush.laplacian_reconstruct", inputs);
     EXPECT_TRUE(test::bitIdentical(mesh->surface, fresh.get<Mesh>("mesh")->surface));
   }
-  EXPECT_LT(made.size(), 6u);
+  EXPECT_EQ(made.size(), 1u);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // mesh takes another's points where their connectivity is the same.
 #pragma once
 
+#include <vector>
+
 #include "geobrush/mesh.hpp"
 
 namespace geobrush {
@@ -13,5 +15,7 @@ bool sameConnectivity(const TriMesh& a, const TriMesh& b);
 
 // Copies every point of `from` into `into`, which has as many vertices.
 void copyPoints(const TriMesh& from, TriMesh& into);
+// The points of `vertices` alone.
+void copyPoints(const TriMesh& from, const std::vector<int>& vertices, TriMesh& into);
 
 }  // namespace geobrush
