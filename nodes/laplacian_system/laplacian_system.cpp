@@ -1,6 +1,7 @@
 #include "laplacian_system.hpp"
 
 #include <algorithm>
+#include <future>
 #include <stdexcept>
 #include <string>
 
@@ -91,17 +92,52 @@ void restrictOperator(const TriMesh& mesh, const std::vector<int>& faces,
   system.laplacian.setFromTriplets(entries.begin(), entries.end());
 }
 
-// Per unknown: the original normal, point and area, and mu (mu_boundary on the region's border:
-// a vertex of the mesh's boundary or with a neighbour outside). Each row is its own vertex's, so
-// the blocks run on any number of threads with the same result.
-void describeUnknowns(const TriMesh& mesh, const std::vector<int>& unknown,
-                      const LaplacianSystemOptions& options, LaplacianSystem& system) {
+// mu per unknown: mu_boundary on the region's border (a vertex of the mesh's boundary or with a
+// neighbour outside the region), mu elsewhere.
+void pullTowardsOriginal(const TriMesh& mesh, const std::vector<int>& unknown,
+                         const LaplacianSystemOptions& options, LaplacianSystem& system) {
+  const int n = int(system.vertices.size());
+  system.mu = Eigen::VectorXd::Constant(n, options.mu);
+  for (int i = 0; i < n; ++i) {
+    const TriMesh::VertexHandle v(system.vertices[std::size_t(i)]);
+    bool border = mesh.is_boundary(v);
+    for (auto w : mesh.vv_range(v))
+      border = border || unknown[std::size_t(w.idx())] < 0;
+    if (border) {
+      system.boundary.push_back(i);
+      system.mu[i] = options.muBoundary;
+    }
+  }
+}
+
+// L + M (screened) or L^T L + M^2 (Eq. 8's normal equations).
+Sparse systemMatrix(const LaplacianSystem& system, LaplacianForm form) {
+  const Eigen::Index n = system.mu.size();
+  Sparse pull(n, n);
+  pull.reserve(Eigen::VectorXi::Constant(n, 1));
+  for (Eigen::Index i = 0; i < n; ++i)
+    pull.insert(i, i) =
+        form == LaplacianForm::screened ? system.mu[i] : system.mu[i] * system.mu[i];
+  return form == LaplacianForm::screened
+             ? Sparse(system.laplacian + pull)
+             : Sparse(Sparse(system.laplacian.transpose() * system.laplacian) + pull);
+}
+
+std::shared_ptr<const Eigen::SimplicialLDLT<Sparse>> factorOf(const Sparse& matrix) {
+  auto factor = std::make_shared<Eigen::SimplicialLDLT<Sparse>>(matrix);
+  if (factor->info() != Eigen::Success)
+    throw std::runtime_error("the region's system could not be factored");
+  return factor;
+}
+
+// Per unknown: the original normal, point and area, and the original's Laplacian coordinates
+// less their normal part. Each row is its own vertex's, so the blocks run on any number of
+// threads with the same result.
+void describeUnknowns(const TriMesh& mesh, LaplacianSystem& system) {
   const int n = int(system.vertices.size());
   system.normals.resize(n, 3);
   system.points.resize(n, 3);
   system.area.resize(n);
-  system.mu = Eigen::VectorXd::Constant(n, options.mu);
-  std::vector<std::uint8_t> border(std::size_t(n), 0);
   parallelBlocks(std::size_t(n), 2048, 0, [&](std::size_t first, std::size_t last) {
     for (std::size_t i = first; i < last; ++i) {
       const TriMesh::VertexHandle v(system.vertices[i]);
@@ -109,17 +145,11 @@ void describeUnknowns(const TriMesh& mesh, const std::vector<int>& unknown,
       system.normals.row(Eigen::Index(i)) = geometry.normal.transpose();
       system.points.row(Eigen::Index(i)) = pointOf(mesh, v).transpose();
       system.area[Eigen::Index(i)] = geometry.area;
-      bool outside = mesh.is_boundary(v);
-      for (auto w : mesh.vv_range(v))
-        outside = outside || unknown[std::size_t(w.idx())] < 0;
-      border[i] = outside;
     }
   });
-  for (int i = 0; i < n; ++i)
-    if (border[std::size_t(i)]) {
-      system.boundary.push_back(i);
-      system.mu[i] = options.muBoundary;
-    }
+  const Eigen::MatrixX3d delta = system.laplacian * system.points + system.fixedShare;
+  const Eigen::VectorXd along = delta.cwiseProduct(system.normals).rowwise().sum();
+  system.tangential = delta - along.asDiagonal() * system.normals;
 }
 
 Hash systemKey(const TriMesh& mesh, const std::vector<int>& vertices, const std::vector<int>& faces,
@@ -156,25 +186,15 @@ LaplacianSystem buildLaplacianSystem(const MeshPtr& mesh, const std::vector<int>
 
   const std::vector<int> faces = operatorFaces(surface, unknown, vertices, options.outside);
   restrictOperator(surface, faces, unknown, system);
-  describeUnknowns(surface, unknown, options, system);
-  const Eigen::MatrixX3d delta = system.laplacian * system.points + system.fixedShare;
-  const Eigen::VectorXd along = delta.cwiseProduct(system.normals).rowwise().sum();
-  system.tangential = delta - along.asDiagonal() * system.normals;
+  pullTowardsOriginal(surface, unknown, options, system);
   system.form = options.form;
-  Sparse pull(n, n);
-  pull.reserve(Eigen::VectorXi::Constant(n, 1));
-  for (int i = 0; i < n; ++i)
-    pull.insert(i, i) =
-        options.form == LaplacianForm::screened ? system.mu[i] : system.mu[i] * system.mu[i];
-  const Sparse matrix =
-      options.form == LaplacianForm::screened
-          ? Sparse(system.laplacian + pull)
-          : Sparse(Sparse(system.laplacian.transpose() * system.laplacian) + pull);
-  auto factor = std::make_shared<Eigen::SimplicialLDLT<Sparse>>(matrix);
-  if (factor->info() != Eigen::Success)
-    throw std::runtime_error("the region's system could not be factored");
-  system.factor = std::move(factor);
+  // The factorization, the longest stage, runs beside the rest.
+  auto factoring =
+      std::async(std::launch::async | std::launch::deferred,
+                 [matrix = systemMatrix(system, options.form)] { return factorOf(matrix); });
+  describeUnknowns(surface, system);
   system.key = systemKey(surface, vertices, faces, options);
+  system.factor = factoring.get();
   return system;
 }
 
