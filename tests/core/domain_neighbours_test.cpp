@@ -45,7 +45,9 @@ TEST(DomainNeighbours, AreDerivedOncePerParameterization) {
     test::DirectContext ctx(reader, {{"source", source}}, {}, store);
     const auto found = derivedDomainNeighbours(ctx, "source");
     ASSERT_EQ(found->size(), 16u);
-    if (first) EXPECT_EQ(found, first);
+    if (first) {
+      EXPECT_EQ(found, first);
+    }
     first = found;
   }
   test::DirectContext ctx(reader, {{"source", other}}, {}, store);
