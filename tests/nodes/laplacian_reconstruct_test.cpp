@@ -22,16 +22,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-// Eq. 1's g on every vertex of `mesh`.
-std::vector<double> signalOf(const TriMesh& mesh) {
-  const Eigen::MatrixX3d delta = -(cotangentLaplacian(mesh) * pointMatrix(mesh));
-  const auto normals = areaWeightedNormals(mesh);
-  std::vector<double> g(mesh.n_vertices());
-  for (std::size_t i = 0; i < g.size(); ++i)
-    g[i] = delta.row(Eigen::Index(i)).dot(normals[i]);
-  return g;
-}
-
 std::vector<int> centralDisc(const TriMesh& mesh, double radius) {
   std::vector<int> vertices;
   for (auto v : mesh.vertices())
@@ -51,7 +41,7 @@ double height(const TriMesh& mesh, int v) {
 TEST(LaplacianReconstruct, RebuildsASurfaceFromItsOwnSignal) {
   const MeshPtr bump =
       test::heightGrid(24, [](double x, double y) { return 0.3 * std::exp(-5 * (x * x + y * y)); });
-  const std::vector<double> g = signalOf(bump->surface);
+  const std::vector<double> g = test::wholeMeshSignal(bump->surface);
   const double size = boundingDiagonal(bump->surface);
   const std::vector<int> region = centralDisc(bump->surface, 0.7);
   for (const auto form : {LaplacianForm::screened, LaplacianForm::leastSquares}) {
@@ -79,8 +69,8 @@ TEST(LaplacianReconstruct, RaisesTheSourcesBumpOnAPlaneOnTheSameSide) {
     const ReconstructResult flat =
         reconstructRegion(system, std::vector<double>(plane->surface.n_vertices(), 0.0), {});
     EXPECT_LT(flat.maxMove, 1e-12);
-    const TriMesh raised =
-        withRegionMoved(system, reconstructRegion(system, signalOf(bump->surface), {}).points);
+    const TriMesh raised = withRegionMoved(
+        system, reconstructRegion(system, test::wholeMeshSignal(bump->surface), {}).points);
     const int centre = 15 * 31 + 15;
     EXPECT_GT(height(raised, centre), 0.5 * shape(0, 0));
     EXPECT_LT(height(raised, centre), 1.2 * shape(0, 0));
@@ -91,7 +81,7 @@ TEST(LaplacianReconstruct, RaisesTheSourcesBumpOnAPlaneOnTheSameSide) {
 TEST(LaplacianReconstruct, IsAffineInTheSignal) {
   const MeshPtr wavy =
       test::heightGrid(16, [](double x, double y) { return 0.1 * std::sin(2 * x + y); });
-  std::vector<double> base = signalOf(wavy->surface), once = base, twice = base;
+  std::vector<double> base = test::wholeMeshSignal(wavy->surface), once = base, twice = base;
   for (std::size_t v = 0; v < base.size(); ++v) {
     const double d = 0.01 * std::cos(3.0 * double(v));
     once[v] += d;
@@ -138,7 +128,7 @@ TEST(LaplacianReconstruct, TakesASignalPerUnitArea) {
   const MeshPtr bump =
       test::heightGrid(20, [](double x, double y) { return 0.2 * std::exp(-5 * (x * x + y * y)); });
   const LaplacianSystem system = buildLaplacianSystem(bump, centralDisc(bump->surface, 0.7), {});
-  std::vector<double> raw = signalOf(bump->surface), perArea = raw;
+  std::vector<double> raw = test::wholeMeshSignal(bump->surface), perArea = raw;
   const Eigen::VectorXd areas = vertexAreas(bump->surface);
   for (std::size_t v = 0; v < raw.size(); ++v)
     perArea[v] /= areas[Eigen::Index(v)];
@@ -211,7 +201,7 @@ TEST(LaplacianReconstructNode, EditAfterEditGivesWhatAFreshNodeGives) {
   ASSERT_GT((param->uv[far] - param->uv[0]).norm(), 2 * radius);
   const auto first = systemAround(param->uv[0]), second = systemAround(param->uv[far]);
   ASSERT_TRUE(first && second);
-  const std::vector<double> g = signalOf(bunny->surface);
+  const std::vector<double> g = test::wholeMeshSignal(bunny->surface);
   const auto node = type->create();
   const auto bin = std::make_shared<RecycleBin>();
   std::set<const Mesh*> made;

@@ -20,16 +20,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-// Eq. 1's g on every vertex, from the whole mesh's operator (not the measured one's vertex sums).
-std::vector<double> signalOf(const TriMesh& mesh) {
-  const Eigen::MatrixX3d delta = -(cotangentLaplacian(mesh) * pointMatrix(mesh));
-  const auto normals = areaWeightedNormals(mesh);
-  std::vector<double> g(mesh.n_vertices());
-  for (std::size_t i = 0; i < g.size(); ++i)
-    g[i] = delta.row(Eigen::Index(i)).dot(normals[i]);
-  return g;
-}
-
 MeshPtr sphereOfRadius(double radius) {
   TriMesh sphere = test::icosphere(4);
   for (auto v : sphere.vertices())
@@ -52,7 +42,7 @@ TEST(SignalFidelity, IsTheRelativeErrorOfTheSignalOverTheInterior) {
       test::heightGrid(12, [](double x, double y) { return 0.3 * std::exp(-4 * (x * x + y * y)); });
   const LaplacianSystem system = buildLaplacianSystem(bump, capAbove(bump->surface, 0.05), {});
   ASSERT_FALSE(system.boundary.empty());
-  const std::vector<double> g = signalOf(bump->surface);
+  const std::vector<double> g = test::wholeMeshSignal(bump->surface);
   EXPECT_LT(signalFidelity(system, bump->surface, g, {}), 1e-12);
   for (double c : {2.0, 0.5, -1.0}) {
     std::vector<double> scaled = g;

@@ -1,5 +1,7 @@
 #include "emd_fixtures.hpp"
 
+#include "geobrush/laplacian.hpp"
+
 namespace geobrush::test {
 
 std::shared_ptr<const Parameterization> projectedParameterization(const MeshPtr& mesh,
@@ -31,6 +33,15 @@ std::shared_ptr<const Region2D> regionWhere(
   for (std::size_t i = 0; i < target.uv.size(); ++i)
     if (inside(target.uv[i])) region->targetVertices.push_back(int(i));
   return region;
+}
+
+std::vector<double> wholeMeshSignal(const TriMesh& mesh) {
+  const Eigen::MatrixX3d delta = -(cotangentLaplacian(mesh) * pointMatrix(mesh));
+  const auto normals = areaWeightedNormals(mesh);
+  std::vector<double> g(mesh.n_vertices());
+  for (std::size_t i = 0; i < g.size(); ++i)
+    g[i] = delta.row(Eigen::Index(i)).dot(normals[i]);
+  return g;
 }
 
 }  // namespace geobrush::test

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "geobrush/canvas.hpp"
 #include "geobrush/region.hpp"
@@ -21,5 +22,8 @@ std::shared_ptr<const Parameterization> projectedParameterization(const MeshPtr&
 std::shared_ptr<const Region2D> regionWhere(
     const Parameterization& source, const Parameterization& target,
     const std::function<bool(const Eigen::Vector2d&)>& inside);
+
+// Eq. 1's g on every vertex of `mesh`, from the whole mesh's operator and area-weighted normals.
+std::vector<double> wholeMeshSignal(const TriMesh& mesh);
 
 }  // namespace geobrush::test
