@@ -140,17 +140,7 @@ TEST(LaplacianReconstruct, TakesASignalPerUnitArea) {
 // The nodes on a real mesh rebuilt from its own signal (T4): the region hardly moves, the rest
 // keeps its bits, the report counts the unknowns.
 TEST(LaplacianReconstructNode, RebuildsARegionOfARealMeshFromItsOwnSignal) {
-  const MeshPtr bunny = readMesh(test::meshPath("bunny_small.obj")).mesh;
-  const auto param = test::projectedParameterization(bunny, Vector3d::UnitX(), Vector3d::UnitY());
-  const Vector2d centre = param->uv[0];
-  const double radius = 0.1 * boundingDiagonal(bunny->surface);
-  const auto region = test::regionWhere(
-      *param, *param, [&](const Vector2d& u) { return (u - centre).norm() < radius; });
-  const auto signal =
-      test::runNode("geobrush.emd_signal", {{"mesh", bunny}}).get<VertexFields>("signal");
-  const auto system =
-      test::runNode("geobrush.laplacian_system", {{"target", param}, {"region", region}})
-          .get<LaplacianSystem>("system");
+  const auto [bunny, param, signal, system] = test::bunnyRegion();
   ASSERT_TRUE(signal && system);
   const test::NodeRun run =
       test::runNode("geobrush.laplacian_reconstruct", {{"system", system}, {"signal", signal}},

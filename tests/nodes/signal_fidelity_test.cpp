@@ -80,17 +80,7 @@ TEST(SignalFidelity, FindsTheSpheresCurvatureInACap) {
 
 // The node on a real mesh rebuilt from its own signal: the rebuilt surface carries it.
 TEST(SignalFidelityNode, MeasuresARegionOfARealMeshRebuiltFromItsOwnSignal) {
-  const MeshPtr bunny = readMesh(test::meshPath("bunny_small.obj")).mesh;
-  const auto param = test::projectedParameterization(bunny, Vector3d::UnitX(), Vector3d::UnitY());
-  const Vector2d centre = param->uv[0];
-  const double radius = 0.1 * boundingDiagonal(bunny->surface);
-  const auto region = test::regionWhere(
-      *param, *param, [&](const Vector2d& u) { return (u - centre).norm() < radius; });
-  const auto signal =
-      test::runNode("geobrush.emd_signal", {{"mesh", bunny}}).get<VertexFields>("signal");
-  const auto system =
-      test::runNode("geobrush.laplacian_system", {{"target", param}, {"region", region}})
-          .get<LaplacianSystem>("system");
+  const auto [bunny, param, signal, system] = test::bunnyRegion();
   ASSERT_TRUE(signal && system);
   const auto rebuilt =
       test::runNode("geobrush.laplacian_reconstruct", {{"system", system}, {"signal", signal}},

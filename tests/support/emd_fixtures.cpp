@@ -1,6 +1,8 @@
 #include "emd_fixtures.hpp"
 
-#include "geobrush/laplacian.hpp"
+#include "direct_context.hpp"
+#include "geobrush/mesh_io.hpp"
+#include "test_support.hpp"
 
 namespace geobrush::test {
 
@@ -42,6 +44,23 @@ std::vector<double> wholeMeshSignal(const TriMesh& mesh) {
   for (std::size_t i = 0; i < g.size(); ++i)
     g[i] = delta.row(Eigen::Index(i)).dot(normals[i]);
   return g;
+}
+
+RealMeshRegion bunnyRegion() {
+  RealMeshRegion made;
+  made.mesh = readMesh(meshPath("bunny_small.obj")).mesh;
+  made.parameterization =
+      projectedParameterization(made.mesh, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
+  const Eigen::Vector2d centre = made.parameterization->uv[0];
+  const double radius = 0.1 * boundingDiagonal(made.mesh->surface);
+  const auto region =
+      regionWhere(*made.parameterization, *made.parameterization,
+                  [&](const Eigen::Vector2d& u) { return (u - centre).norm() < radius; });
+  made.signal = runNode("geobrush.emd_signal", {{"mesh", made.mesh}}).get<VertexFields>("signal");
+  made.system =
+      runNode("geobrush.laplacian_system", {{"target", made.parameterization}, {"region", region}})
+          .get<LaplacianSystem>("system");
+  return made;
 }
 
 }  // namespace geobrush::test

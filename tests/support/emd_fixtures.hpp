@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "geobrush/canvas.hpp"
+#include "geobrush/laplacian.hpp"
 #include "geobrush/region.hpp"
+#include "geobrush/vertex_fields.hpp"
 
 namespace geobrush::test {
 
@@ -25,5 +27,16 @@ std::shared_ptr<const Region2D> regionWhere(
 
 // Eq. 1's g on every vertex of `mesh`, from the whole mesh's operator and area-weighted normals.
 std::vector<double> wholeMeshSignal(const TriMesh& mesh);
+
+// A region of a real mesh as the EMD nodes make it: bunny_small projected on the xy plane, the
+// disc of a tenth of its diagonal around its first vertex, the mesh's signal (emd_signal's field
+// g) and the region's system (laplacian_system's).
+struct RealMeshRegion {
+  MeshPtr mesh;
+  std::shared_ptr<const Parameterization> parameterization;
+  std::shared_ptr<const VertexFields> signal;
+  std::shared_ptr<const LaplacianSystem> system;
+};
+RealMeshRegion bunnyRegion();
 
 }  // namespace geobrush::test
