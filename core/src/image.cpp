@@ -1,11 +1,14 @@
 #include "geobrush/image.hpp"
 
+#include <QtCore/QCoreApplication>
+#include <QtCore/QDir>
 #include <QtCore/QString>
 #include <QtGui/QFont>
 #include <QtGui/QFontDatabase>
 #include <QtGui/QGuiApplication>
 #include <QtGui/QImage>
 #include <QtGui/QPainter>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
@@ -60,17 +63,41 @@ Image readPng(const std::filesystem::path& path) {
   return image;
 }
 
+namespace {
+
+// Whether Qt can find a plugin for the platform it is asked for: without one, QGuiApplication
+// aborts the process instead of failing.
+bool platformPluginInstalled() {
+  const QString platform =
+      QString::fromLocal8Bit(std::getenv("QT_QPA_PLATFORM")).section(':', 0, 0);
+  QStringList folders = QCoreApplication::libraryPaths();
+  for (QString& folder : folders)
+    folder += "/platforms";
+  if (const char* own = std::getenv("QT_QPA_PLATFORM_PLUGIN_PATH"))
+    folders.prepend(QString::fromLocal8Bit(own));
+  for (const QString& folder : folders)
+    if (!QDir(folder).entryList({"*q" + platform + ".*"}, QDir::Files).isEmpty()) return true;
+  return false;
+}
+
+}  // namespace
+
 bool ensureGuiApplication() {
   static std::once_flag once;
   std::call_once(once, [] {
     if (QCoreApplication::instance()) return;
     if (!std::getenv("QT_QPA_PLATFORM")) ::setenv("QT_QPA_PLATFORM", "offscreen", 0);
+    if (!platformPluginInstalled()) return;
     static int argc = 1;
     static char name[] = "geobrush";
     static char* argv[] = {name, nullptr};
-    // Qt's start-up notes (e.g. no XDG_RUNTIME_DIR) are not the program's to print.
-    const QtMessageHandler previous =
-        qInstallMessageHandler([](QtMsgType, const QMessageLogContext&, const QString&) {});
+    // Qt's start-up notes (e.g. no XDG_RUNTIME_DIR) are not the program's to print; why Qt gives
+    // up (no platform plugin, after which it aborts) is.
+    const QtMessageHandler previous = qInstallMessageHandler(
+        [](QtMsgType type, const QMessageLogContext&, const QString& message) {
+          if (type == QtFatalMsg || type == QtCriticalMsg)
+            std::fprintf(stderr, "Qt: %s\n", message.toLocal8Bit().constData());
+        });
     new QGuiApplication(argc, argv);
     qInstallMessageHandler(previous);
   });

@@ -290,6 +290,25 @@ TEST(Cli, ProgressPrintsPlainLinesPerNode) {
   EXPECT_EQ(plain.err.find("progress:"), std::string::npos) << plain.err;
 }
 
+// Drawing a field's legend needs a Qt platform plugin; where Qt has none for the platform asked
+// for, the picture comes without its legend rather than Qt aborting the process.
+TEST(Cli, AFieldRenderWithoutAQtPlatformPluginStillWritesItsPicture) {
+  const auto out = test::tempDir("cli-no-qt-platform");
+  writeText(out / "fields.json", R"({"format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {"load": {"type": "geobrush.load_mesh", "typeVersion": 1, "params": {"path": ")" +
+                                     test::meshPath("bunny_small.obj").string() + R"("}},
+              "signal": {"type": "geobrush.emd_signal", "typeVersion": 1},
+              "render": {"type": "geobrush.render", "typeVersion": 1,
+                         "params": {"width": 160, "height": 120}}},
+    "connections": [{"from": "load.mesh", "to": "signal.mesh"},
+                    {"from": "load.mesh", "to": "render.mesh"},
+                    {"from": "signal.signal", "to": "render.fields"}]})");
+  const auto result = runCli({"run", (out / "fields.json").string(), "--out", out.string()},
+                             {{"QT_QPA_PLATFORM", "no-such-platform"}});
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_TRUE(std::filesystem::exists(out / "render.png"));
+}
+
 // The table's row for a key, or "".
 std::string rowOf(const std::string& table, const std::string& key) {
   std::istringstream lines(table);
