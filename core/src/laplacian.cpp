@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "geobrush/node.hpp"
 #include "geobrush/parallel.hpp"
 
 namespace geobrush {
@@ -154,6 +155,29 @@ VertexGeometry vertexGeometry(const TriMesh& mesh, int vertex) {
   const double length = normal.norm();
   geometry.normal = length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
   return geometry;
+}
+
+MeshDifferentials meshDifferentials(const TriMesh& mesh) {
+  MeshDifferentials differentials;
+  differentials.laplacian = cotangentLaplacian(mesh);
+  const std::size_t n = mesh.n_vertices();
+  differentials.normals.resize(n);
+  differentials.areas.resize(Eigen::Index(n));
+  parallelBlocks(n, 4096, 0, [&](std::size_t first, std::size_t last) {
+    for (std::size_t v = first; v < last; ++v) {
+      const VertexGeometry geometry = vertexGeometry(mesh, int(v));
+      differentials.normals[v] = geometry.normal;
+      differentials.areas[Eigen::Index(v)] = geometry.area;
+    }
+  });
+  return differentials;
+}
+
+std::shared_ptr<const MeshDifferentials> derivedMeshDifferentials(Context& ctx,
+                                                                  const MeshPtr& mesh) {
+  return ctx.derivedFrom("mesh_differentials", {mesh}, 0, [&] {
+    return std::make_shared<const MeshDifferentials>(meshDifferentials(mesh->surface));
+  });
 }
 
 std::string LaplacianSystem::summary() const {

@@ -9,11 +9,16 @@
 namespace geobrush {
 
 EmdSignal emdSignal(const TriMesh& mesh, const EmdSignalOptions& options) {
+  return emdSignal(mesh, meshDifferentials(mesh), options);
+}
+
+EmdSignal emdSignal(const TriMesh& mesh, const MeshDifferentials& differentials,
+                    const EmdSignalOptions& options) {
   const Eigen::MatrixX3d points = pointMatrix(mesh);
   if (!points.allFinite()) throw std::invalid_argument("the mesh has a non-finite point");
-  const Eigen::MatrixX3d laplace = -(cotangentLaplacian(mesh) * points);  // rows: Delta(v_i)
-  const std::vector<Eigen::Vector3d> normals = areaWeightedNormals(mesh);
-  const Eigen::VectorXd areas = vertexAreas(mesh);
+  const Eigen::MatrixX3d laplace = -(differentials.laplacian * points);  // rows: Delta(v_i)
+  const std::vector<Eigen::Vector3d>& normals = differentials.normals;
+  const Eigen::VectorXd& areas = differentials.areas;
   EmdSignal signal;
   signal.g.resize(mesh.n_vertices());
   signal.area.assign(areas.data(), areas.data() + areas.size());

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "geobrush/laplacian.hpp"
 #include "geobrush/mesh.hpp"
 
 namespace geobrush {
@@ -22,5 +23,8 @@ struct EmdSignal {
 // Eq. 1 on every vertex of `mesh`. Throws std::invalid_argument for a non-finite point, and, with
 // areaNormalize, for a vertex without area.
 EmdSignal emdSignal(const TriMesh& mesh, const EmdSignalOptions& options);
+// The same from the mesh's differentials (meshDifferentials(mesh), which a caller may share).
+EmdSignal emdSignal(const TriMesh& mesh, const MeshDifferentials& differentials,
+                    const EmdSignalOptions& options);
 
 }  // namespace geobrush

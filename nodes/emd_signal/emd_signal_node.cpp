@@ -20,11 +20,13 @@ class EmdSignalNode final : public geobrush::Node {
     options.areaNormalize = ctx.param<bool>("area_normalize");
     geobrush::EmdSignal signal;
     try {
-      signal = geobrush::emdSignal(mesh->surface, options);
+      signal = geobrush::emdSignal(mesh->surface, *geobrush::derivedMeshDifferentials(ctx, mesh),
+                                   options);
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("mesh", e.what());
     }
-    auto fields = std::make_shared<VertexFields>(mesh->surface);
+    auto fields = std::make_shared<VertexFields>(mesh->surface.n_vertices(),
+                                                 geobrush::derivedGeometryHash(ctx, mesh));
     fields->add("g", std::move(signal.g));
     fields->add("area", std::move(signal.area));
     ctx.out("signal", fields);

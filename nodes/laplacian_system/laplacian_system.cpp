@@ -92,6 +92,30 @@ void restrictOperator(const TriMesh& mesh, const std::vector<int>& faces,
   system.laplacian.setFromTriplets(entries.begin(), entries.end());
 }
 
+// The same from the whole mesh's operator, where the region reads every face around it (anchor):
+// an unknown's row of L then sums the same faces' terms in the same order, so the entries are bit
+// for bit those of the operator on the faces alone. Column c is the unknown's own column of the
+// whole operator (symmetric, term for term), rows ascending as the unknowns are.
+void restrictWholeOperator(const TriMesh& mesh, const Sparse& whole,
+                           const std::vector<int>& unknown, LaplacianSystem& system) {
+  const int n = int(system.vertices.size());
+  system.fixedShare = Eigen::MatrixX3d::Zero(n, 3);
+  system.laplacian.resize(n, n);
+  system.laplacian.reserve(Eigen::Index(8) * n);
+  for (int c = 0; c < n; ++c) {
+    system.laplacian.startVec(c);
+    for (Sparse::InnerIterator it(whole, system.vertices[std::size_t(c)]); it; ++it) {
+      if (const int row = unknown[std::size_t(it.row())]; row >= 0) {
+        system.laplacian.insertBack(row, c) = it.value();
+      } else {
+        const auto& p = mesh.point(TriMesh::VertexHandle(int(it.row())));
+        system.fixedShare.row(c) += it.value() * Eigen::RowVector3d(p[0], p[1], p[2]);
+      }
+    }
+  }
+  system.laplacian.finalize();
+}
+
 // mu per unknown: mu_boundary on the region's border (a vertex of the mesh's boundary or with a
 // neighbour outside the region), mu elsewhere.
 void pullTowardsOriginal(const TriMesh& mesh, const std::vector<int>& unknown,
@@ -133,17 +157,24 @@ std::shared_ptr<const Eigen::SimplicialLDLT<Sparse>> factorOf(const Sparse& matr
 // Per unknown: the original normal, point and area, and the original's Laplacian coordinates
 // less their normal part. Each row is its own vertex's, so the blocks run on any number of
 // threads with the same result.
-void describeUnknowns(const TriMesh& mesh, LaplacianSystem& system) {
+// With the whole mesh's differentials, the normals and areas are read from them.
+void describeUnknowns(const TriMesh& mesh, const MeshDifferentials* whole,
+                      LaplacianSystem& system) {
   const int n = int(system.vertices.size());
   system.normals.resize(n, 3);
   system.points.resize(n, 3);
   system.area.resize(n);
-  parallelBlocks(std::size_t(n), 2048, 0, [&](std::size_t first, std::size_t last) {
+  parallelBlocks(std::size_t(n), 2048, whole ? 1 : 0, [&](std::size_t first, std::size_t last) {
     for (std::size_t i = first; i < last; ++i) {
       const TriMesh::VertexHandle v(system.vertices[i]);
+      system.points.row(Eigen::Index(i)) = pointOf(mesh, v).transpose();
+      if (whole) {
+        system.normals.row(Eigen::Index(i)) = whole->normals[std::size_t(v.idx())].transpose();
+        system.area[Eigen::Index(i)] = whole->areas[v.idx()];
+        continue;
+      }
       const VertexGeometry geometry = vertexGeometry(mesh, v.idx());
       system.normals.row(Eigen::Index(i)) = geometry.normal.transpose();
-      system.points.row(Eigen::Index(i)) = pointOf(mesh, v).transpose();
       system.area[Eigen::Index(i)] = geometry.area;
     }
   });
@@ -152,16 +183,12 @@ void describeUnknowns(const TriMesh& mesh, LaplacianSystem& system) {
   system.tangential = delta - along.asDiagonal() * system.normals;
 }
 
-Hash systemKey(const TriMesh& mesh, const std::vector<int>& vertices, const std::vector<int>& faces,
+// The mesh's geometryHash stands for its points and faces, so the faces read need no hashing.
+Hash systemKey(Hash meshHash, const std::vector<int>& vertices,
                const LaplacianSystemOptions& options) {
   Hasher hasher;
-  hasher.str(LaplacianSystem::kTypeId).u64(mesh.n_vertices());
-  hasher.span(std::span<const int>(vertices)).span(std::span<const int>(faces));
-  for (int f : faces)
-    for (auto v : mesh.fv_range(TriMesh::FaceHandle(f))) {
-      const auto& p = mesh.point(v);
-      hasher.u64(std::uint64_t(v.idx())).f64(p[0]).f64(p[1]).f64(p[2]);
-    }
+  hasher.str(LaplacianSystem::kTypeId).u64(meshHash);
+  hasher.span(std::span<const int>(vertices));
   return hasher.f64(options.mu)
       .f64(options.muBoundary)
       .u64(std::uint64_t(options.outside))
@@ -172,7 +199,8 @@ Hash systemKey(const TriMesh& mesh, const std::vector<int>& vertices, const std:
 }  // namespace
 
 LaplacianSystem buildLaplacianSystem(const MeshPtr& mesh, const std::vector<int>& vertices,
-                                     const LaplacianSystemOptions& options, Hash meshHash) {
+                                     const LaplacianSystemOptions& options, Hash meshHash,
+                                     const MeshDifferentials* whole) {
   const TriMesh& surface = mesh->surface;
   checkInputs(surface, vertices, options);
   LaplacianSystem system;
@@ -184,16 +212,22 @@ LaplacianSystem buildLaplacianSystem(const MeshPtr& mesh, const std::vector<int>
   for (int i = 0; i < n; ++i)
     unknown[std::size_t(vertices[std::size_t(i)])] = i;
 
-  const std::vector<int> faces = operatorFaces(surface, unknown, vertices, options.outside);
-  restrictOperator(surface, faces, unknown, system);
+  if (whole && whole->normals.size() != surface.n_vertices())
+    throw std::invalid_argument("the differentials are of another mesh");
+  if (whole && options.outside == OutsideNeighbours::anchor) {
+    restrictWholeOperator(surface, whole->laplacian, unknown, system);
+  } else {
+    const std::vector<int> faces = operatorFaces(surface, unknown, vertices, options.outside);
+    restrictOperator(surface, faces, unknown, system);
+  }
   pullTowardsOriginal(surface, unknown, options, system);
   system.form = options.form;
   // The factorization, the longest stage, runs beside the rest.
   auto factoring =
       std::async(std::launch::async | std::launch::deferred,
                  [matrix = systemMatrix(system, options.form)] { return factorOf(matrix); });
-  describeUnknowns(surface, system);
-  system.key = systemKey(surface, vertices, faces, options);
+  describeUnknowns(surface, whole, system);
+  system.key = systemKey(system.meshHash, vertices, options);
   system.factor = factoring.get();
   return system;
 }

@@ -24,8 +24,10 @@ struct LaplacianSystemOptions {
 // `vertices`: the region's mesh vertices, ascending and distinct. Throws std::invalid_argument
 // for an empty region or a vertex the mesh lacks, std::out_of_range for a mu outside (0, 1e6],
 // std::runtime_error when the matrix cannot be factored. `meshHash`: the mesh's geometryHash where
-// the caller has it (0: computed here).
+// the caller has it (0: computed here). `whole`: the mesh's meshDifferentials where the caller has
+// them (a dab then reads its operator, normals and areas; the system is the same bit for bit).
 LaplacianSystem buildLaplacianSystem(const MeshPtr& mesh, const std::vector<int>& vertices,
-                                     const LaplacianSystemOptions& options, Hash meshHash = 0);
+                                     const LaplacianSystemOptions& options, Hash meshHash = 0,
+                                     const MeshDifferentials* whole = nullptr);
 
 }  // namespace geobrush

@@ -41,7 +41,8 @@ class LaplacianSystemNode final : public geobrush::Node {
     try {
       const auto& mesh = target->canvas->source;
       ctx.out("system", std::make_shared<const LaplacianSystem>(geobrush::buildLaplacianSystem(
-                            mesh, vertices, options, geobrush::derivedGeometryHash(ctx, mesh))));
+                            mesh, vertices, options, geobrush::derivedGeometryHash(ctx, mesh),
+                            geobrush::derivedMeshDifferentials(ctx, mesh).get())));
     } catch (const std::runtime_error& e) {
       throw NodeError::input("region", e.what());
     }

@@ -189,5 +189,49 @@ TEST(CotangentLaplacian, VertexGeometryIsTheThreeQuantitiesInOnePass) {
     }
 }
 
+// The whole mesh's differentials are what cotangentLaplacian, areaWeightedNormals and vertexAreas
+// give, bit for bit, on a sphere (radial normals, areas summing to 4 pi R^2) and on a real mesh
+// with its boundary; as derived data they are computed once per mesh value.
+TEST(MeshDifferentials, AreTheWholeMeshsOperatorNormalsAndAreasOncePerMesh) {
+  const double radius = 2.5;
+  TriMesh sphere = test::icosphere(3);
+  for (auto v : sphere.vertices())
+    sphere.set_point(v, sphere.point(v) * radius);
+  const MeshPtr sphereMesh = std::make_shared<const Mesh>(std::move(sphere));
+  const MeshPtr bunny = readMesh(test::meshPath("bunny_small.obj")).mesh;
+  for (const MeshPtr& mesh : {sphereMesh, bunny}) {
+    const MeshDifferentials differentials = meshDifferentials(mesh->surface);
+    const Eigen::SparseMatrix<double> laplacian = cotangentLaplacian(mesh->surface);
+    ASSERT_EQ(differentials.laplacian.nonZeros(), laplacian.nonZeros());
+    for (int col = 0; col < laplacian.outerSize(); ++col)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian, col); it; ++it)
+        ASSERT_EQ(differentials.laplacian.coeff(it.row(), col), it.value());
+    EXPECT_EQ(differentials.normals, areaWeightedNormals(mesh->surface));
+    EXPECT_EQ(differentials.areas, vertexAreas(mesh->surface));
+  }
+  const MeshDifferentials onSphere = meshDifferentials(sphereMesh->surface);
+  EXPECT_NEAR(onSphere.areas.sum(), 4 * M_PI * radius * radius, 0.01 * 4 * M_PI * radius * radius);
+  for (auto v : sphereMesh->surface.vertices())
+    EXPECT_GT(onSphere.normals[std::size_t(v.idx())].dot(pointOf(sphereMesh->surface, v)) / radius,
+              0.999);
+
+  const NodeType reader = NodeTypeBuilder("test.reader", 1)
+                              .input<Mesh>("mesh", "Any mesh.")
+                              .compute([](Context&) {})
+                              .build();
+  auto store = std::make_shared<DerivedStore>();
+  std::shared_ptr<const MeshDifferentials> first;
+  for (int run = 0; run < 2; ++run) {
+    test::DirectContext ctx(reader, {{"mesh", bunny}}, {}, store);
+    const auto found = derivedMeshDifferentials(ctx, bunny);
+    EXPECT_EQ(found->normals.size(), bunny->surface.n_vertices());
+    if (first) {
+      EXPECT_EQ(found, first);
+    }
+    first = found;
+  }
+  EXPECT_EQ(store->builds(), 1u);
+}
+
 }  // namespace
 }  // namespace geobrush

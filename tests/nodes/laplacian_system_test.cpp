@@ -103,6 +103,43 @@ TEST(LaplacianSystem, KeysOnTheRegionItsGeometryAndMu) {
   EXPECT_NE(buildLaplacianSystem(std::make_shared<const Mesh>(moved), region, {}).key, key);
 }
 
+// A system that reads the whole mesh's differentials (as a dab does) is the one built from the
+// region's own faces, bit for bit: anchored or dropped, in either form, on a bump and a real mesh.
+TEST(LaplacianSystem, TheWholeMeshsDifferentialsGiveTheSameSystem) {
+  const MeshPtr bump =
+      test::heightGrid(10, [](double x, double y) { return std::exp(-4 * (x * x + y * y)); });
+  const test::RealMeshRegion bunny = test::bunnyRegion();
+  const std::pair<MeshPtr, std::vector<int>> cases[] = {{bump, disc(bump->surface, 0.1, 0, 0.55)},
+                                                        {bunny.mesh, bunny.system->vertices}};
+  for (const auto& [mesh, region] : cases) {
+    const MeshDifferentials whole = meshDifferentials(mesh->surface);
+    for (const OutsideNeighbours outside : {OutsideNeighbours::anchor, OutsideNeighbours::drop})
+      for (const LaplacianForm form : {LaplacianForm::screened, LaplacianForm::leastSquares}) {
+        const LaplacianSystemOptions options{.outside = outside, .form = form};
+        const LaplacianSystem own = buildLaplacianSystem(mesh, region, options);
+        const LaplacianSystem read = buildLaplacianSystem(mesh, region, options, 0, &whole);
+        ASSERT_EQ(read.laplacian.nonZeros(), own.laplacian.nonZeros());
+        for (int col = 0; col < own.laplacian.outerSize(); ++col)
+          for (LaplacianSystem::Sparse::InnerIterator it(own.laplacian, col); it; ++it)
+            ASSERT_EQ(read.laplacian.coeff(it.row(), col), it.value());
+        EXPECT_EQ(read.fixedShare, own.fixedShare);
+        EXPECT_EQ(read.tangential, own.tangential);
+        EXPECT_EQ(read.normals, own.normals);
+        EXPECT_EQ(read.points, own.points);
+        EXPECT_EQ(read.area, own.area);
+        EXPECT_EQ(read.mu, own.mu);
+        EXPECT_EQ(read.boundary, own.boundary);
+        EXPECT_EQ(read.key, own.key);
+        const Eigen::MatrixX3d rhs = own.tangential + own.points;
+        EXPECT_EQ(read.factor->solve(rhs), own.factor->solve(rhs));
+      }
+    const MeshDifferentials other = meshDifferentials(bump->surface);
+    if (mesh != bump) {
+      EXPECT_THROW(buildLaplacianSystem(mesh, region, {}, 0, &other), std::invalid_argument);
+    }
+  }
+}
+
 TEST(LaplacianSystem, RefusesAnEmptyOrUnorderedRegionAndBadMu) {
   const MeshPtr grid = test::heightGrid(4, [](double, double) { return 0.0; });
   EXPECT_THROW(buildLaplacianSystem(grid, {}, {}), std::invalid_argument);

@@ -50,6 +50,21 @@ VertexGeometry vertexGeometry(const TriMesh& mesh, int vertex);
 // The mesh's points as an n x 3 matrix, one row per vertex.
 Eigen::MatrixX3d pointMatrix(const TriMesh& mesh);
 
+// What the EMD nodes read of a whole mesh: cotangentLaplacian(mesh), and each vertex's
+// areaWeightedNormal and vertexArea (bit for bit what those give).
+struct MeshDifferentials {
+  Eigen::SparseMatrix<double> laplacian;
+  std::vector<Eigen::Vector3d> normals;
+  Eigen::VectorXd areas;
+};
+MeshDifferentials meshDifferentials(const TriMesh& mesh);
+
+class Context;
+// meshDifferentials of a mesh a node's input holds, as derived data (Context::derivedFrom): the
+// target's signal and every dab's system on it share one computation.
+std::shared_ptr<const MeshDifferentials> derivedMeshDifferentials(Context& ctx,
+                                                                  const MeshPtr& mesh);
+
 // How the rebuilt points V^ of a region follow a target T for its Laplacian coordinates, pulled
 // towards the original points V by M = diag(mu):
 enum class LaplacianForm {
