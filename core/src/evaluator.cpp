@@ -8,6 +8,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <thread>
 #include <unordered_map>
 
 #include "atomic_file.hpp"
@@ -142,8 +143,15 @@ class EvalContext final : public Context {
   }
 
   void progress(double fraction) override {
-    if (options_.progress && !preparing_) options_.progress(name_, std::clamp(fraction, 0.0, 1.0));
+    if (!options_.progress || preparing_) return;
+    fraction = std::clamp(fraction, 0.0, 1.0);
+    if (relayed_)
+      relayed_->store(fraction, std::memory_order_relaxed);
+    else
+      options_.progress(name_, fraction);
   }
+  // Off the evaluating thread: progress goes to `fraction`, which the evaluating thread reports.
+  void relayProgressThrough(std::atomic<double>* fraction) { relayed_ = fraction; }
   bool cancelled() const override {
     return options_.cancel && options_.cancel->load(std::memory_order_relaxed);
   }
@@ -228,7 +236,8 @@ class EvalContext final : public Context {
   InputKeys inputKeys_;
   DerivedStore& derived_;
   RecycleBin& bin_;
-  std::mutex& binMutex_;  // a preparation running ahead shares the bin with computes
+  std::mutex& binMutex_;  // nodes computing at the same time share the bin
+  std::atomic<double>* relayed_ = nullptr;
   std::filesystem::path baseDir_;
   std::filesystem::path outputDir_;
   const EvalOptions& options_;
@@ -376,11 +385,11 @@ class Evaluator::Impl::Run {
   EvalReport evaluate() {
     if (!plan()) return std::move(report_);
     queuePreparations();
-    for (const auto& name : order_)
-      if (needed_.count(name) && !evaluateNode(name)) break;
+    evaluateNodes();
     // Preparations under way for nodes this run did not reach (an input failed) end here.
     for (auto& [name, preparation] : preparations_)
       preparation.finish();
+    orderRuns();
     commitFiles();
     retire();
     return std::move(report_);
@@ -505,9 +514,59 @@ class Evaluator::Impl::Run {
     }
   }
 
+  // The needed nodes in order, each once its inputs are there. Nodes ready beside the next one
+  // (independent branches) compute at the same time on other threads; what the run reports,
+  // caches and stops at is what evaluating them one at a time gives.
+  void evaluateNodes() {
+    std::vector<std::string> pending;
+    for (const auto& name : order_)
+      if (needed_.count(name)) pending.push_back(name);
+    for (std::size_t next = 0; next < pending.size(); ++next) {
+      const std::string& name = pending[next];
+      if (results_.count(name)) continue;  // computed beside an earlier one
+      if (auto failed = failedAhead_.find(name); failed != failedAhead_.end()) {
+        report_.runs.push_back(failed->second.run);
+        fail(report_, graph_, name, failed->second.failure);
+        return;
+      }
+      startReadyPreparations();
+      const std::vector<std::string> beside = besideOf(pending, next);
+      if (!(beside.empty() ? evaluateNode(name) : computeTogether(name, beside))) return;
+    }
+  }
+
+  // A node computes on another thread where it would compute anyway (no cached result) and has
+  // no preparation of its own to interleave.
+  bool computesAnywhere(const std::string& name) {
+    return !cached(keys_.at(name)) && typeOf(name).prepareInputs.empty();
+  }
+
+  bool inputsReady(const std::string& name) const {
+    for (auto it = sources_.lower_bound({name, ""});
+         it != sources_.end() && it->first.first == name; ++it)
+      if (!results_.count(it->second.node)) return false;
+    return true;
+  }
+
+  // The nodes after pending[next] that can compute beside it now, one per spare core.
+  std::vector<std::string> besideOf(const std::vector<std::string>& pending, std::size_t next) {
+    std::vector<std::string> beside;
+    if (!computesAnywhere(pending[next])) return beside;
+    const std::size_t width = std::max(2u, std::thread::hardware_concurrency());
+    std::set<Hash> keys = {keys_.at(pending[next])};
+    for (std::size_t k = next + 1; k < pending.size() && beside.size() + 1 < width; ++k) {
+      const std::string& name = pending[k];
+      // A node of a key already computing would be a cache hit one at a time: it waits.
+      if (results_.count(name) || failedAhead_.count(name) || !inputsReady(name) ||
+          !computesAnywhere(name) || !keys.insert(keys_.at(name)).second)
+        continue;
+      beside.push_back(name);
+    }
+    return beside;
+  }
+
   // One node: its cached result, or its computation. False where it failed: the run stops.
   bool evaluateNode(const std::string& name) {
-    startReadyPreparations();
     NodeRun run;
     run.node = name;
     run.type = typeOf(name).id;
@@ -536,21 +595,129 @@ class Evaluator::Impl::Run {
     return true;
   }
 
-  // The node's prepare() (run ahead, or now), then its compute().
-  bool computeNode(const std::string& name, NodeRun& run) {
-    const GraphNode& node = graph_.nodes.at(name);
-    const NodeType& type = typeOf(name);
+  // A node's computation: set up and finished on the evaluating thread, run on any.
+  struct Computation {
+    std::string name;
+    NodeRun run;
     Outputs inputs;
+    std::unique_ptr<EvalContext> ctx;
+    Node* instance = nullptr;
     bool inputHistory = false;
+    std::optional<Failure> failure;
+    bool cancelled = false;
+    double preparedSeconds = 0;
+    std::atomic<double> progress{-1.0};  // relayed from another thread
+  };
+
+  bool computeNode(const std::string& name, NodeRun& run) {
+    Computation computation;
+    computation.run = std::move(run);
+    startComputation(name, computation);
+    runComputation(computation);
+    const bool ok = finishComputation(computation);
+    run = std::move(computation.run);
+    if (!ok) fail(report_, graph_, name, *computation.failure);
+    return ok;
+  }
+
+  // `first` on this thread and `beside` on others, their results taken in order; a failure
+  // beside waits until the run reaches its node. The others' progress is reported from here.
+  bool computeTogether(const std::string& first, const std::vector<std::string>& beside) {
+    std::vector<std::unique_ptr<Computation>> work;
+    work.push_back(std::make_unique<Computation>());
+    startComputation(first, *work.back());
+    for (const auto& name : beside) {
+      work.push_back(std::make_unique<Computation>());
+      startComputation(name, *work.back());
+      work.back()->ctx->relayProgressThrough(&work.back()->progress);
+    }
+    std::vector<std::future<void>> running(work.size());
+    for (std::size_t i = 1; i < work.size(); ++i) {
+      try {
+        running[i] =
+            std::async(std::launch::async, [this, c = work[i].get()] { runComputation(*c); });
+      } catch (const std::system_error&) {
+        // No thread to spare: it runs here, after the first.
+      }
+    }
+    // Each node's progress runs from its start to its end before the next one's.
+    runComputation(*work[0]);
+    const bool ok = takeResult(*work[0], true);
+    for (std::size_t i = 1; i < work.size(); ++i) {
+      const bool ranBeside = running[i].valid();
+      if (ranBeside) relayProgressUntilDone(*work[i], running[i]);
+      work[i]->ctx->relayProgressThrough(nullptr);
+      if (!ranBeside) runComputation(*work[i]);
+      takeResult(*work[i], false);
+    }
+    return ok;
+  }
+
+  // A computation's results; a failure is reported now for the `first` node, else when the run
+  // reaches its node.
+  bool takeResult(Computation& c, bool first) {
+    if (finishComputation(c)) {
+      report_.runs.push_back(std::move(c.run));
+      return true;
+    }
+    if (first) {
+      report_.runs.push_back(c.run);
+      fail(report_, graph_, c.name, *c.failure);
+    } else {
+      failedAhead_.emplace(c.name, FailedAhead{std::move(c.run), *c.failure});
+    }
+    return false;
+  }
+
+  void relayProgressUntilDone(Computation& c, std::future<void>& running) {
+    double reported = -1.0;
+    // From its start (0), however far the node has come when this thread gets to it.
+    const auto relay = [&] {
+      const double fraction = c.progress.load(std::memory_order_relaxed);
+      if (fraction < 0.0 || !options_.progress) return;
+      if (reported < 0.0) options_.progress(c.name, reported = 0.0);
+      if (fraction != reported) options_.progress(c.name, reported = fraction);
+    };
+    while (running.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready)
+      relay();
+    relay();
+    running.get();
+  }
+
+  // The runs in evaluation order, as one node at a time gives them: none after a failed one, and
+  // no outputs from a node after it that computed beside an earlier one.
+  void orderRuns() {
+    std::map<std::string, std::size_t> position;
+    for (std::size_t i = 0; i < order_.size(); ++i)
+      position[order_[i]] = i;
+    auto& runs = report_.runs;
+    std::stable_sort(runs.begin(), runs.end(), [&](const NodeRun& a, const NodeRun& b) {
+      return position.at(a.node) < position.at(b.node);
+    });
+    const auto failed =
+        std::find_if(runs.begin(), runs.end(), [](const NodeRun& run) { return run.failed; });
+    if (failed == runs.end()) return;
+    const std::size_t stop = position.at(failed->node);
+    runs.erase(std::next(failed), runs.end());
+    std::erase_if(results_, [&](const auto& result) { return position.at(result.first) > stop; });
+  }
+
+  // The inputs, the context, the preparation (run ahead, or now) and the node instance.
+  void startComputation(const std::string& name, Computation& c) {
+    const auto& [stableName, node] = *graph_.nodes.find(name);
+    const NodeType& type = typeOf(name);
+    c.name = stableName;
+    c.run.node = stableName;
+    c.run.type = type.id;
+    c.run.key = keys_.at(name);
     for (const auto& port : type.inputs)
       if (const Endpoint* from = findSource(sources_, name, port.name)) {
-        inputs[port.name] = results_[from->node].at(from->port);
-        inputHistory = inputHistory || history_[from->node];
+        c.inputs[port.name] = results_.at(from->node).at(from->port);
+        c.inputHistory = c.inputHistory || history_[from->node];
       }
-    EvalContext ctx(type, node, name, inputs, inputKeysOf(name, inputNames(type)), impl_.derived,
-                    impl_.bin, impl_.binMutex, baseDir_, outputDir_, options_);
-    std::optional<Failure> failure;
-    double preparedSeconds = 0;
+    c.ctx = std::make_unique<EvalContext>(
+        type, node, stableName, c.inputs, inputKeysOf(name, inputNames(type)), impl_.derived,
+        impl_.bin, impl_.binMutex, baseDir_, outputDir_, options_);
     const bool prepared = !type.prepareInputs.empty();
     if (prepared) {
       auto found = preparations_.find(name);
@@ -558,57 +725,72 @@ class Evaluator::Impl::Run {
           found != preparations_.end() ? found->second : startPreparation(name, false);
       std::erase(waiting_, name);
       preparation.finish();
-      failure = preparation.failure;
-      report_.cancelled = report_.cancelled || preparation.cancelled;
-      preparedSeconds = preparation.seconds;
-      run.warnings = preparation.context->warnings();
+      c.failure = preparation.failure;
+      c.cancelled = preparation.cancelled;
+      c.preparedSeconds = preparation.seconds;
+      c.run.warnings = preparation.context->warnings();
     }
-    const auto start = std::chrono::steady_clock::now();
     ++evaluator_.computeCount_;
-    if (!failure) {
+    if (c.failure) return;
+    // A prepared node computes on the instance that prepared.
+    bool cancelled = false;
+    c.failure = guarded(
+        [&] { c.instance = &impl_.instance(name, type, options_.settle && !prepared); }, cancelled);
+  }
+
+  // compute(), on any thread.
+  void runComputation(Computation& c) const {
+    const auto start = std::chrono::steady_clock::now();
+    if (!c.failure) {
+      const NodeType& type = typeOf(c.name);
+      EvalContext& ctx = *c.ctx;
       bool cancelled = false;
-      failure = guarded(
+      c.failure = guarded(
           [&] {
             ctx.throwIfCancelled();
             ctx.progress(0.0);
-            // A prepared node computes on the instance that prepared.
-            Node& instance = impl_.instance(name, type, options_.settle && !prepared);
-            instance.compute(ctx);
-            run.history = instance.usedHistory() || inputHistory;
+            c.instance->compute(ctx);
+            c.run.history = c.instance->usedHistory() || c.inputHistory;
             for (const auto& port : type.outputs)
               if (!ctx.outputs().count(port.name))
                 throw NodeError::output(port.name, "was not set by '" + type.id + "'");
           },
           cancelled);
-      report_.cancelled = report_.cancelled || cancelled;
+      c.cancelled = c.cancelled || cancelled;
     }
-    run.seconds = preparedSeconds +
-                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    run.warnings.insert(run.warnings.end(), ctx.warnings().begin(), ctx.warnings().end());
+    c.run.seconds = c.preparedSeconds +
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  // What the computation leaves: warnings, files, the cache entry and the outputs. False where
+  // it failed (the caller reports it).
+  bool finishComputation(Computation& c) {
+    EvalContext& ctx = *c.ctx;
+    report_.cancelled = report_.cancelled || c.cancelled;
+    c.run.warnings.insert(c.run.warnings.end(), ctx.warnings().begin(), ctx.warnings().end());
     for (auto& file : ctx.pending())
       pendingFiles_.push_back(file);
-    if (failure) {
-      run.failed = true;
-      fail(report_, graph_, name, *failure);
+    if (c.failure) {
+      c.run.failed = true;
       // Deterministic failures are remembered; a cancelled run is not a result.
-      if (!report_.cancelled && ctx.pending().empty())
-        impl_.cache[run.key] = {{}, failure, run.warnings, generation_, false, name, {}};
+      if (!c.cancelled && !report_.cancelled && ctx.pending().empty())
+        impl_.cache[c.run.key] = {{}, c.failure, c.run.warnings, generation_, false, c.name, {}};
       return false;
     }
     ctx.progress(1.0);
-    history_[name] = run.history;
+    history_[c.name] = c.run.history;
     Entry entry{ctx.outputs(),
                 std::nullopt,
-                run.warnings,
+                c.run.warnings,
                 generation_,
-                run.history,
-                name,
+                c.run.history,
+                c.name,
                 std::move(ctx.recyclable())};
-    results_[name] = ctx.outputs();
+    results_[c.name] = ctx.outputs();
     if (ctx.pending().empty())
-      impl_.cache[run.key] = std::move(entry);
+      impl_.cache[c.run.key] = std::move(entry);
     else
-      deferredEntries_.emplace_back(run.key, std::move(entry));
+      deferredEntries_.emplace_back(c.run.key, std::move(entry));
     return true;
   }
 
@@ -675,6 +857,12 @@ class Evaluator::Impl::Run {
   std::vector<std::pair<Hash, Entry>> deferredEntries_;  // file writers: cached after commit
   std::map<std::string, Preparation> preparations_;
   std::vector<std::string> waiting_;  // preparing nodes not started yet, in evaluation order
+  // Nodes that failed computing beside an earlier one, reported when the run reaches them.
+  struct FailedAhead {
+    NodeRun run;
+    Failure failure;
+  };
+  std::map<std::string, FailedAhead> failedAhead_;
 };
 
 Evaluator::Evaluator(const NodeRegistry& registry) : impl_(std::make_unique<Impl>(registry)) {}

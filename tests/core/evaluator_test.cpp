@@ -163,6 +163,76 @@ TEST(Evaluator, NodeFailuresAreReportedNotThrown) {
   }
 }
 
+// Nodes whose inputs are ready together (independent branches) compute at the same time: two
+// rendezvous nodes meet, which one at a time they never would. The report lists the runs in
+// evaluation order, with the outputs a node at a time gives.
+TEST(Evaluator, IndependentBranchesComputeAtTheSameTime) {
+  Graph graph = parseGraph(R"({"format": "geobrush-graph", "formatVersion": 1,
+    "nodes": {"left": {"type": "test.rendezvous", "typeVersion": 1, "params": {"meeting": "branches"}},
+              "right": {"type": "test.rendezvous", "typeVersion": 1, "params": {"meeting": "branches", "seat": 1}},
+              "sum": {"type": "test.add", "typeVersion": 2}},
+    "connections": [{"from": "left.value", "to": "sum.a"}, {"from": "right.value", "to": "sum.b"}]})",
+                           "branches.json");
+  prepareGraph(graph, test::testNodeRegistry());
+  Evaluator evaluator(test::testNodeRegistry());
+  std::vector<std::string> progressed;
+  EvalOptions options;
+  options.progress = [&](const std::string& node, double fraction) {
+    if (fraction == 1.0) progressed.push_back(node);
+  };
+  const EvalReport report = evaluator.evaluate(graph, options);
+  ASSERT_TRUE(report.ok) << report.error;
+  EXPECT_EQ(scalar(evaluator, "sum"), 2.0);
+  ASSERT_EQ(report.runs.size(), 3u);
+  EXPECT_EQ(report.runs[0].node, "left");
+  EXPECT_EQ(report.runs[1].node, "right");
+  EXPECT_EQ(report.runs[2].node, "sum");
+  // Each node's progress is reported from the evaluating thread, the one beside included.
+  EXPECT_EQ(progressed, (std::vector<std::string>{"left", "right", "sum"}));
+}
+
+// A node failing beside an earlier one is reported only where a node at a time would reach it:
+// the earlier node's failure wins, and after a success the run goes on until the failed node. A
+// node that succeeded beside a failed earlier one leaves no output, as it would not have run.
+TEST(Evaluator, AFailureBesideAnEarlierNodeIsReportedInOrder) {
+  const auto graphWith = [](const std::string& firstHow, const std::string& secondHow) {
+    const std::string text = R"({"format": "geobrush-graph", "formatVersion": 1,
+      "nodes": {"n": {"type": "test.number", "typeVersion": 1},
+                "a": {"type": "test.fail", "typeVersion": 1, "params": {"how": ")" +
+                             firstHow + R"("}},
+                "b": {"type": "test.fail", "typeVersion": 1, "params": {"how": ")" +
+                             secondHow + R"("}},
+                "c": {"type": "test.add", "typeVersion": 2}},
+      "connections": [{"from": "n.value", "to": "a.in"}, {"from": "n.value", "to": "b.in"},
+                      {"from": "a.value", "to": "c.a"}]})";
+    Graph graph = parseGraph(text, "failing.json");
+    prepareGraph(graph, test::testNodeRegistry());
+    return graph;
+  };
+  for (const char* secondHow : {"node_error", "none"}) {
+    Evaluator evaluator(test::testNodeRegistry());
+    const EvalReport report = evaluator.evaluate(graphWith("std_exception", secondHow));
+    EXPECT_FALSE(report.ok);
+    EXPECT_EQ(report.errorNode, "a");
+    ASSERT_EQ(report.runs.size(), 2u);
+    EXPECT_EQ(report.runs.back().node, "a");
+    EXPECT_EQ(evaluator.output("b", "value"), nullptr) << secondHow;
+  }
+  {
+    // Order: n, a, b, c; b fails beside a, and the run stops at b with a's result kept.
+    Evaluator evaluator(test::testNodeRegistry());
+    const EvalReport report = evaluator.evaluate(graphWith("none", "node_error"));
+    EXPECT_FALSE(report.ok);
+    EXPECT_EQ(report.errorNode, "b");
+    std::vector<std::string> runs;
+    for (const auto& run : report.runs)
+      runs.push_back(run.node);
+    EXPECT_EQ(runs, (std::vector<std::string>{"n", "a", "b"}));
+    EXPECT_TRUE(report.runs.back().failed);
+    EXPECT_EQ(scalar(evaluator, "a"), 1.0);
+  }
+}
+
 TEST(Evaluator, FailedRunLeavesNoFileAndOldFileIntact) {
   const auto dir = test::tempDir("eval-atomic");
   std::filesystem::create_directories(dir / "out");

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -138,7 +140,41 @@ void awaitPrepared(Context& ctx) {
   ctx.out("value", std::make_shared<Scalar>(seen ? ctx.in<Scalar>("in")->value : -1000.0));
 }
 
+// How many test.rendezvous computes have arrived, per meeting.
+std::mutex meetingsMutex;
+std::map<std::string, int> meetings;
+
+// Outputs 1 once `expected` computes of its meeting have arrived within two seconds of its own
+// arrival, else 0: computes that run one at a time never meet.
+void rendezvous(Context& ctx) {
+  const std::string meeting = ctx.param<std::string>("meeting");
+  const int expected = ctx.param<int>("expected");
+  {
+    const std::lock_guard lock(meetingsMutex);
+    ++meetings[meeting];
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  bool met = false;
+  while (!met && std::chrono::steady_clock::now() < deadline) {
+    {
+      const std::lock_guard lock(meetingsMutex);
+      met = meetings[meeting] >= expected;
+    }
+    if (!met) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ctx.out("value", std::make_shared<Scalar>(met ? 1.0 : 0.0));
+}
+
 void registerNodes(PluginRegistrar& r) {
+  r.add(NodeTypeBuilder("test.rendezvous", 1)
+            .doc("Outputs 1 where the computes of its meeting overlap in time, else 0.")
+            .output<Scalar>("value", "1 where they met.")
+            .paramString("meeting", "", "The meeting's name.")
+            .paramInt("expected", 2, "How many computes meet.")
+            .range(1, 64)
+            .paramInt("seat", 0, "Tells the nodes of a meeting apart; changes nothing.")
+            .compute(rendezvous)
+            .build());
   r.add(NodeTypeBuilder("test.prepared_add", 1)
             .doc("Adds two scalars, reading the first in prepare().")
             .input<Scalar>("a", "First term, read in prepare().")
