@@ -9,8 +9,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "geobrush/gpu/vulkan_context.hpp"
-
 namespace geobrush::studio {
 namespace {
 
@@ -24,16 +22,6 @@ RenderFrame frameOf(const Eigen::AlignedBox3d& box) {
 
 RenderFrame frameOf(const TriMesh& mesh) {
   return frameOf(boundsOf(mesh));
-}
-
-// A GPU draws the views; on a machine without one the CPU rasterizer does, since lavapipe draws a
-// large mesh more slowly (a 70k-face mesh: 0.29 s against 0.14 s, `geobrush render`).
-RenderBackend viewBackend() {
-  static const RenderBackend backend = [] {
-    const gpu::VulkanContext* context = gpu::VulkanContext::shared();
-    return context && !context->isCpu() ? RenderBackend::Auto : RenderBackend::Cpu;
-  }();
-  return backend;
 }
 
 }  // namespace
@@ -110,7 +98,10 @@ RenderOptions Viewport::renderOptions() const {
   options.view = view_;
   options.background = kBackground;
   options.frame = frame_;
-  options.backend = viewBackend();
+  // The CPU rasterizer draws the views, on a GPU's machine too: it keeps each mesh's geometry
+  // between frames, where the Vulkan path uploads it and reads the image back every frame
+  // (BENCHMARKS.md, "Vulkan on a GPU").
+  options.backend = RenderBackend::Cpu;
   return options;
 }
 
