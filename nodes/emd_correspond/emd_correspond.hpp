@@ -41,4 +41,18 @@ EmdCorrespondence correspondInDomain(const Parameterization& source,
                                      const std::vector<const std::vector<double>*>& sourceFields,
                                      const EmdCorrespondOptions& options);
 
+// Q_t's correspondence alone, per target vertex in the order given: what correspondInDomain
+// writes at each one's mesh vertex (a caller that keeps arrays of the mesh's size writes these).
+struct RegionCorrespondence {
+  std::vector<int> meshVertices;             // the target mesh vertex of each
+  std::vector<int> nearest;                  // the source canvas vertex nearest in the domain
+  std::vector<std::vector<double>> sampled;  // per source field, H^s at each
+};
+RegionCorrespondence correspondRegion(const Parameterization& source,
+                                      const DomainNeighbours& sourceNeighbours,
+                                      const Parameterization& target,
+                                      const std::vector<int>& targetVertices,
+                                      const std::vector<const std::vector<double>*>& sourceFields,
+                                      const EmdCorrespondOptions& options);
+
 }  // namespace geobrush

@@ -15,6 +15,9 @@ using geobrush::Parameterization;
 using geobrush::Region2D;
 using geobrush::VertexFields;
 
+// A dab re-samples the region on fields of the whole target: a retired output of this node
+// (Context::recycle) with the same fields on the same mesh has the region it was written on
+// cleared (0, and -1 for nearest) instead of a new set of fields of the target's size.
 class EmdCorrespondNode final : public geobrush::Node {
  public:
   void compute(geobrush::Context& ctx) override {
@@ -37,29 +40,63 @@ class EmdCorrespondNode final : public geobrush::Node {
     options.neighbours = ctx.param<int>("neighbours");
     if (ctx.param<std::string>("signal") == "per_area") options.factor = 1.0 / target->scale;
     if (source->uv.empty()) throw NodeError::input("source", "its canvas has no vertices");
-    geobrush::EmdCorrespondence result;
+    geobrush::RegionCorrespondence result;
     try {
       result =
-          geobrush::correspondInDomain(*source, *geobrush::derivedDomainNeighbours(ctx, "source"),
-                                       *target, region->targetVertices, columns, options);
+          geobrush::correspondRegion(*source, *geobrush::derivedDomainNeighbours(ctx, "source"),
+                                     *target, region->targetVertices, columns, options);
     } catch (const std::out_of_range& e) {
       throw NodeError::param("neighbours", e.what());
     } catch (const std::invalid_argument& e) {
       throw NodeError::input("region", e.what());
     }
+    std::vector<std::string> fieldNames = names;
+    fieldNames.insert(fieldNames.end(), {"region", "nearest"});
     const auto& targetMesh = target->canvas->source;
-    auto sampled = std::make_shared<VertexFields>(targetMesh->surface.n_vertices(),
-                                                  geobrush::derivedGeometryHash(ctx, targetMesh));
-    for (std::size_t k = 0; k < names.size(); ++k)
-      sampled->add(names[k], std::move(result.sampled[k]));
-    std::vector<double> inside(sampled->vertexCount, 0.0), nearest(sampled->vertexCount);
-    for (std::size_t v = 0; v < nearest.size(); ++v) {
-      nearest[v] = result.nearest[v];
-      inside[v] = result.nearest[v] >= 0 ? 1.0 : 0.0;
+    auto sampled = fieldsOn(ctx, targetMesh->surface.n_vertices(),
+                            geobrush::derivedGeometryHash(ctx, targetMesh), fieldNames);
+    const std::size_t modeCount = names.size();
+    for (std::size_t i = 0; i < result.meshVertices.size(); ++i) {
+      const std::size_t v = std::size_t(result.meshVertices[i]);
+      for (std::size_t k = 0; k < modeCount; ++k)
+        sampled->columns[k].second[v] = result.sampled[k][i];
+      sampled->columns[modeCount].second[v] = 1.0;
+      sampled->columns[modeCount + 1].second[v] = result.nearest[i];
     }
-    sampled->add("region", std::move(inside));
-    sampled->add("nearest", std::move(nearest));
-    ctx.out("sampled", sampled);
+    auto written =
+        std::make_shared<Written>(Written{sampled->meshHash, sampled->vertexCount,
+                                          std::move(fieldNames), std::move(result.meshVertices)});
+    ctx.outRecyclable("sampled", sampled, std::shared_ptr<const Written>(std::move(written)));
+  }
+
+ private:
+  // What a published output holds beside its default values: its fields and the vertices written.
+  struct Written {
+    geobrush::Hash meshHash = 0;
+    std::size_t vertexCount = 0;
+    std::vector<std::string> names;
+    std::vector<int> vertices;
+  };
+
+  // Fields named `names` on the mesh, every value 0 but the last field's (-1): a recycled output
+  // cleared where it was written, or new ones.
+  static std::shared_ptr<VertexFields> fieldsOn(geobrush::Context& ctx, std::size_t vertexCount,
+                                                geobrush::Hash meshHash,
+                                                const std::vector<std::string>& names) {
+    const auto recycled = ctx.recycle<VertexFields, Written>("sampled", [&](const Written& made) {
+      return made.meshHash == meshHash && made.vertexCount == vertexCount && made.names == names;
+    });
+    const std::size_t nearest = names.size() - 1;
+    if (recycled) {
+      for (int v : recycled.note->vertices)
+        for (std::size_t k = 0; k < names.size(); ++k)
+          recycled.value->columns[k].second[std::size_t(v)] = k == nearest ? -1.0 : 0.0;
+      return recycled.value;
+    }
+    auto fields = std::make_shared<VertexFields>(vertexCount, meshHash);
+    for (std::size_t k = 0; k < names.size(); ++k)
+      fields->add(names[k], std::vector<double>(vertexCount, k == nearest ? -1.0 : 0.0));
+    return fields;
   }
 };
 

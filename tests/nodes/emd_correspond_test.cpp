@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 
 #include "canvas_fixtures.hpp"
 #include "direct_context.hpp"
 #include "emd_fixtures.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/recycle_bin.hpp"
 #include "geobrush/vertex_fields.hpp"
 #include "test_support.hpp"
 
@@ -119,6 +121,46 @@ TEST(EmdCorrespondNode, SamplesTheSourceModesOfARealMeshOnTheRegion) {
       EXPECT_EQ(sampled->column("h1")[v], 0.0);
     }
   }
+}
+
+// A dab after a dab, on regions apart: the node re-samples into its retired output (one object
+// throughout), cleared where the earlier region was, and gives what a fresh node gives.
+TEST(EmdCorrespondNode, EditAfterEditGivesWhatAFreshNodeGives) {
+  const NodeType* type = test::registry().find("geobrush.emd_correspond");
+  ASSERT_NE(type, nullptr);
+  const MeshPtr bunny = readMesh(test::meshPath("bunny_small.obj")).mesh;
+  const auto param = test::projectedParameterization(bunny, Vector3d::UnitX(), Vector3d::UnitY());
+  const double radius = 0.1 * boundingDiagonal(bunny->surface);
+  std::size_t far = 0;
+  for (std::size_t v = 0; v < param->uv.size(); ++v)
+    if ((param->uv[v] - param->uv[0]).norm() > (param->uv[far] - param->uv[0]).norm()) far = v;
+  ASSERT_GT((param->uv[far] - param->uv[0]).norm(), 2 * radius);
+  auto modes = std::make_shared<VertexFields>(bunny->surface);
+  modes->add("h1", linear(bunny->surface));
+  modes->add("h2", std::vector<double>(modes->vertexCount, 0.25));
+  const auto node = type->create();
+  const auto bin = std::make_shared<RecycleBin>();
+  std::set<const VertexFields*> made;
+  for (int edit = 0; edit < 6; ++edit) {
+    SCOPED_TRACE(edit);
+    const Vector2d centre = param->uv[edit < 3 ? 0 : far];
+    const double reach = radius * (1.0 + 0.2 * (edit % 3));
+    const auto region = test::regionWhere(
+        *param, *param, [&](const Vector2d& u) { return (u - centre).norm() < reach; });
+    const std::map<std::string, ValuePtr, std::less<>> inputs = {
+        {"region", region}, {"source", param}, {"target", param}, {"source_modes", modes}};
+    test::DirectContext ctx(*type, inputs, {}, nullptr, bin);
+    test::run(*node, ctx);
+    const auto sampled = std::dynamic_pointer_cast<const VertexFields>(ctx.outputs.at("sampled"));
+    ASSERT_NE(sampled, nullptr);
+    made.insert(sampled.get());
+    const auto fresh =
+        test::runNode("geobrush.emd_correspond", inputs).get<VertexFields>("sampled");
+    EXPECT_EQ(sampled->names(), fresh->names());
+    EXPECT_EQ(sampled->meshHash, fresh->meshHash);
+    EXPECT_EQ(sampled->columns, fresh->columns);
+  }
+  EXPECT_EQ(made.size(), 1u);
 }
 
 TEST(EmdCorrespondNode, RefusesModesOfAnotherMesh) {
