@@ -422,21 +422,16 @@ Scene prepareScene(const std::vector<RenderItem>& items, const RenderOptions& op
   return scene;
 }
 
+// Auto draws on the CPU rasterizer: the Vulkan path's per-frame upload and read-back cost more
+// than the rasterizer's drawing on lavapipe and on a GPU alike (BENCHMARKS.md, "Vulkan on a GPU"),
+// and the CPU's images are the same on every machine.
 RenderResult draw(const Scene& scene, RenderBackend backend) {
-  gpu::VulkanContext* context =
-      backend == RenderBackend::Cpu ? nullptr : gpu::VulkanContext::shared();
-  if (backend == RenderBackend::Vulkan && !context)
+  if (backend != RenderBackend::Vulkan) return {renderCpu(scene), "cpu", "cpu rasterizer"};
+  gpu::VulkanContext* context = gpu::VulkanContext::shared();
+  if (!context)
     throw std::runtime_error("renderMeshes: the Vulkan backend is unavailable: " +
                              gpu::VulkanContext::unavailableReason());
-  // Auto falls back to the CPU twin; the result names the backend that drew.
-  if (context) {
-    try {
-      return {renderVulkan(scene, *context), "vulkan", context->deviceName()};
-    } catch (const std::exception&) {
-      if (backend == RenderBackend::Vulkan) throw;
-    }
-  }
-  return {renderCpu(scene), "cpu", "cpu rasterizer"};
+  return {renderVulkan(scene, *context), "vulkan", context->deviceName()};
 }
 
 RenderCamera publicCamera(const Framing& framing, const Camera& camera,

@@ -94,8 +94,8 @@ double framedRadiiPerPixel(const RenderView& view, int width, int height);
 RenderCamera renderCamera(const std::vector<RenderItem>& items, const RenderOptions& options);
 
 // Throws std::runtime_error if nothing can be drawn (no faces, bad size) or
-// the Vulkan backend was forced and is unavailable. With Auto, a failing
-// Vulkan path falls back to the CPU rasterizer.
+// the Vulkan backend was asked for and is unavailable. Auto draws on the CPU
+// rasterizer, Vulkan on the shared device.
 RenderResult renderMeshes(const std::vector<RenderItem>& items, const RenderOptions& options = {});
 
 namespace detail {
