@@ -131,9 +131,7 @@ TEST(EmdCorrespondNode, EditAfterEditGivesWhatAFreshNodeGives) {
   const MeshPtr bunny = readMesh(test::meshPath("bunny_small.obj")).mesh;
   const auto param = test::projectedParameterization(bunny, Vector3d::UnitX(), Vector3d::UnitY());
   const double radius = 0.1 * boundingDiagonal(bunny->surface);
-  std::size_t far = 0;
-  for (std::size_t v = 0; v < param->uv.size(); ++v)
-    if ((param->uv[v] - param->uv[0]).norm() > (param->uv[far] - param->uv[0]).norm()) far = v;
+  const auto far = std::size_t(test::farthestInDomain(*param, 0));
   ASSERT_GT((param->uv[far] - param->uv[0]).norm(), 2 * radius);
   auto modes = std::make_shared<VertexFields>(bunny->surface);
   modes->add("h1", linear(bunny->surface));

@@ -185,9 +185,7 @@ TEST(LaplacianReconstructNode, EditAfterEditGivesWhatAFreshNodeGives) {
         .get<LaplacianSystem>("system");
   };
   // Two regions apart: a result of the first moved on the second's alone would keep the first's.
-  std::size_t far = 0;
-  for (std::size_t v = 0; v < param->uv.size(); ++v)
-    if ((param->uv[v] - param->uv[0]).norm() > (param->uv[far] - param->uv[0]).norm()) far = v;
+  const auto far = std::size_t(test::farthestInDomain(*param, 0));
   ASSERT_GT((param->uv[far] - param->uv[0]).norm(), 2 * radius);
   const auto first = systemAround(param->uv[0]), second = systemAround(param->uv[far]);
   ASSERT_TRUE(first && second);

@@ -46,6 +46,14 @@ std::vector<double> wholeMeshSignal(const TriMesh& mesh) {
   return g;
 }
 
+int farthestInDomain(const Parameterization& param, int from) {
+  const Eigen::Vector2d& origin = param.uv[std::size_t(from)];
+  std::size_t far = 0;
+  for (std::size_t v = 0; v < param.uv.size(); ++v)
+    if ((param.uv[v] - origin).norm() > (param.uv[far] - origin).norm()) far = v;
+  return int(far);
+}
+
 RealMeshRegion bunnyRegion() {
   RealMeshRegion made;
   made.mesh = readMesh(meshPath("bunny_small.obj")).mesh;

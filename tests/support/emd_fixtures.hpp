@@ -25,6 +25,10 @@ std::shared_ptr<const Region2D> regionWhere(
     const Parameterization& source, const Parameterization& target,
     const std::function<bool(const Eigen::Vector2d&)>& inside);
 
+// The canvas vertex whose uv lies farthest from vertex `from`'s (the first of equals): the centre
+// of a region apart from one around `from`.
+int farthestInDomain(const Parameterization& param, int from);
+
 // Eq. 1's g on every vertex of `mesh`, from the whole mesh's operator and area-weighted normals.
 std::vector<double> wholeMeshSignal(const TriMesh& mesh);
 
