@@ -98,10 +98,6 @@ RenderOptions Viewport::renderOptions() const {
   options.view = view_;
   options.background = kBackground;
   options.frame = frame_;
-  // The CPU rasterizer draws the views, on a GPU's machine too: it keeps each mesh's geometry
-  // between frames, where the Vulkan path uploads it and reads the image back every frame
-  // (BENCHMARKS.md, "Vulkan on a GPU").
-  options.backend = RenderBackend::Cpu;
   return options;
 }
 
