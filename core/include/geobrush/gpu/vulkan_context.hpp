@@ -156,8 +156,6 @@ class VulkanContext {
   std::uint32_t queueFamily() const { return queueFamily_; }
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
   const std::string& deviceName() const { return deviceName_; }
-  // True for software implementations such as Mesa's lavapipe (llvmpipe).
-  bool isCpu() const { return properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
 
   // Index of a memory type allowed by `typeBits` with all `required` flags,
   // having the `preferred` ones too where possible. Throws when none fits.
