@@ -418,7 +418,8 @@ CdtGap closeGapByCdt(TriMesh& out, const OpenStitch& open, const DomainLocator& 
 CdtStitchResult cdtStitchPasteInto(TriMesh& out, const Region2D& region,
                                    const Parameterization& source, const TriMesh& draft,
                                    const Field2D* offset, const Parameterization& target,
-                                   const StitchBase* base, const CdtStitchOptions& options) {
+                                   const StitchBase* base, const CdtStitchOptions& options,
+                                   bool outHoldsOutside) {
   try {
     requireDraftOf(draft, source);
   } catch (const StitchError& e) {
@@ -432,7 +433,7 @@ CdtStitchResult cdtStitchPasteInto(TriMesh& out, const Region2D& region,
   }
   std::optional<OpenStitch> open;
   try {
-    open.emplace(stitchOpenLayoutInto(out, region, source, target, base));
+    open.emplace(stitchOpenLayoutInto(out, region, source, target, base, outHoldsOutside));
   } catch (const StitchError& e) {
     throw CdtStitchError("region", e.what());
   }

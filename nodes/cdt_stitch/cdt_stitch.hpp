@@ -76,11 +76,14 @@ struct CdtStitchResult {
 
 // The whole paste into `out` (cleared first): the layout of geobrush.stitch with its gap left
 // open (no seam refinement), R_in placed at x~(E_s(v)) + G(v), the gap closed by closeGapByCdt.
-// `base`, when given, must be stitchBase(target). Throws CdtStitchError naming the input at fault.
+// `base`, when given, must be stitchBase(target). With `outHoldsOutside`, `out` already holds the
+// base's outside part (restoreOutside turns a result that startsWithOutside back into it) and is
+// not cleared. Throws CdtStitchError naming the input at fault.
 CdtStitchResult cdtStitchPasteInto(TriMesh& out, const Region2D& region,
                                    const Parameterization& source, const TriMesh& draft,
                                    const Field2D* offset, const Parameterization& target,
                                    const StitchBase* base = nullptr,
-                                   const CdtStitchOptions& options = {});
+                                   const CdtStitchOptions& options = {},
+                                   bool outHoldsOutside = false);
 
 }  // namespace geobrush

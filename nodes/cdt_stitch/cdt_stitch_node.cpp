@@ -13,9 +13,13 @@ using geobrush::Mesh;
 using geobrush::NodeError;
 using geobrush::Parameterization;
 using geobrush::Region2D;
+using geobrush::StitchOutside;
 
-// Each result is built fresh; what the target's pastes share (how its canvas sits in its mesh, the
-// locator) is the stitch base, derived data the framework keeps per target.
+// What the target's pastes share (how its canvas sits in its mesh, the locator, the part outside
+// the open faces) is the stitch base, derived data the framework keeps per target. A result that
+// starts with the base's outside part is published as recyclable: once the framework retires it,
+// a later paste into the same outside turns it back into that part in place (restoreOutside)
+// instead of copying the part, the size of the target, again. The result is a fresh node's.
 class CdtStitchNode final : public geobrush::Node {
  public:
   void compute(Context& ctx) override {
@@ -31,12 +35,24 @@ class CdtStitchNode final : public geobrush::Node {
     options.minAngleDegrees = ctx.param<double>("min_angle_deg");
     options.maxArea = ctx.param<double>("max_area");
     options.splitBoundary = ctx.param<bool>("split_boundary");
-    auto mesh = std::make_shared<Mesh>();
+    std::shared_ptr<Mesh> mesh;
+    std::shared_ptr<const StitchOutside> outside;
     geobrush::CdtStitchResult result;
     try {
       const auto base = geobrush::derivedStitchBase(ctx, "target");
+      outside = base->outside;
+      mesh = ctx.recycle<Mesh, StitchOutside>(
+                    "mesh", [&](const StitchOutside& made) { return &made == outside.get(); })
+                 .value;
+      const bool recycled = mesh != nullptr;
+      if (recycled) {
+        geobrush::restoreOutside(*outside, mesh->surface);
+        mesh->vertexColors.clear();
+      } else {
+        mesh = std::make_shared<Mesh>();
+      }
       result = geobrush::cdtStitchPasteInto(mesh->surface, *region, *source, draft->surface,
-                                            offset.get(), *target, base.get(), options);
+                                            offset.get(), *target, base.get(), options, recycled);
     } catch (const geobrush::StitchError& e) {
       throw NodeError::input("target", e.what());
     } catch (const geobrush::CdtStitchError& e) {
@@ -44,7 +60,10 @@ class CdtStitchNode final : public geobrush::Node {
         throw NodeError::param(e.port(), e.what());
       throw NodeError::input(e.port(), e.what());
     }
-    ctx.out("mesh", std::move(mesh));
+    if (result.paste.startsWithOutside)
+      ctx.outRecyclable("mesh", std::move(mesh), outside);
+    else
+      ctx.out("mesh", std::move(mesh));
     ctx.out("map", std::make_shared<const geobrush::PasteMap>(std::move(result.paste.map)));
   }
 };

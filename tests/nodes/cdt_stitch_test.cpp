@@ -11,10 +11,12 @@
 #include "cdt_stitch.hpp"
 #include "direct_context.hpp"
 #include "geobrush/clone.hpp"
+#include "geobrush/derived_store.hpp"
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/evaluator.hpp"
 #include "geobrush/graph.hpp"
 #include "geobrush/mesh_io.hpp"
+#include "geobrush/recycle_bin.hpp"
 #include "geobrush/stitch.hpp"
 #include "geobrush/values.hpp"
 #include "mesh_checks.hpp"
@@ -26,23 +28,24 @@ using Eigen::Vector3d;
 
 namespace {
 
-// The vertices of a flat grid parameterization (uv = x, y) within the square max(|u|, |v|) <=
-// half, ascending.
-std::vector<int> verticesInSquare(const Parameterization& param, double half) {
+// The vertices of a flat grid parameterization (uv = x, y) within the square of half side `half`
+// around `centre` in uv, ascending.
+std::vector<int> verticesInSquare(const Parameterization& param, double half,
+                                  const Vector2d& centre = Vector2d::Zero()) {
   std::vector<int> inside;
   for (std::size_t v = 0; v < param.uv.size(); ++v)
-    if (param.uv[v].cwiseAbs().maxCoeff() <= half + 1e-9) inside.push_back(int(v));
+    if ((param.uv[v] - centre).cwiseAbs().maxCoeff() <= half + 1e-9) inside.push_back(int(v));
   return inside;
 }
 
-// R_in the source grid's square [-patch, patch]^2; the target vertices of [-hole, hole]^2
-// covered, so that the target's hole is the square one grid step wider (two corners cut by the
-// grid's diagonals): the gap lies between two concentric squares.
+// R_in the source grid's square [-patch, patch]^2 (around `centre`); the target vertices of
+// [-hole, hole]^2 covered, so that the target's hole is the square one grid step wider (two
+// corners cut by the grid's diagonals): the gap lies between two concentric squares.
 Region2D squareRegion(const Parameterization& source, double patch, const Parameterization& target,
-                      double hole) {
+                      double hole, const Vector2d& centre = Vector2d::Zero()) {
   Region2D region;
-  region.sourceVertices = verticesInSquare(source, patch);
-  region.targetVertices = verticesInSquare(target, hole);
+  region.sourceVertices = verticesInSquare(source, patch, centre);
+  region.targetVertices = verticesInSquare(target, hole, centre);
   return region;
 }
 
@@ -564,6 +567,46 @@ TEST(CdtStitchNode, TwoEvaluationsAreBitIdenticalAndMatchTheAlgorithm) {
     meshes.push_back(mesh);
   }
   EXPECT_NE(meshes[0], meshes[1]);  // built fresh each time
+}
+
+// Dab after dab into a disc of a larger flat target, each result retired as an evaluator retires
+// it: a dab takes back the paste before it (the same object), turns it back into the target's
+// outside part in place and pastes into it, and each result and map is what a fresh node makes,
+// element for element.
+TEST(CdtStitchNode, DabAfterDabMakesWhatAFreshNodeMakes) {
+  const NodeType& type = cdtStitchType();
+  const auto flat = [](double, double) { return 0.0; };
+  const auto source = test::heightFieldParameterization(20, flat);
+  const auto draft = std::make_shared<const Mesh>(source->canvas->surface);
+  constexpr int n = 16;
+  const auto target =
+      test::flatDiscParameterization(test::heightGrid(n, flat), 2 * (n / 2 * n + n / 2), 0.9);
+  const auto node = type.create();
+  const auto derived = std::make_shared<DerivedStore>();
+  const auto bin = std::make_shared<RecycleBin>();
+  std::vector<const Mesh*> made;
+  const std::vector<Vector2d> centres = {{-0.1, 0}, {0, 0.1}, {0.1, 0}, {0, -0.1}, {0, 0}};
+  for (const Vector2d& centre : centres) {
+    SCOPED_TRACE(centre.transpose());
+    EXPECT_EQ(bin->size(), made.empty() ? 0u : 1u);  // the result before, retired
+    auto region = std::make_shared<Region2D>(squareRegion(*source, 0.2, *target, 0.3, centre));
+    const std::map<std::string, ValuePtr, std::less<>> inputs = {
+        {"region", region}, {"source", source}, {"draft", draft}, {"target", target}};
+    test::DirectContext ctx(type, inputs, {}, derived, bin);
+    test::run(*node, ctx);
+    const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
+    const auto map = std::dynamic_pointer_cast<const PasteMap>(ctx.outputs.at("map"));
+    ASSERT_TRUE(mesh && map);
+    made.push_back(mesh.get());
+    const test::NodeRun fresh = test::runNode(type.id, inputs);
+    EXPECT_TRUE(test::bitIdentical(mesh->surface, fresh.get<Mesh>("mesh")->surface));
+    EXPECT_EQ(map->targetVertex, fresh.get<PasteMap>("map")->targetVertex);
+    EXPECT_EQ(map->sourceVertex, fresh.get<PasteMap>("map")->sourceVertex);
+    EXPECT_EQ(map->seamFaces, fresh.get<PasteMap>("map")->seamFaces);
+    expectManifold(mesh->surface, 1, 1);
+  }
+  for (std::size_t dab = 1; dab < made.size(); ++dab)
+    EXPECT_EQ(made[dab], made[dab - 1]) << dab;
 }
 
 TEST(CdtStitchNode, BadInputsNameTheirPort) {

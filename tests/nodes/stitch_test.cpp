@@ -32,14 +32,7 @@ std::shared_ptr<Parameterization> flatSquare(int n) {
 // points' x and y.
 std::shared_ptr<Parameterization> flatDiscAround(const MeshPtr& square, int n, int i, int j,
                                                  double radius) {
-  auto canvas = std::make_shared<Canvas>(test::growDiscCanvas(square, 2 * (j * n + i), radius));
-  auto param = std::make_shared<Parameterization>();
-  for (auto v : canvas->surface.vertices()) {
-    param->uv.emplace_back(canvas->surface.point(v)[0], canvas->surface.point(v)[1]);
-    param->normal.push_back(Eigen::Vector3d::UnitZ());
-  }
-  param->canvas = canvas;
-  return param;
+  return test::flatDiscParameterization(square, 2 * (j * n + i), radius);
 }
 
 // A disc of the flat square [-1, 1]^2 of n x n quads as the target canvas, the rest of the square

@@ -100,6 +100,18 @@ Canvas growDiscCanvas(const MeshPtr& mesh, int face, double radius) {
   return canvas;
 }
 
+std::shared_ptr<Parameterization> flatDiscParameterization(const MeshPtr& mesh, int face,
+                                                           double radius) {
+  auto canvas = std::make_shared<Canvas>(growDiscCanvas(mesh, face, radius));
+  auto param = std::make_shared<Parameterization>();
+  for (auto v : canvas->surface.vertices()) {
+    param->uv.emplace_back(canvas->surface.point(v)[0], canvas->surface.point(v)[1]);
+    param->normal.push_back(Eigen::Vector3d::UnitZ());
+  }
+  param->canvas = canvas;
+  return param;
+}
+
 std::shared_ptr<Parameterization> terrainParameterization() {
   auto canvas = std::make_shared<Canvas>();
   canvas->surface = readMesh(meshPath("mountain.obj")).mesh->surface;

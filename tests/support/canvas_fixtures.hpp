@@ -23,6 +23,11 @@ std::shared_ptr<Parameterization> heightFieldParameterization(
 // origin is the point of `face` with barycentric weights 0.5, 0.3, 0.2.
 Canvas growDiscCanvas(const MeshPtr& mesh, int face, double radius);
 
+// growDiscCanvas on a flat mesh in the plane z = 0, parameterized by projection: uv = (x, y),
+// normals +z.
+std::shared_ptr<Parameterization> flatDiscParameterization(const MeshPtr& mesh, int face,
+                                                           double radius);
+
 // ../shared/data/meshes/mountain.obj, a height field over the xz plane with
 // +y up, parameterized by projection: uv = (x, -z), so (u, v, normal) is
 // right-handed.
