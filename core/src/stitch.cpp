@@ -664,6 +664,17 @@ std::shared_ptr<const StitchBase> derivedStitchBase(Context& ctx, std::string_vi
   return base;
 }
 
+std::shared_ptr<Mesh> recyclePasteOutside(Context& ctx, std::string_view port,
+                                          const std::shared_ptr<const StitchOutside>& outside) {
+  auto mesh = ctx.recycle<Mesh, StitchOutside>(
+                     port, [&](const StitchOutside& made) { return &made == outside.get(); })
+                  .value;
+  if (!mesh) return nullptr;
+  restoreOutside(*outside, mesh->surface);
+  mesh->vertexColors.clear();
+  return mesh;
+}
+
 StitchResult stitchPaste(const Region2D& region, const Parameterization& source,
                          const TriMesh& draft, const Field2D* offset,
                          const Parameterization& target, const StitchBase* base,

@@ -41,16 +41,9 @@ class CdtStitchNode final : public geobrush::Node {
     try {
       const auto base = geobrush::derivedStitchBase(ctx, "target");
       outside = base->outside;
-      mesh = ctx.recycle<Mesh, StitchOutside>(
-                    "mesh", [&](const StitchOutside& made) { return &made == outside.get(); })
-                 .value;
+      mesh = geobrush::recyclePasteOutside(ctx, "mesh", outside);
       const bool recycled = mesh != nullptr;
-      if (recycled) {
-        geobrush::restoreOutside(*outside, mesh->surface);
-        mesh->vertexColors.clear();
-      } else {
-        mesh = std::make_shared<Mesh>();
-      }
+      if (!recycled) mesh = std::make_shared<Mesh>();
       result = geobrush::cdtStitchPasteInto(mesh->surface, *region, *source, draft->surface,
                                             offset.get(), *target, base.get(), options, recycled);
     } catch (const geobrush::StitchError& e) {

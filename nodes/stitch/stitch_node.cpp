@@ -49,12 +49,10 @@ class StitchNode final : public geobrush::Node {
       const auto sameOutside = [&](const StitchOutside& made) {
         return &made == base->outside.get();
       };
-      auto mesh = ctx.recycle<Mesh, StitchOutside>("mesh", sameOutside).value;
+      auto mesh = geobrush::recyclePasteOutside(ctx, "mesh", base->outside);
       const bool recycled = mesh != nullptr;
       if (recycled) {
         dropNext();
-        geobrush::restoreOutside(*base->outside, mesh->surface);
-        mesh->vertexColors.clear();
       } else if (next_.valid()) {
         mesh = next_.get();
       }

@@ -191,6 +191,13 @@ void requireDraftOf(const TriMesh& draft, const Parameterization& source);
 void copyOutside(const StitchOutside& outside, const TriMesh& targetMesh,
                  const TriMesh& sourceCanvas, TriMesh& out);
 
+// A paste the computing node published on `port` with `outside` as its note
+// (Context::outRecyclable), which the framework has retired and nothing else holds, turned back
+// into that outside part in place (restoreOutside, its colours dropped): memory for the node's
+// next paste into the same outside. Null where there is none.
+std::shared_ptr<Mesh> recyclePasteOutside(Context& ctx, std::string_view port,
+                                          const std::shared_ptr<const StitchOutside>& outside);
+
 // Turns `out`, a paste into this base whose result startsWithOutside, back into the outside part
 // alone, as copyOutside makes it, in place: the paste's elements are dropped and the border
 // entries copied back, at a cost that follows the border rather than the mesh, and the arrays
