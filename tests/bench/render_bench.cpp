@@ -78,8 +78,8 @@ BENCHMARK_CAPTURE(orbitArmadillo, render_meshes, false)
 BENCHMARK_CAPTURE(orbitArmadillo, renderer, true)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // A view of the brush's target (a 163,842-vertex sphere, 327,680 faces) orbited at a view's size
-// through a Renderer keeping its geometry, on each backend: what a studio view pays a frame (it
-// draws through Vulkan where a GPU is, else on the CPU).
+// through a Renderer keeping its geometry, on each backend: what a studio view pays a frame (on
+// the CPU rasterizer, which the views take).
 void orbitTarget(benchmark::State& state, RenderBackend backend) {
   if (backend == RenderBackend::Vulkan && !gpu::VulkanContext::shared()) {
     state.SkipWithError(
