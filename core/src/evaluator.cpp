@@ -384,6 +384,7 @@ class Evaluator::Impl::Run {
 
   EvalReport evaluate() {
     if (!plan()) return std::move(report_);
+    retireUnreachable();
     queuePreparations();
     evaluateNodes();
     // Preparations under way for nodes this run did not reach (an input failed) end here.
@@ -822,15 +823,7 @@ class Evaluator::Impl::Run {
   // instant, and memory stays bounded by two graphs' worth. What a retired entry published as
   // recyclable goes to the bin, for its node to build a later result in.
   void retire() {
-    for (auto it = impl_.cache.begin(); it != impl_.cache.end();) {
-      if (it->second.lastUsed + 1 >= generation_) {
-        ++it;
-        continue;
-      }
-      for (auto& [port, value] : it->second.recyclable)
-        impl_.bin.put(it->second.node, port, std::move(value));
-      it = impl_.cache.erase(it);
-    }
+    retireEntries([&](Hash, const Entry& entry) { return entry.lastUsed + 1 < generation_; });
     for (auto it = impl_.instances.begin(); it != impl_.instances.end();)
       it = graph_.nodes.count(it->first) ? std::next(it) : impl_.instances.erase(it);
     std::set<std::string> nodes;
@@ -838,6 +831,31 @@ class Evaluator::Impl::Run {
       nodes.insert(name);
     impl_.bin.keepNodes(nodes);
     impl_.lastOutputs = std::move(results_);
+  }
+
+  // The entries retire() drops at the end of this run that no node of it can hit (their keys are
+  // not this run's), dropped before it computes: a result made two runs back is then in the bin
+  // for this run's nodes to build in, and does not sit beside the results they make.
+  void retireUnreachable() {
+    std::set<Hash> keys;
+    for (const auto& [name, key] : keys_)
+      keys.insert(key);
+    retireEntries([&](Hash key, const Entry& entry) {
+      return entry.lastUsed + 1 < generation_ && !keys.count(key);
+    });
+  }
+
+  template <typename Drop>
+  void retireEntries(const Drop& drop) {
+    for (auto it = impl_.cache.begin(); it != impl_.cache.end();) {
+      if (!drop(it->first, it->second)) {
+        ++it;
+        continue;
+      }
+      for (auto& [port, value] : it->second.recyclable)
+        impl_.bin.put(it->second.node, port, std::move(value));
+      it = impl_.cache.erase(it);
+    }
   }
 
   Evaluator& evaluator_;

@@ -1,4 +1,3 @@
-#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,13 +23,9 @@ using geobrush::StitchOutside;
 // that outside (tens of megabytes on a large target): a result the framework has retired is
 // recycled (Context::recycle) and turned back into it in place (restoreOutside, the border
 // alone), and a retired paste map keeps its entries for the outside part; where there is none,
-// the part is copied for the next edit on another thread, while the nodes before the stitch
-// (strokes, ROI, warp) work on that next edit. Either way the result is the one a fresh node
-// makes.
+// the part is copied. Either way the result is the one a fresh node makes.
 class StitchNode final : public geobrush::Node {
  public:
-  ~StitchNode() override { dropNext(); }
-
   // The paste's layout (stitchLayoutInto) needs the region and the canvases alone: the evaluator
   // runs it while the membrane is solved and the cages warp the draft.
   void prepare(Context& ctx) override {
@@ -41,21 +36,10 @@ class StitchNode final : public geobrush::Node {
     if (region->empty()) ctx.warn("the region is empty: the target is unchanged");
     try {
       const auto base = geobrush::derivedStitchBase(ctx, "target");
-      const bool newOutside = base->outside != outside_;
-      if (newOutside) {
-        dropNext();  // the copy under way reads the old outside
-        outside_ = base->outside;
-      }
       const auto sameOutside = [&](const StitchOutside& made) {
         return &made == base->outside.get();
       };
       auto mesh = geobrush::recyclePasteOutside(ctx, "mesh", base->outside);
-      const bool recycled = mesh != nullptr;
-      if (recycled) {
-        dropNext();
-      } else if (next_.valid()) {
-        mesh = next_.get();
-      }
       const bool prepared = mesh != nullptr;
       if (!prepared) mesh = std::make_shared<Mesh>();
       auto map = ctx.recycle<PasteMap, StitchOutside>("map", sameOutside).value;
@@ -65,9 +49,6 @@ class StitchNode final : public geobrush::Node {
       geobrush::StitchResult result = geobrush::stitchLayoutInto(
           mesh->surface, *region, *source, *target, base.get(), prepared, options, std::move(*map));
       *map = std::move(result.map);
-      // Where this edit found no result to recycle, the next one is unlikely to: its outside
-      // part is copied now, unless the outside changed (a drag changes it again).
-      if (!recycled && !newOutside) prepareNext(target, source->canvas);
       laid_ = Laid{std::move(mesh), std::move(map), result.firstPatchVertex,
                    result.startsWithOutside ? base->outside : nullptr};
     } catch (const geobrush::StitchError& e) {
@@ -107,31 +88,13 @@ class StitchNode final : public geobrush::Node {
   }
 
  private:
-  void prepareNext(std::shared_ptr<const Parameterization> target,
-                   std::shared_ptr<const geobrush::Canvas> canvas) {
-    dropNext();
-    next_ = std::async(std::launch::async, [outside = outside_, target, canvas] {
-      auto next = std::make_shared<Mesh>();
-      const geobrush::TriMesh& targetMesh =
-          target->canvas->source ? target->canvas->source->surface : target->canvas->surface;
-      geobrush::copyOutside(*outside, targetMesh, canvas->surface, next->surface);
-      return next;
-    });
-  }
-
-  void dropNext() {
-    if (next_.valid()) next_.get();
-  }
-
   struct Laid {
     std::shared_ptr<Mesh> mesh;  // the paste with R_in at the source canvas' positions
     std::shared_ptr<PasteMap> map;
     int firstPatchVertex = 0;
     std::shared_ptr<const StitchOutside> startsWith;  // the outside part it starts with, or null
   };
-  std::optional<Laid> laid_;                      // from prepare() to compute()
-  std::shared_ptr<const StitchOutside> outside_;  // what next_ starts as
-  std::future<std::shared_ptr<Mesh>> next_;       // the next result, its outside part copied
+  std::optional<Laid> laid_;  // from prepare() to compute()
 };
 
 void registerNodes(geobrush::PluginRegistrar& r) {

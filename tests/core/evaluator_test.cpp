@@ -522,36 +522,39 @@ Graph recyclingScale(const std::filesystem::path& file) {
 
 }  // namespace
 
-// The evaluator keeps two runs' outputs; the one of three edits ago is retired and handed back
-// to its node, unless something still holds it or the node refuses its note. The results are a
-// fresh evaluator's either way.
+// The evaluator keeps two runs' outputs; the one of two edits ago is retired as the next run
+// starts and handed back to its node, unless something still holds it or the node refuses its
+// note. The results are a fresh evaluator's either way.
 TEST(Evaluator, RetiredOutputsGoBackToTheirNodeWhereNothingHoldsThem) {
   const auto dir = test::tempDir("eval-recycle");
   Graph graph = recyclingScale(dir / "g.json");
   Evaluator evaluator(test::testNodeRegistry());
   std::vector<const Value*> made;
   ValuePtr held;
-  std::weak_ptr<const Value> third;
-  for (int gain = 1; gain <= 6; ++gain) {
+  std::weak_ptr<const Value> fourth;
+  for (int gain = 1; gain <= 8; ++gain) {
     SCOPED_TRACE(gain);
     if (gain == 6) setParamFromText(graph, test::testNodeRegistry(), "x.value=4");
     setParamFromText(graph, test::testNodeRegistry(), "scale.gain=" + std::to_string(gain));
     ASSERT_TRUE(evaluator.evaluate(graph).ok);
     const ValuePtr value = evaluator.output("scale", "value");
     made.push_back(value.get());
-    if (gain == 2) held = value;
-    if (gain == 3) third = value;
-    EXPECT_EQ(scalar(evaluator, "scale"), (gain == 6 ? 4 : 3) * gain);
+    if (gain == 2 || gain == 6) held = value;
+    if (gain == 4) fourth = value;
+    EXPECT_EQ(scalar(evaluator, "scale"), (gain >= 6 ? 4 : 3) * gain);
     Evaluator fresh(test::testNodeRegistry());
     ASSERT_TRUE(fresh.evaluate(graph).ok);
     EXPECT_EQ(scalar(fresh, "scale"), scalar(evaluator, "scale"));
   }
-  EXPECT_EQ(made[3], made[0]);  // retired after the third run, recycled in the fourth
-  EXPECT_NE(made[4], made[1]);  // held here
-  // The third, retired after the fifth run, was made from another input than the sixth's: the
-  // node refused it, and the bin let it go.
-  EXPECT_TRUE(third.expired());
-  EXPECT_EQ(evaluator.recycledHeld(), 1u);  // the fourth, retired after the sixth run
+  EXPECT_EQ(made[2], made[0]);  // retired as the third run started, recycled in it
+  EXPECT_NE(made[3], made[1]);  // held here
+  EXPECT_EQ(made[4], made[2]);  // the third, recycled in the fifth run
+  // The fourth, retired as the sixth run started, was made from another input than the sixth's:
+  // the node refused it, and the bin let it go.
+  EXPECT_TRUE(fourth.expired());
+  // The sixth, retired as the eighth run started, is held here: the bin keeps it.
+  EXPECT_NE(made[7], made[5]);
+  EXPECT_EQ(evaluator.recycledHeld(), 1u);
   // A node taken out of the graph takes its retired values with it.
   graph.nodes.erase("scale");
   graph.connections.clear();

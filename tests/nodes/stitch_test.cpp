@@ -371,9 +371,9 @@ TEST(StitchNode, OutputsWhatStitchPasteMakes) {
   EXPECT_EQ(map->sourceVertex, direct.map.sourceVertex);
 }
 
-// A brush's dabs start from the target's outside part, copied ahead of time or taken back from
-// a result of two dabs ago that nothing holds any more, its paste map's arrays with it where
-// nothing holds the map either: each result and map is still what a fresh stitch makes, halfedge
+// A brush's dabs start from the target's outside part, copied or taken back from a retired
+// result that nothing holds any more, its paste map's arrays with it where nothing holds the map
+// either: each result and map is still what a fresh stitch makes, halfedge
 // for halfedge and entry for entry, dab after dab, with results or maps held elsewhere, an empty
 // region and a change of target between them.
 // The base a node derives for `target` (derivedStitchBase): the outside of the canvas' cell.
@@ -433,8 +433,8 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   // A result the node took back is one that was still alive when the next was made: the same
   // address means it was recycled, not reallocated. Each dab recycles the one before it, which no
   // one holds here, but for the two held (dabs 2 and 3) and the empty region's result, which is
-  // the whole target: the bin has nothing then. Finding none to recycle at dab 3, the node copied
-  // the outside part ahead, and dab 4 lays out into that copy with dab 3's paste map.
+  // the whole target: the bin has nothing then. Dab 4 finds dab 3's result held and copies the
+  // outside part, but lays it out with dab 3's paste map, which no one holds.
   EXPECT_EQ(made[1], made[0]);
   EXPECT_EQ(made[2], made[1]);
   EXPECT_NE(made[3], made[2]);
