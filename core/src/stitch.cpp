@@ -3,20 +3,26 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
+#include <future>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <optional>
 #include <queue>
 #include <unordered_set>
+#include <utility>
 
 #include <Eigen/Geometry>
 
 #include "append_faces.hpp"
+#include "background_work.hpp"
 
 #include "geobrush/domain_locator.hpp"
 #include "geobrush/face_selection.hpp"
 #include "geobrush/loop_zip.hpp"
 #include "geobrush/node.hpp"
+#include "geobrush/parallel.hpp"
 #include "geobrush/submesh.hpp"
 
 namespace geobrush {
@@ -559,22 +565,50 @@ OpenCell openCellOf(const Canvas& canvas) {
     farthest = std::max(farthest, (pointOf(canvas.surface, v) - canvas.originPoint).norm());
   // R: the next power of 2^(1/4) at or above the farthest vertex, so that a drag's canvases,
   // whose extents differ a little, mostly share one.
-  if (!(farthest > 1e-150 && farthest < 1e150) || !canvas.originPoint.allFinite()) return {};
-  const int quarterOctaves = int(std::ceil(4 * std::log2(farthest)));
+  if (!(farthest > 1e-150 && farthest < 1e150)) return {};
+  return openCellAt(int(std::ceil(4 * std::log2(farthest))), canvas.originPoint);
+}
+
+OpenCell openCellAt(int quarterOctaves, const Eigen::Vector3d& point) {
+  if (!point.allFinite()) return {};
   const double radius = std::exp2(quarterOctaves / 4.0);
-  const double side = radius / 4;
   OpenCell cell;
+  cell.quarterOctaves = quarterOctaves;
+  cell.side = radius / 4;
   Hasher key;
   key.u64(std::uint64_t(std::int64_t(quarterOctaves)));
   for (int axis = 0; axis < 3; ++axis) {
-    const double index = std::floor(canvas.originPoint[axis] / side);
+    const double index = std::floor(point[axis] / cell.side);
     if (!(std::abs(index) < 0x1p62)) return {};  // a canvas far smaller than its distance
-    cell.center[axis] = (index + 0.5) * side;
+    cell.center[axis] = (index + 0.5) * cell.side;
     key.u64(std::uint64_t(std::int64_t(index)));
   }
   cell.key = key.digest();
-  cell.radius = radius + side * std::sqrt(3.0) / 2;
+  cell.radius = radius + cell.side * std::sqrt(3.0) / 2;
   return cell;
+}
+
+OpenCell nextOpenCell(const OpenCell& cell, const Eigen::Vector3d& point,
+                      const Eigen::Vector3d& direction) {
+  if (cell.key == 0 || !direction.allFinite() || direction.isZero(0)) return {};
+  const Eigen::Vector3d unit = direction.normalized();
+  int firstAxis = -1;
+  double first = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (unit[axis] == 0) continue;
+    // How far along the direction the point is from the face ahead of it on this axis.
+    const double face = cell.center[axis] + (unit[axis] > 0 ? 1 : -1) * cell.side / 2;
+    const double along = std::max(0.0, (face - point[axis]) / unit[axis]);
+    if (along < first) {
+      first = along;
+      firstAxis = axis;
+    }
+  }
+  if (firstAxis < 0 || !(first < cell.side / 5)) return {};
+  // Stepping from the centre to the centre beyond keeps clear of rounding at the face.
+  Eigen::Vector3d beyond = cell.center;
+  beyond[firstAxis] += unit[firstAxis] > 0 ? cell.side : -cell.side;
+  return openCellAt(cell.quarterOctaves, beyond);
 }
 
 std::vector<char> openFaces(const TriMesh& mesh, const OpenCell& cell) {
@@ -640,27 +674,99 @@ StitchBase stitchBase(const Parameterization& target, std::shared_ptr<const Doma
   return base;
 }
 
+namespace {
+
+// The outside of a cell's open part in a mesh, built once, by whichever comes first: its first
+// caller, or a background thread that builds the cells a drag may enter next.
+class OutsideBuild {
+ public:
+  OutsideBuild(MeshPtr mesh, const OpenCell& cell)
+      : task_([mesh = std::move(mesh), cell] {
+          return std::make_shared<const StitchOutside>(
+              stitchOutside(mesh->surface, openFaces(mesh->surface, cell)));
+        }),
+        outside_(task_.get_future().share()) {}
+
+  // The origin of the last canvas that asked for this cell, where one did, and `origin` from now
+  // on: which way a drag goes, for choosing the cell to build ahead. It changes no result.
+  std::optional<Eigen::Vector3d> exchangeOrigin(const Eigen::Vector3d& origin) const {
+    std::lock_guard lock(mutex_);
+    return std::exchange(lastOrigin_, origin);
+  }
+
+  // Whether someone has run or is running the build.
+  bool taken() const {
+    std::lock_guard lock(mutex_);
+    return taken_;
+  }
+
+  // Runs the build where no one has taken it; what it throws is kept for get().
+  void run() const {
+    {
+      std::lock_guard lock(mutex_);
+      if (taken_) return;
+      taken_ = true;
+    }
+    task_();
+  }
+
+  // Runs the build or waits for it; what it throws passes through, to each caller.
+  std::shared_ptr<const StitchOutside> get() const {
+    run();
+    return outside_.get();
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  mutable bool taken_ = false;
+  mutable std::optional<Eigen::Vector3d> lastOrigin_;
+  mutable std::packaged_task<std::shared_ptr<const StitchOutside>()> task_;
+  std::shared_future<std::shared_ptr<const StitchOutside>> outside_;
+};
+
+// Has the background thread build `ahead`, the cell a drag may enter next, on one core so that
+// the drag keeps the others; `origin` is the last one the drag had before it enters the cell. A
+// build whose entry the store has dropped by its turn is not run.
+void buildAhead(const std::shared_ptr<const OutsideBuild>& ahead, const Eigen::Vector3d& origin) {
+  if (!ahead) return;
+  ahead->exchangeOrigin(origin);
+  if (ahead->taken()) return;
+  postBackgroundWork([weak = std::weak_ptr(ahead)] {
+    const SerialOnThisThread serial;
+    if (const auto build = weak.lock()) build->run();
+  });
+}
+
+}  // namespace
+
 std::shared_ptr<const StitchBase> derivedStitchBase(Context& ctx, std::string_view port) {
   const auto target = ctx.in<Parameterization>(port);
-  auto cellOutside = [&](const OpenCell& cell) -> std::shared_ptr<const StitchOutside> {
-    if (cell.key == 0 || !target->canvas || !target->canvas->source) return nullptr;
-    const MeshPtr& mesh = target->canvas->source;
-    return ctx.derivedFrom("stitch_outside", {mesh}, cell.key, [&] {
-      return std::make_shared<const StitchOutside>(
-          stitchOutside(mesh->surface, openFaces(mesh->surface, cell)));
-    });
+  const MeshPtr mesh = target->canvas ? target->canvas->source : nullptr;
+  auto cellBuild = [&](const OpenCell& cell) -> std::shared_ptr<const OutsideBuild> {
+    if (cell.key == 0 || !mesh) return nullptr;
+    return ctx.derivedFrom("stitch_outside", {mesh}, cell.key,
+                           [&] { return std::make_shared<const OutsideBuild>(mesh, cell); });
   };
   const auto base = ctx.derived("stitch_base", {port}, 0, [&] {
     // Per canvas, not per dab: finding the cell reads every canvas vertex.
     const OpenCell cell = target->canvas ? openCellOf(*target->canvas) : OpenCell{};
-    const auto shared = cellOutside(cell);
+    const auto build = cellBuild(cell);
+    const Eigen::Vector3d origin =
+        target->canvas ? target->canvas->originPoint : Eigen::Vector3d::Zero();
+    // A canvas before this one in the cell, or the last one before the cell, says which way the
+    // drag goes; a brush's canvas stays, and builds nothing ahead.
+    const auto before = build ? build->exchangeOrigin(origin) : std::nullopt;
+    const auto shared = build ? build->get() : nullptr;
     auto made =
         std::make_shared<StitchBase>(stitchBase(*target, derivedLocator(ctx, port), shared));
-    if (shared && made->outside == shared) made->cell = cell;
+    if (shared && made->outside == shared) {
+      made->cell = cell;
+      if (before) buildAhead(cellBuild(nextOpenCell(cell, origin, origin - *before)), origin);
+    }
     return made;
   });
   // Each use keeps the cell's outside in the store, for the next canvas in the cell to find.
-  cellOutside(base->cell);
+  cellBuild(base->cell);
   return base;
 }
 

@@ -384,6 +384,35 @@ StitchBase freshNodeBase(const Parameterization& target) {
                         stitchOutside(mesh, openFaces(mesh, openCellOf(*target.canvas)))));
 }
 
+// The outsides a series of target canvases asks for, as derivedStitchBase asks: each canvas'
+// cell's, and the cell beyond the face its origin heads for, from the last origin seen in its cell
+// (or in the cell before, which asked for this one).
+class OutsidesAsked {
+ public:
+  // How many outsides `canvas` asks for that no canvas before it did.
+  std::size_t ask(const Canvas& canvas) {
+    const OpenCell cell = openCellOf(canvas);
+    const Eigen::Vector3d origin = canvas.originPoint;
+    std::size_t added = asked_.insert(cell.key).second;
+    const auto before = lastOrigin_.find(cell.key);
+    if (before != lastOrigin_.end()) {
+      const OpenCell next = nextOpenCell(cell, origin, origin - before->second);
+      if (next.key != 0) {
+        added += asked_.insert(next.key).second;
+        lastOrigin_[next.key] = origin;
+      }
+    }
+    lastOrigin_[cell.key] = origin;
+    return added;
+  }
+  bool has(Hash cell) const { return asked_.count(cell) > 0; }
+  std::size_t size() const { return asked_.size(); }
+
+ private:
+  std::set<Hash> asked_;
+  std::map<Hash, Eigen::Vector3d> lastOrigin_;
+};
+
 TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   const NodeType* type = test::registry().find("geobrush.stitch");
   ASSERT_TRUE(type);
@@ -451,6 +480,27 @@ TEST(StitchNode, DabAfterDabMakesWhatAFreshStitchMakes) {
   EXPECT_EQ(mapEntries[9], mapEntries[8]);
 }
 
+// Pastes `painted` from `source` into `target` with `node` and the store `derived`, as an
+// evaluator would, and checks the result against a fresh node's with a store of its own.
+void pasteAsAFreshNodeDoes(const NodeType& type, geobrush::Node& node,
+                           const std::shared_ptr<DerivedStore>& derived, const Strokes& painted,
+                           const std::shared_ptr<Parameterization>& source, const MeshPtr& draft,
+                           const std::shared_ptr<Parameterization>& target) {
+  auto region =
+      std::make_shared<Region2D>(paintRegion(painted, *source, *target, RoiOptions{64}).region);
+  const std::map<std::string, ValuePtr, std::less<>> inputs = {
+      {"region", region}, {"source", source}, {"draft", draft}, {"target", target}};
+  test::DirectContext ctx(type, inputs, {}, derived);
+  test::run(node, ctx);
+  const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
+  ASSERT_TRUE(mesh);
+  const auto freshNode = type.create();
+  test::DirectContext fresh(type, inputs, {}, std::make_shared<DerivedStore>());
+  test::run(*freshNode, fresh);
+  EXPECT_TRUE(test::sameHalfedgeStructure(
+      mesh->surface, std::dynamic_pointer_cast<const Mesh>(fresh.outputs.at("mesh"))->surface));
+}
+
 // Dragging the target canvas over one mesh: each move's base is derived data for its canvas, its
 // outside part shared by the moves within one cell, and each result is a fresh node's, element
 // for element, with no history used.
@@ -465,28 +515,62 @@ TEST(StitchNode, DraggingTheTargetCanvasGivesWhatAFreshNodeGives) {
   const auto node = type->create();
   const auto derived = std::make_shared<DerivedStore>();
   std::set<Hash> cells;
+  OutsidesAsked asked;
   for (int step = 0; step < 6; ++step) {
     SCOPED_TRACE(step);
     const auto target = flatDiscAround(square, n, 20 + step / 2, 20 + step % 2, 0.7);
     cells.insert(openCellOf(*target->canvas).key);
-    auto region =
-        std::make_shared<Region2D>(paintRegion(painted, *source, *target, RoiOptions{64}).region);
-    const std::map<std::string, ValuePtr, std::less<>> inputs = {
-        {"region", region}, {"source", source}, {"draft", draft}, {"target", target}};
-    test::DirectContext ctx(*type, inputs, {}, derived);
-    test::run(*node, ctx);
-    const auto mesh = std::dynamic_pointer_cast<const Mesh>(ctx.outputs.at("mesh"));
-    ASSERT_TRUE(mesh);
+    asked.ask(*target->canvas);
+    pasteAsAFreshNodeDoes(*type, *node, derived, painted, source, draft, target);
     EXPECT_FALSE(node->usedHistory());
-    const auto freshNode = type->create();
-    test::DirectContext fresh(*type, inputs, {}, std::make_shared<DerivedStore>());
-    test::run(*freshNode, fresh);
-    EXPECT_TRUE(test::sameHalfedgeStructure(
-        mesh->surface, std::dynamic_pointer_cast<const Mesh>(fresh.outputs.at("mesh"))->surface));
   }
-  // A base and a locator per target canvas, and an outside per cell.
+  // A base and a locator per target canvas, and an outside per cell: the canvases' one, and the
+  // ones the moves headed for.
   EXPECT_EQ(cells.size(), 1u);
-  EXPECT_EQ(derived->builds(), 12u + cells.size());
+  EXPECT_EQ(derived->builds(), 12u + asked.size());
+}
+
+// A brush, then a drag across several cells. The brush's canvas stays: it builds no outside
+// ahead. Once the canvas moves, each move whose origin heads for a near face asks for the outside
+// beyond, and each move into a cell finds the cell's outside and builds only its base and
+// locator; every result is a fresh node's.
+TEST(StitchNode, ADragFindsTheOutsideOfEachCellItEnters) {
+  const NodeType* type = test::registry().find("geobrush.stitch");
+  ASSERT_TRUE(type);
+  auto source = flatSquare(24);
+  const auto draft = std::make_shared<const Mesh>(source->canvas->surface);
+  constexpr int n = 80;  // steps of 0.025, under a fifth of the cells' side (0.177)
+  const MeshPtr square = test::heightGrid(n, [](double, double) { return 0.0; });
+  const Strokes painted = strokes({{{0.0, 0.05}, 0.2, false}});
+  const auto node = type->create();
+  const auto derived = std::make_shared<DerivedStore>();
+  auto paste = [&](const std::shared_ptr<Parameterization>& target) {
+    pasteAsAFreshNodeDoes(*type, *node, derived, painted, source, draft, target);
+  };
+  const int start = 30;
+  const auto brushed = flatDiscAround(square, n, start, 39, 0.7);
+  for (int dab = 0; dab < 3; ++dab)
+    paste(brushed);
+  EXPECT_EQ(derived->builds(), 3u);  // its base, its locator and its cell's outside
+  OutsidesAsked asked;
+  asked.ask(*brushed->canvas);
+  int entered = 0;
+  OpenCell last = openCellOf(*brushed->canvas);
+  for (int i = start + 1; i <= start + 20; ++i) {
+    SCOPED_TRACE(i);
+    const auto target = flatDiscAround(square, n, i, 39, 0.7);
+    const OpenCell cell = openCellOf(*target->canvas);
+    if (cell.key != last.key) {
+      ++entered;
+      EXPECT_TRUE(asked.has(cell.key));
+    }
+    last = cell;
+    const std::size_t newOutsides = asked.ask(*target->canvas);
+    const std::uint64_t builds = derived->builds();
+    paste(target);
+    EXPECT_EQ(derived->builds() - builds, 2 + newOutsides);
+  }
+  EXPECT_GE(entered, 2);
 }
 
 // The faces of a mesh as sorted triples of their corners' points, in sorted order: equal for
@@ -687,6 +771,37 @@ TEST(Stitch, AnOpenCellHoldsTheCanvasAndItsCellCentre) {
     for (int f : canvas.sourceFace)
       EXPECT_TRUE(open[std::size_t(f)]) << f;
   }
+}
+
+// The cell a drag may enter next, on the lattice of a unit cell at the coordinate origin: the one
+// across the face the origin reaches first going its way, where that is nearer than a fifth of a
+// side; none for a drag that stays, or heads away from the near faces.
+TEST(Stitch, TheCellADragMayEnterNextIsAcrossTheFaceItHeadsFor) {
+  const OpenCell cell = openCellAt(8, Eigen::Vector3d(0.5, 0.5, 0.5));  // R = 4, side 1
+  ASSERT_NE(cell.key, 0u);
+  ASSERT_EQ(cell.side, 1.0);
+  ASSERT_EQ(cell.center, Eigen::Vector3d(0.5, 0.5, 0.5));
+  using V = Eigen::Vector3d;
+  auto next = [&](const V& point, const V& direction) {
+    return nextOpenCell(cell, point, direction);
+  };
+  EXPECT_EQ(next(V(0.9, 0.5, 0.5), V::Zero()).key, 0u);
+  EXPECT_EQ(next(V(0.5, 0.5, 0.5), V(1, 0, 0)).key, 0u);
+  EXPECT_EQ(next(V(0.79, 0.5, 0.5), V(1, 0, 0)).key, 0u);  // 0.21 from it, more than a fifth
+  EXPECT_EQ(next(V(0.9, 0.5, 0.5), V(1, 0, 0)).center, V(1.5, 0.5, 0.5));
+  EXPECT_EQ(next(V(0.9, 0.5, 0.5), V(-3, 0, 0)).key, 0u);  // away from the near face
+  EXPECT_EQ(next(V(0.5, 0.5, 0.05), V(0, 0, -0.01)).center, V(0.5, 0.5, -0.5));
+  // At 45 degrees 0.1 from the face x = 1 is 0.14 along the way, 0.15 is 0.21.
+  EXPECT_EQ(next(V(0.9, 0.5, 0.5), V(1, 1, 0)).center, V(1.5, 0.5, 0.5));
+  EXPECT_EQ(next(V(0.85, 0.5, 0.5), V(1, 1, 0)).key, 0u);
+  // Near two faces, the one the way reaches first.
+  EXPECT_EQ(next(V(0.9, 0.95, 0.5), V(1, 0.1, 0)).center, V(1.5, 0.5, 0.5));
+  EXPECT_EQ(next(V(0.9, 0.95, 0.5), V(1, 1, 0)).center, V(0.5, 1.5, 0.5));
+  // It is the cell a point just across that face lies in, of the same size.
+  const OpenCell across = next(V(0.1, 0.95, 0.5), V(0, 1, 0));
+  EXPECT_EQ(across.key, openCellAt(8, V(0.1, 1.01, 0.5)).key);
+  EXPECT_EQ(across.radius, cell.radius);
+  EXPECT_EQ(nextOpenCell(OpenCell{}, V(0.9, 0.5, 0.5), V(1, 0, 0)).key, 0u);
 }
 
 // A paste turned back into the target's outside part in place is what copyOutside makes, and a

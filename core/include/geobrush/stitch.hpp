@@ -83,8 +83,17 @@ struct OpenCell {
   Hash key = 0;  // the cell and R; 0 for a canvas too degenerate to have one (no shared outside)
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double radius = 0;
+  double side = 0;         // R / 4
+  int quarterOctaves = 0;  // R = 2^(quarterOctaves / 4)
 };
 OpenCell openCellOf(const Canvas& canvas);
+// The cell of R = 2^(quarterOctaves / 4) that holds `point`; key 0 where there is none.
+OpenCell openCellAt(int quarterOctaves, const Eigen::Vector3d& point);
+// The cell beside `cell` across the face that `point`, in `cell`, reaches first moving along
+// `direction`, where it is nearer than a fifth of a side that way: the cell a drag whose canvas
+// origin moves that way may enter next. Key 0 where no face is that near or `direction` is zero.
+OpenCell nextOpenCell(const OpenCell& cell, const Eigen::Vector3d& point,
+                      const Eigen::Vector3d& direction);
 // Per face of `mesh`: whether it lies in the cell's open part.
 std::vector<char> openFaces(const TriMesh& mesh, const OpenCell& cell);
 
@@ -110,7 +119,10 @@ StitchBase stitchBase(const Parameterization& target,
                       std::shared_ptr<const StitchOutside> outside = nullptr);
 // The stitch base of the target parameterization on `port` as derived data, its outside shared by
 // every canvas whose origin lies in one OpenCell: a drag builds a new outside only where the
-// canvas' origin crosses into another cell. The nodes that paste into a target share it.
+// canvas' origin crosses into another cell. A canvas whose origin moved from an earlier canvas'
+// towards a face of its cell, and nears it, has the outside of the cell beyond (nextOpenCell)
+// built on a thread of its own, so that the move into that cell finds it made. The nodes that
+// paste into a target share it.
 std::shared_ptr<const StitchBase> derivedStitchBase(Context& ctx, std::string_view port);
 
 // `draft` is G(P_s): the source canvas surface with its vertices warped (same connectivity).
