@@ -7,6 +7,7 @@
 #include <future>
 #include <limits>
 #include <mutex>
+#include <new>
 #include <numeric>
 #include <optional>
 #include <queue>
@@ -681,10 +682,9 @@ namespace {
 class OutsideBuild {
  public:
   OutsideBuild(MeshPtr mesh, const OpenCell& cell)
-      : task_([mesh = std::move(mesh), cell] {
-          return std::make_shared<const StitchOutside>(
-              stitchOutside(mesh->surface, openFaces(mesh->surface, cell)));
-        }),
+      : mesh_(std::move(mesh)),
+        cell_(cell),
+        task_([this] { return build(); }),
         outside_(task_.get_future().share()) {}
 
   // The origin of the last canvas that asked for this cell, where one did, and `origin` from now
@@ -710,13 +710,25 @@ class OutsideBuild {
     task_();
   }
 
-  // Runs the build or waits for it; what it throws passes through, to each caller.
+  // Runs the build or waits for it; what it throws passes through, to each caller. A build that
+  // ran out of memory (perhaps ahead, beside other work) is made again by the caller.
   std::shared_ptr<const StitchOutside> get() const {
     run();
-    return outside_.get();
+    try {
+      return outside_.get();
+    } catch (const std::bad_alloc&) {
+      return build();
+    }
   }
 
  private:
+  std::shared_ptr<const StitchOutside> build() const {
+    return std::make_shared<const StitchOutside>(
+        stitchOutside(mesh_->surface, openFaces(mesh_->surface, cell_)));
+  }
+
+  const MeshPtr mesh_;
+  const OpenCell cell_;
   mutable std::mutex mutex_;
   mutable bool taken_ = false;
   mutable std::optional<Eigen::Vector3d> lastOrigin_;
